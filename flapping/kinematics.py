@@ -1,0 +1,62 @@
+"""Wing kinematics in hover: harmonic flapping in a horizontal stroke plane, piecewise-constant pitch.
+
+phi(t) = Phi cos(2 pi f t) (eq. 39), phi > 0 forward. The stroke starts at the forward extreme, so
+the first half-period (0 < t < T/2) is the *backward* stroke (phi_dot < 0) and the second is the
+forward stroke (phi_dot > 0). Stroke reversal happens at t = 0 and t = T/2 (mod T).
+
+The geometric pitch of the wing is constant within a half-stroke (alpha_dot = 0, paper Sec. II.D)
+and switches at reversal (eq. 11): alpha_m on the forward stroke, pi - alpha_m on the backward
+stroke. Right-hand sides built on these kinematics are smooth within each half-stroke only, so
+integrators should restart at :data:`HALF_STROKE_BREAKPOINTS`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = [
+    "HALF_STROKE_BREAKPOINTS",
+    "flapping_angle",
+    "flapping_rate",
+    "stroke_sign",
+    "segment_stroke_sign",
+    "geometric_pitch",
+]
+
+#: Breakpoints of the half-strokes as fractions of the period (stroke reversal at 0 and 1/2).
+HALF_STROKE_BREAKPOINTS: tuple[float, ...] = (0.5,)
+
+
+def flapping_angle(t, amplitude: float, frequency: float):
+    """phi(t) = Phi cos(2 pi f t) [rad], eq. (39)."""
+    return amplitude * np.cos(2.0 * math.pi * frequency * np.asarray(t, dtype=float))
+
+
+def flapping_rate(t, amplitude: float, frequency: float):
+    """phi_dot(t) = -2 pi f Phi sin(2 pi f t) [rad/s]."""
+    omega = 2.0 * math.pi * frequency
+    return -omega * amplitude * np.sin(omega * np.asarray(t, dtype=float))
+
+
+def stroke_sign(t, frequency: float):
+    """Sign of phi_dot: -1 on the backward half-stroke [0, T/2), +1 on the forward [T/2, T).
+
+    Decided from the phase, not from the sign of a computed sine, so that it is exact away from
+    reversal. At reversal itself the value is the one of the half-stroke that *starts* there;
+    integrators that need the left limit use :func:`segment_stroke_sign` per segment.
+    """
+    phase = np.mod(np.asarray(t, dtype=float) * frequency, 1.0)
+    return np.where(phase < 0.5, -1.0, 1.0)
+
+
+def segment_stroke_sign(segment: int) -> float:
+    """Stroke sign on half-stroke segment ``segment`` (0: backward, -1; 1: forward, +1)."""
+    return -1.0 if segment % 2 == 0 else 1.0
+
+
+def geometric_pitch(alpha_m: float, sign):
+    """Geometric pitch of the wing, eq. (11): alpha_m on the forward stroke, pi - alpha_m backward."""
+    sign = np.asarray(sign, dtype=float)
+    return np.where(sign > 0, alpha_m, math.pi - alpha_m)

@@ -1,0 +1,325 @@
+"""Morphology of a flapping insect: geometry, mass properties and model constants.
+
+All quantities are SI (metres, kilograms, seconds, radians). Degrees and millimetres appear only in
+the :func:`hawkmoth` preset's documentation and in printed tables.
+
+The wing planform is Ellington's beta distribution of chord (Ellington 1984, "The aerodynamics of
+hovering insect flight. II. Morphological parameters"), fixed by the non-dimensional radii of the
+first and second moments of area, ``r1`` and ``r2``. Span integrals of powers of radius and chord,
+
+    I_mn = 2 * int_0^R r**m c(r)**n dr          (both wings; paper, after eq. 29)
+
+have closed forms in beta functions (:meth:`Insect.span_integral`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields, replace
+from typing import Literal
+
+import numpy as np
+from scipy import special
+
+__all__ = ["Insect", "hawkmoth", "beta_shape_parameters", "lev_lift_slope"]
+
+AspectRatioConvention = Literal["pair", "single"]
+
+
+def beta_shape_parameters(r1: float, r2: float) -> tuple[float, float]:
+    """Shape parameters (p, q) of the beta chord distribution with moments r1, r2.
+
+    Ellington's method of moments (paper, appendix A): the non-dimensional chord
+    c(r)/c_bar = r**(p-1) (1-r)**(q-1) / B(p, q) has first moment r1 and second moment r2**2.
+
+    Parameters
+    ----------
+    r1 : float
+        Non-dimensional radius of the first moment of wing area, in (0, 1).
+    r2 : float
+        Non-dimensional radius of the second moment of wing area, in (r1, sqrt(r1)).
+
+    Returns
+    -------
+    p, q : float
+        Positive shape parameters of the beta distribution.
+
+    Raises
+    ------
+    ValueError
+        If r1 or r2 is outside the range for which a beta distribution exists.
+    """
+    r1 = _finite("r1", r1)
+    r2 = _finite("r2", r2)
+    if not 0.0 < r1 < 1.0:
+        raise ValueError(f"r1 must lie in (0, 1); got r1={r1!r}")
+    if not r1 < r2 < math.sqrt(r1):
+        raise ValueError(
+            "r2 must lie in (r1, sqrt(r1)) for a beta chord distribution to exist; "
+            f"got r1={r1!r}, r2={r2!r}, allowed r2 in ({r1:.6g}, {math.sqrt(r1):.6g})"
+        )
+    variance = r2**2 - r1**2
+    k = r1 * (1.0 - r1) / variance - 1.0
+    return r1 * k, (1.0 - r1) * k
+
+
+def lev_lift_slope(aspect_ratio: float, a0: float = 2.0 * math.pi) -> float:
+    """Coefficient A of the leading-edge-vortex lift law C_L = A sin(2 alpha), eq. (4).
+
+    A = pi AR / (2 (1 + sqrt(1 + (pi AR / a0)**2))), the extended lifting-line fit quoted by
+    Taha and Hajj.
+
+    Parameters
+    ----------
+    aspect_ratio : float
+        Aspect ratio AR > 0.
+    a0 : float
+        Two-dimensional lift-curve slope [1/rad], > 0. Default 2 pi.
+    """
+    aspect_ratio = _positive("aspect_ratio", aspect_ratio)
+    a0 = _positive("a0", a0)
+    x = math.pi * aspect_ratio
+    return x / (2.0 * (1.0 + math.sqrt(1.0 + (x / a0) ** 2)))
+
+
+@dataclass(frozen=True)
+class Insect:
+    """An insect (or flapping MAV) in hover: wing geometry, body, and aerodynamic constants.
+
+    Parameters
+    ----------
+    name : str
+        Label used in tables and plots.
+    semi_span : float
+        Wing length R from the wing hinge to the tip [m].
+    wing_area : float
+        Area S of one wing [m^2].
+    r1, r2 : float
+        Non-dimensional radii of the first and second moments of wing area (Ellington).
+    frequency : float
+        Flapping frequency f [Hz].
+    stroke_amplitude : float
+        Flapping amplitude Phi [rad] of phi(t) = Phi cos(2 pi f t), in (0, pi/2].
+    mass : float
+        Body mass m [kg] (wing inertia is neglected, as in the paper).
+    pitch_inertia : float
+        Body moment of inertia about the pitch axis I_y [kg m^2].
+    air_density : float
+        rho [kg/m^3]. Not given in the paper; 1.225 (sea-level standard air).
+    gravity : float
+        g [m/s^2]. Not given in the paper; 9.81.
+    a0 : float
+        Two-dimensional lift-curve slope in eq. (4) [1/rad]; the paper uses 2 pi.
+    aspect_ratio_convention : {"pair", "single"}
+        Which aspect ratio enters eq. (4), which the paper does not state: ``"pair"`` is
+        Ellington's AR = (2R)^2 / (2S) = 2 R^2 / S of the wing pair, ``"single"`` is R^2 / S of
+        one wing.
+    pitch_axis : float
+        x0_hat, position of the wing's pitch axis behind the leading edge over the chord, in
+        [0, 1]; enters the rotational circulation (eq. 5) through (3/4 - x0_hat). Default 0.
+    center_of_pressure : float
+        x_hat, chordwise distance from the pitch (hinge) line back to the centre of pressure over
+        the chord, in [0, 1]; eqs. (21)-(23). Default 1/4 ("c/4" in the text).
+    hinge_offset : float
+        x_h, distance of the wing hinge ahead of the centre of gravity [m]. Default 0 (the CG
+        under the hinge line).
+    mu1, mu2 : float
+        Berman and Wang's rotational damping coefficients (dimensionless), >= 0. Default 0.2.
+    """
+
+    name: str
+    semi_span: float
+    wing_area: float
+    r1: float
+    r2: float
+    frequency: float
+    stroke_amplitude: float
+    mass: float
+    pitch_inertia: float
+    air_density: float = 1.225
+    gravity: float = 9.81
+    a0: float = 2.0 * math.pi
+    aspect_ratio_convention: AspectRatioConvention = "pair"
+    pitch_axis: float = 0.0
+    center_of_pressure: float = 0.25
+    hinge_offset: float = 0.0
+    mu1: float = 0.2
+    mu2: float = 0.2
+    _shape: tuple[float, float] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        for name in ("semi_span", "wing_area", "frequency", "mass", "pitch_inertia",
+                     "air_density", "a0"):
+            _positive(name, getattr(self, name))
+        _nonnegative("gravity", self.gravity)
+        amplitude = _positive("stroke_amplitude", self.stroke_amplitude)
+        if amplitude > math.pi / 2:
+            raise ValueError(
+                "stroke_amplitude must lie in (0, pi/2] rad (0 to 90 degrees); "
+                f"got {amplitude!r} rad ({math.degrees(amplitude):.4g} deg)"
+            )
+        for name in ("pitch_axis", "center_of_pressure"):
+            value = _finite(name, getattr(self, name))
+            if not 0.0 <= value <= 1.0:
+                raise ValueError(f"{name} must lie in [0, 1] (fraction of chord); got {value!r}")
+        _finite("hinge_offset", self.hinge_offset)
+        _nonnegative("mu1", self.mu1)
+        _nonnegative("mu2", self.mu2)
+        if self.aspect_ratio_convention not in ("pair", "single"):
+            raise ValueError(
+                "aspect_ratio_convention must be 'pair' (2 R^2/S) or 'single' (R^2/S); "
+                f"got {self.aspect_ratio_convention!r}"
+            )
+        object.__setattr__(self, "_shape", beta_shape_parameters(self.r1, self.r2))
+
+    # ----------------------------------------------------------------- geometry
+    @property
+    def mean_chord(self) -> float:
+        """Mean chord c_bar = S / R [m] (consistent with the chord distribution's area)."""
+        return self.wing_area / self.semi_span
+
+    @property
+    def beta_p(self) -> float:
+        """Shape parameter p of the beta chord distribution (exponent p - 1 at the root)."""
+        return self._shape[0]
+
+    @property
+    def beta_q(self) -> float:
+        """Shape parameter q of the beta chord distribution (exponent q - 1 at the tip)."""
+        return self._shape[1]
+
+    @property
+    def aspect_ratio(self) -> float:
+        """Aspect ratio entering eq. (4), by :attr:`aspect_ratio_convention`."""
+        single = self.semi_span**2 / self.wing_area
+        return 2.0 * single if self.aspect_ratio_convention == "pair" else single
+
+    @property
+    def lift_slope(self) -> float:
+        """A of C_L = A sin(2 alpha), eq. (4)."""
+        return lev_lift_slope(self.aspect_ratio, self.a0)
+
+    @property
+    def period(self) -> float:
+        """Flapping period T = 1/f [s]."""
+        return 1.0 / self.frequency
+
+    @property
+    def weight(self) -> float:
+        """Body weight m g [N]."""
+        return self.mass * self.gravity
+
+    def chord(self, r: np.ndarray | float) -> np.ndarray:
+        """Chord c(r) [m] at radius r [m] from the hinge, Ellington's beta distribution.
+
+        c(r) = c_bar / B(p, q) * (r/R)**(p-1) * (1 - r/R)**(q-1). Singular (integrably) at the root
+        when p < 1; zero outside [0, R].
+        """
+        r_hat = np.asarray(r, dtype=float) / self.semi_span
+        p, q = self._shape
+        inside = (r_hat > 0.0) & (r_hat < 1.0)
+        safe = np.where(inside, r_hat, 0.5)
+        value = self.mean_chord / special.beta(p, q) * safe ** (p - 1.0) * (1.0 - safe) ** (q - 1.0)
+        return np.where(inside, value, 0.0)
+
+    def span_integral(self, m: float, n: float) -> float:
+        """I_mn = 2 int_0^R r**m c(r)**n dr for both wings, in closed form [m^(m+n+1)].
+
+        I_mn = 2 R^(m+1) (c_bar/B(p,q))^n B(m + n(p-1) + 1, n(q-1) + 1).
+
+        Raises
+        ------
+        ValueError
+            If the integral diverges for this planform (m + n(p-1) + 1 <= 0 or n(q-1) + 1 <= 0).
+        """
+        m = _finite("m", m)
+        n = _finite("n", n)
+        p, q = self._shape
+        a = m + n * (p - 1.0) + 1.0
+        b = n * (q - 1.0) + 1.0
+        if a <= 0.0 or b <= 0.0:
+            raise ValueError(
+                f"I_mn diverges for m={m!r}, n={n!r} with beta shape p={p:.4g}, q={q:.4g}: "
+                "needs m + n(p-1) + 1 > 0 and n(q-1) + 1 > 0"
+            )
+        log_value = (
+            (m + 1.0) * math.log(self.semi_span)
+            + n * (math.log(self.mean_chord) - special.betaln(p, q))
+            + special.betaln(a, b)
+        )
+        return 2.0 * math.exp(log_value)
+
+    def with_(self, **changes) -> "Insect":
+        """A copy with some fields changed (validated again), e.g. ``hawkmoth().with_(hinge_offset=1e-3)``."""
+        return replace(self, **changes)
+
+    def as_table(self) -> list[tuple[str, str, float, str]]:
+        """Rows (symbol, description, value, unit) for printing, in display units (mm, deg, g)."""
+        return [
+            ("R", "semi-span", self.semi_span * 1e3, "mm"),
+            ("S", "area of one wing", self.wing_area * 1e6, "mm^2"),
+            ("c_bar", "mean chord S/R", self.mean_chord * 1e3, "mm"),
+            ("r1", "radius of 1st moment of area / R", self.r1, "-"),
+            ("r2", "radius of 2nd moment of area / R", self.r2, "-"),
+            ("f", "flapping frequency", self.frequency, "Hz"),
+            ("Phi", "stroke amplitude", math.degrees(self.stroke_amplitude), "deg"),
+            ("m", "body mass", self.mass * 1e3, "g"),
+            ("I_y", "pitch moment of inertia", self.pitch_inertia * 1e10, "mg cm^2"),
+            ("rho", "air density", self.air_density, "kg/m^3"),
+            ("g", "gravity", self.gravity, "m/s^2"),
+            ("AR", f"aspect ratio ({self.aspect_ratio_convention})", self.aspect_ratio, "-"),
+            ("x0_hat", "pitch axis behind leading edge / chord", self.pitch_axis, "-"),
+            ("x_hat", "centre of pressure behind pitch axis / chord", self.center_of_pressure, "-"),
+            ("x_h", "hinge ahead of centre of gravity", self.hinge_offset * 1e3, "mm"),
+            ("mu1, mu2", "rotational damping coefficients", self.mu1, "-"),
+        ]
+
+
+def hawkmoth(**overrides) -> Insect:
+    """The hawkmoth *Manduca sexta* of the paper's appendix A.
+
+    R = 51.9 mm, S = 947.8 mm^2 (one wing), r1 = 0.44, r2 = 0.525, f = 26.3 Hz, Phi = 60.5 deg,
+    m = 1.648 g, I_y = 2080 mg cm^2, after Ellington (1984) and Willmott & Ellington (1997) as
+    cited by the paper. The paper also prints c_bar = 18.3 mm; we use c_bar = S/R = 18.26 mm so
+    that the chord distribution has the stated area. The paper writes f = 26.5 Hz once, but its
+    period T = 0.0380 s is 1/26.3 Hz. Choices the paper leaves open take the :class:`Insect`
+    defaults and can be changed with keyword ``overrides``.
+    """
+    values = dict(
+        name="hawkmoth",
+        semi_span=51.9e-3,
+        wing_area=947.8e-6,
+        r1=0.44,
+        r2=0.525,
+        frequency=26.3,
+        stroke_amplitude=math.radians(60.5),
+        mass=1.648e-3,
+        pitch_inertia=2080.0 * 1e-6 * 1e-4,  # 2080 mg cm^2 = 2080 * (1e-6 kg)(1e-4 m^2)
+    )
+    values.update(overrides)
+    return Insect(**values)
+
+
+# --------------------------------------------------------------------------- validation helpers
+def _finite(name: str, value: float) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number; got {value!r}") from None
+    if not math.isfinite(value):
+        raise ValueError(f"{name} must be finite; got {value!r}")
+    return value
+
+
+def _positive(name: str, value: float) -> float:
+    value = _finite(name, value)
+    if value <= 0.0:
+        raise ValueError(f"{name} must be > 0; got {value!r}")
+    return value
+
+
+def _nonnegative(name: str, value: float) -> float:
+    value = _finite(name, value)
+    if value < 0.0:
+        raise ValueError(f"{name} must be >= 0; got {value!r}")
+    return value
