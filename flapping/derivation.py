@@ -1,0 +1,438 @@
+"""SymPy derivation of the linearised aerodynamic loads: the stability derivatives X0 ... Mq.
+
+This module *is* the derivation of the paper's Sec. II.C-D (eqs. 9-29), done by the computer algebra
+system rather than by hand, step by step so that the book can show each step:
+
+1. section kinematics: chordwise velocity U (eq. 9), effective vertical velocity w_eff (eq. 12),
+   pitch rate about the span axis Omega, rotational circulation Gamma (eq. 5);
+2. section forces to first order in the induced angle (eqs. 13-19) and the pitching moment per unit
+   span (eqs. 20-23), for one wing;
+3. first-order linearisation in the body states (u, w, q) about zero (eqs. 24-27);
+4. integration over the span of both wings: every monomial r^m c^n becomes I_mn, and the constants
+   are collected into K_mn = rho A I_mn / 2, Krot_mn = rho pi (3/4 - x0_hat) I_mn and
+   K_nu = (pi/16) rho I_04 (after eq. 29);
+5. the stability derivatives, normalised as in eq. (29): X0, Z0 [N], M0 [N m]; X_u ... Z_q per unit
+   mass; M_u ... M_q per unit pitch inertia.
+
+Stroke direction enters through s = sign(phi_dot) = +-1, constant on a half-stroke: |U| = s U near
+the zero state, sin(2 alpha_g) = s sin(2 alpha_m), cos(alpha_g) = s cos(alpha_m) with the
+geometric pitch alpha_g of eq. (11). The results are reported with |phi_dot| = s phi_dot.
+
+The numeric model does not import SymPy: :func:`generate_source` prints the derivatives as plain
+NumPy code into ``flapping/_derivatives_generated.py``, which is committed, and a test checks that
+regenerating it gives the same text. Importing :mod:`flapping` never runs this derivation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import sympy as sp
+
+__all__ = [
+    "DERIVATIVE_NAMES",
+    "Symbols",
+    "symbols",
+    "section_loads",
+    "linearise",
+    "span_integrate",
+    "collect_constants",
+    "stability_derivatives",
+    "paper_derivatives",
+    "compare_with_paper",
+    "generate_source",
+]
+
+#: Order of the derivatives in tables and in the generated code.
+DERIVATIVE_NAMES = ("X0", "Z0", "M0", "Xu", "Xw", "Xq", "Zu", "Zw", "Zq", "Mu", "Mw", "Mq")
+
+
+@dataclass(frozen=True)
+class Symbols:
+    """The SymPy symbols of the derivation (names as in the paper)."""
+
+    r: sp.Symbol
+    c: sp.Symbol
+    phi: sp.Symbol
+    phidot: sp.Symbol
+    absphidot: sp.Symbol
+    s: sp.Symbol
+    s_omega: sp.Symbol
+    alpha_m: sp.Symbol
+    u: sp.Symbol
+    w: sp.Symbol
+    q: sp.Symbol
+    rho: sp.Symbol
+    A: sp.Symbol
+    x0_hat: sp.Symbol
+    kappa: sp.Symbol
+    x_hat: sp.Symbol
+    x_h: sp.Symbol
+    mu1: sp.Symbol
+    mu2: sp.Symbol
+    f: sp.Symbol
+    m: sp.Symbol
+    Iy: sp.Symbol
+
+    def I(self, m: int, n: int) -> sp.Symbol:  # noqa: E743 - the paper's name
+        """Span integral I_mn = 2 int_0^R r^m c^n dr (both wings)."""
+        return sp.Symbol(f"I_{{{m}{n}}}", positive=True)
+
+    def K(self, m: int, n: int) -> sp.Symbol:
+        """K_mn = rho A I_mn / 2."""
+        return sp.Symbol(f"K_{{{m}{n}}}", positive=True)
+
+    def Krot(self, m: int, n: int) -> sp.Symbol:
+        """Krot_mn = rho pi (3/4 - x0_hat) I_mn."""
+        return sp.Symbol(f"K^{{rot}}_{{{m}{n}}}", real=True)
+
+    @property
+    def Knu(self) -> sp.Symbol:
+        """K_nu = (pi/16) rho I_04."""
+        return sp.Symbol(r"K_{\nu}", positive=True)
+
+
+@lru_cache(maxsize=1)
+def symbols() -> Symbols:
+    """The symbols, created once."""
+    pos = dict(positive=True)
+    return Symbols(
+        r=sp.Symbol("r", **pos),
+        c=sp.Symbol("c", **pos),
+        phi=sp.Symbol(r"\phi", real=True),
+        phidot=sp.Symbol(r"\dot{\phi}", real=True),
+        absphidot=sp.Symbol(r"|\dot{\phi}|", nonnegative=True),
+        s=sp.Symbol("s", real=True),
+        s_omega=sp.Symbol(r"s_{\Omega}", real=True),
+        alpha_m=sp.Symbol(r"\alpha_m", positive=True),
+        u=sp.Symbol("u", real=True),
+        w=sp.Symbol("w", real=True),
+        q=sp.Symbol("q", real=True),
+        rho=sp.Symbol(r"\rho", **pos),
+        A=sp.Symbol("A", **pos),
+        x0_hat=sp.Symbol(r"\hat{x}_0", real=True),
+        kappa=sp.Symbol(r"\kappa", real=True),
+        x_hat=sp.Symbol(r"\hat{x}", real=True),
+        x_h=sp.Symbol("x_h", real=True),
+        mu1=sp.Symbol(r"\mu_1", nonnegative=True),
+        mu2=sp.Symbol(r"\mu_2", nonnegative=True),
+        f=sp.Symbol("f", **pos),
+        m=sp.Symbol("m", **pos),
+        Iy=sp.Symbol("I_y", **pos),
+    )
+
+
+def section_loads() -> dict[str, sp.Expr]:
+    """Steps 1-2: per-unit-span loads of one wing at radius r, small induced angle (eqs. 9-23).
+
+    Returns a dict of named intermediate expressions, ending with ``"Fx"``, ``"Fz"`` (body-axis
+    forces per unit span [N/m]) and ``"M"`` (pitching moment per unit span about the CG [N]).
+    Valid near the zero state, where sign(U) = s.
+    """
+    S = symbols()
+    r, c, phi, phidot, s, am = S.r, S.c, S.phi, S.phidot, S.s, S.alpha_m
+    rho, A = S.rho, S.A
+    U = r * phidot + S.u * sp.cos(phi)  # eq. (9), signed, small w
+    w_eff = S.w - S.q * (r * sp.sin(phi) + S.x_h)  # eq. (12)
+    Omega = S.q * sp.cos(phi)  # alpha_dot = 0: only the body's pitch rate turns the section
+    # eq. (5); kappa = 3/4 - x0_hat is kept as one symbol so that it can be collected into Krot.
+    Gamma = sp.pi * c**2 * S.kappa * Omega
+    absU = s * U  # near the zero state sign(U) = sign(phi_dot) = s
+    sin2ag = s * sp.sin(2 * am)  # geometric pitch alpha_g of eq. (11)
+    cosag = s * sp.cos(am)
+    sinag = sp.sin(am)
+    # eqs. (16)-(19) with signs restored: F_xi = -H' along the stroke direction, F_z = -V'.
+    F_xi = (-rho * A * c * U * absU * sp.sin(am) ** 2
+            - sp.Rational(1, 2) * rho * A * c * absU * w_eff * sin2ag
+            + rho * Gamma * w_eff)
+    Fz = -(sp.Rational(1, 2) * rho * A * c * (U * absU * sin2ag + 2 * absU * w_eff * sp.cos(am) ** 2)
+           + rho * U * Gamma)
+    Fx = F_xi * sp.cos(phi)
+    # eqs. (20)-(23): lift acts at the centre of pressure, x_hat c behind the hinge line.
+    x_cp = S.x_h + r * sp.sin(phi) - S.x_hat * c * cosag * sp.cos(phi)
+    z_cp = S.x_hat * c * sinag
+    tau = -sp.pi / 16 * rho * c**4 * (S.mu1 * S.f + S.mu2 * S.s_omega * Omega) * Omega  # Berman-Wang
+    M = z_cp * Fx - x_cp * Fz + tau * sp.cos(phi)
+    return {"U": U, "w_eff": w_eff, "Omega": Omega, "Gamma": Gamma, "F_xi": F_xi,
+            "Fx": Fx, "Fz": Fz, "x_cp": x_cp, "z_cp": z_cp, "tau": tau, "M": M}
+
+
+def linearise(expr: sp.Expr) -> dict[str, sp.Expr]:
+    """Step 3: the constant term and the first derivatives in u, w, q at the zero state."""
+    S = symbols()
+    zero = {S.u: 0, S.w: 0, S.q: 0}
+    out = {"0": expr.subs(zero)}
+    for name, var in (("u", S.u), ("w", S.w), ("q", S.q)):
+        out[name] = sp.diff(expr, var).subs(zero)
+    return {k: sp.expand(v.subs(S.s**2, 1)).subs(S.s**2, 1) for k, v in out.items()}
+
+
+def span_integrate(expr: sp.Expr) -> sp.Expr:
+    """Step 4a: 2 int_0^R (...) dr of a polynomial in r and c: r^m c^n -> I_mn."""
+    S = symbols()
+    poly = sp.Poly(sp.expand(expr), S.r, S.c)
+    return sp.Add(*[coeff * S.I(m, n) for (m, n), coeff in poly.terms()])
+
+
+def collect_constants(expr: sp.Expr) -> sp.Expr:
+    """Step 4b: rewrite rho A I_mn, rho pi (3/4 - x0_hat) I_mn, (pi/16) rho I_04 as K constants."""
+    S = symbols()
+    out = []
+    for term in sp.Add.make_args(sp.expand(expr)):
+        I_syms = [a for a in term.free_symbols if a.name.startswith("I_{")]
+        if len(I_syms) != 1:
+            raise AssertionError(f"term {term} has span integrals {I_syms}")
+        I_mn = I_syms[0]
+        m, n = int(I_mn.name[3]), int(I_mn.name[4])
+        if term.has(S.A):
+            new = term.subs(I_mn, 2 * S.K(m, n) / (S.rho * S.A))
+        elif term.has(S.mu1) or term.has(S.mu2):
+            new = term.subs(I_mn, 16 * S.Knu / (sp.pi * S.rho))
+        elif term.has(S.kappa):  # rotational circulation: rho pi (3/4 - x0_hat) I_mn
+            new = term.subs(I_mn, S.Krot(m, n) / (S.rho * sp.pi * S.kappa))
+        else:
+            raise AssertionError(f"term {term} belongs to no constant group")
+        out.append(sp.expand(new))
+    return sp.Add(*out)
+
+
+_CONSTANT_NAMES = ("K_", "K^", "x_h", r"\hat{x}", r"\mu", "f", "m", "I_y")
+
+
+def _split(term: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """Split a product into (constants: K's, x_h, x_hat, mu1, f, m, I_y) and the rest."""
+    const, rest = sp.Integer(1), sp.Integer(1)
+    for factor in sp.Mul.make_args(term):
+        base = factor.as_base_exp()[0]
+        if isinstance(base, sp.Symbol) and base.name.startswith(_CONSTANT_NAMES):
+            const *= factor
+        else:
+            rest *= factor
+    return const, rest
+
+
+def _groups(expr: sp.Expr) -> dict[sp.Expr, sp.Expr]:
+    """Group the terms of an expanded expression by their constant factor."""
+    out: dict[sp.Expr, sp.Expr] = {}
+    for term in sp.Add.make_args(sp.expand(expr)):
+        const, rest = _split(term)
+        out[const] = out.get(const, 0) + rest
+    return out
+
+
+def tidy(expr: sp.Expr) -> sp.Expr:
+    """Readable form: terms grouped by constant, each coefficient trig-simplified and factored."""
+    return sp.Add(*[k * _tidy_coefficient(v) for k, v in _groups(expr).items()])
+
+
+def _tidy_coefficient(expr: sp.Expr) -> sp.Expr:
+    """Products of sines and cosines of alpha_m and phi, with sin x cos x written sin(2x)/2."""
+    S = symbols()
+    out = sp.factor(sp.expand_trig(expr))
+    for x in (S.alpha_m, S.phi):
+        out = out.subs(sp.sin(x) ** 2 + sp.cos(x) ** 2, 1)
+        out = out.subs(sp.sin(x) * sp.cos(x), sp.sin(2 * x) / 2)
+    return out
+
+
+def _to_abs(expr: sp.Expr) -> sp.Expr:
+    """Express the stroke sign through |phi_dot|: s phi_dot -> |phi_dot| (s^2 = 1, |phi_dot|^2 = phi_dot^2)."""
+    S = symbols()
+    a, pd = S.absphidot, S.phidot
+    expr = sp.expand(sp.expand(expr).subs(S.s**2, 1).subs(S.s, a / pd))
+    expr = expr.replace(lambda e: e.is_Pow and e.base == a and e.exp.is_Integer and e.exp >= 2,
+                        lambda e: pd ** (int(e.exp) - int(e.exp) % 2) * a ** (int(e.exp) % 2))
+    return sp.expand(expr)
+
+
+@lru_cache(maxsize=1)
+def stability_derivatives() -> dict[str, sp.Expr]:
+    """Step 5: the twelve stability derivatives of eq. (29) in the K constants.
+
+    Returns
+    -------
+    dict
+        Keys :data:`DERIVATIVE_NAMES`. X0, Z0 in N and M0 in N m; Xu, Xw, Zu, Zw in 1/s; Xq, Zq in
+        m/s per rad/s; Mu, Mw in 1/(m s); Mq in 1/s (the forces divided by m, the moment by I_y,
+        as in eq. 29).
+    """
+    S = symbols()
+    loads = section_loads()
+    out: dict[str, sp.Expr] = {}
+    for axis, key, norm in (("X", "Fx", S.m), ("Z", "Fz", S.m), ("M", "M", S.Iy)):
+        lin = linearise(loads[key])
+        for var in ("0", "u", "w", "q"):
+            total = collect_constants(span_integrate(lin[var]))
+            if var != "0":
+                total = total / norm
+            out[f"{axis}{var}"] = tidy(_to_abs(total))
+    return {name: out[name] for name in DERIVATIVE_NAMES}
+
+
+def paper_derivatives() -> dict[str, sp.Expr]:
+    """The derivatives as printed after eq. (29), transcribed as we read them.
+
+    The text extraction lost every sign, so each term is entered with a + sign and
+    :func:`compare_with_paper` compares magnitudes term by term. alpha is the geometric pitch
+    alpha_g of eq. (11): we write sin(2 alpha_g) = s sin(2 alpha_m), cos(alpha_g) = s cos(alpha_m).
+    Where the argument of a sine or cosine was lost, the reading in the comment was taken.
+    """
+    S = symbols()
+    ph, pd, ad, s, am = S.phi, S.phidot, S.absphidot, S.s, S.alpha_m
+    sin_a, cos_a, sin2a = sp.sin(am), s * sp.cos(am), s * sp.sin(2 * am)
+    K, Kr, m, Iy, xh, xt = S.K, S.Krot, S.m, S.Iy, S.x_h, S.x_hat
+    Xw = K(1, 1) / m * ad * sp.cos(ph) * sin2a
+    Zw = 2 * K(1, 1) / m * ad * cos_a**2
+    Xq = K(2, 1) / m * ad * sp.sin(ph) * sp.cos(ph) * sin2a + xh * Xw
+    Zu = 2 * Xw
+    Zq = 2 * K(2, 1) / m * ad * sp.sin(ph) * cos_a**2 + Kr(1, 2) / m * pd * sp.cos(ph) + xh * Zw
+    paper = {
+        "X0": 2 * K(2, 1) * ad * pd * sin_a**2,  # no cos(phi): see eq. (24) vs (25)
+        "Z0": K(2, 1) * ad * pd * sin2a,
+        "M0": 2 * ad * pd * sin_a * (K(2, 2) * xt * sp.cos(ph) + K(2, 1) * xh * cos_a
+                                     + K(3, 1) * sp.sin(ph) * cos_a),
+        "Xu": 4 * K(1, 1) / m * ad * sp.cos(ph) ** 2 * sin_a**2,
+        "Xw": Xw,
+        "Xq": Xq,
+        "Zu": Zu,
+        "Zw": Zw,
+        "Zq": Zq,
+        "Mu": 4 * K(1, 2) * xt / Iy * pd * sp.cos(ph) ** 2 * sin_a + m / Iy * (2 * Xq + xh * Zu),
+        "Mw": (2 * K(1, 2) * xt / Iy * pd * sp.cos(ph) * cos_a
+               + 2 * K(2, 1) / Iy * ad * sp.sin(ph) * cos_a**2 + m * xh / Iy * Zw),
+        "Mq": (2 * xt / Iy * ad * sp.cos(ph) * cos_a * (K(1, 2) * xh + K(2, 2) * sp.sin(ph))
+               + 1 / Iy * pd * sp.cos(ph) * (Kr(1, 3) * xt * cos_a * sp.cos(ph) + Kr(2, 2) * sp.sin(ph))
+               + 2 / Iy * ad * cos_a**2 * sp.sin(ph) * (K(2, 1) * xh + K(3, 1) * sp.sin(ph))
+               + S.Knu * S.mu1 * S.f / Iy * sp.cos(ph) ** 2 + m * xh / Iy * Zq),
+    }
+    return {name: _to_abs(paper[name]) for name in DERIVATIVE_NAMES}
+
+
+@dataclass(frozen=True)
+class TermComparison:
+    """One group of terms of one derivative (same constant factor), ours against the paper's.
+
+    ``status`` is ``"same"`` (identical), ``"sign"`` (equal up to an overall sign, which the text
+    extraction may have lost), ``"differs"`` (another function of phase), ``"only ours"`` (the
+    paper has no such term) or ``"only paper"`` (our derivation gives no such term).
+    """
+
+    name: str
+    constant: sp.Expr
+    ours: sp.Expr
+    paper: sp.Expr
+    status: str
+
+
+def _same(a: sp.Expr, b: sp.Expr) -> bool:
+    """a == b on both half-strokes (|phi_dot| = s phi_dot with s = +1 and s = -1)."""
+    S = symbols()
+    for sign in (1, -1):
+        diff = (a - b).subs(S.absphidot, sign * S.phidot)
+        if sp.simplify(sp.expand_trig(diff)) != 0:
+            return False
+    return True
+
+
+def compare_with_paper() -> list[TermComparison]:
+    """Compare each derived derivative with the paper's printed one, group by group of terms."""
+    ours, paper = stability_derivatives(), paper_derivatives()
+    rows = []
+    for name in DERIVATIVE_NAMES:
+        a, b = _groups(ours[name]), _groups(paper[name])
+        for const in list(a) + [k for k in b if k not in a]:
+            ea, eb = a.get(const, sp.Integer(0)), b.get(const, sp.Integer(0))
+            if const not in b:
+                status = "only ours"
+            elif const not in a:
+                status = "only paper"
+            elif _same(ea, eb):
+                status = "same"
+            elif _same(ea, -eb):
+                status = "sign"
+            else:
+                status = "differs"
+            rows.append(TermComparison(name, const, _tidy_coefficient(ea),
+                                       _tidy_coefficient(eb), status))
+    return rows
+
+
+# --------------------------------------------------------------------------- code generation
+_ARGUMENTS = ("phi", "phidot", "absphidot", "alpha_m", "c")
+
+
+def _numeric_names() -> dict[sp.Symbol, str]:
+    S = symbols()
+    names = {S.phi: "phi", S.phidot: "phidot", S.absphidot: "absphidot", S.alpha_m: "alpha_m",
+             S.x_hat: "c.x_hat", S.x_h: "c.x_h", S.mu1: "c.mu1", S.f: "c.f", S.m: "c.m",
+             S.Iy: "c.Iy", S.Knu: "c.Knu"}
+    for mm in range(5):
+        for nn in range(5):
+            names[S.K(mm, nn)] = f"c.K[{mm}, {nn}]"
+            names[S.Krot(mm, nn)] = f"c.Krot[{mm}, {nn}]"
+    return names
+
+
+def generate_source() -> str:
+    """Python source of ``flapping/_derivatives_generated.py`` (NumPy code, common subexpressions).
+
+    The generated function ``stability_derivatives(phi, phidot, absphidot, alpha_m, c)`` takes the
+    flapping angle and rate (arrays), |phi_dot|, the trim pitch alpha_m and a constants object ``c``
+    with attributes K, Krot (5x5 arrays indexed [m, n]), Knu, x_hat, x_h, mu1, f, m, Iy.
+    """
+    derivs = stability_derivatives()
+    exprs = [derivs[k] for k in DERIVATIVE_NAMES]
+    names = _numeric_names()
+    placeholders = {sym: sp.Symbol(f"__{i}__") for i, sym in enumerate(names)}
+    printed_of = {placeholders[sym]: names[sym] for sym in names}
+    replacements, reduced = sp.cse([e.xreplace(placeholders) for e in exprs],
+                                   symbols=sp.numbered_symbols("t"), optimizations="basic")
+
+    def body(printer) -> list[str]:
+        def show(e: sp.Expr) -> str:
+            text = printer.doprint(e)
+            for ph in sorted(printed_of, key=lambda p: -len(p.name)):
+                text = text.replace(ph.name, printed_of[ph])
+            return text
+
+        lines = [f"    {sym} = {show(e)}" for sym, e in replacements]
+        lines.append("    return (")
+        lines += [f"        {show(e)},  # {name}" for name, e in zip(DERIVATIVE_NAMES, reduced)]
+        lines.append("    )")
+        return lines
+
+    from sympy.printing.numpy import NumPyPrinter
+    from sympy.printing.pycode import PythonCodePrinter
+
+    numpy_printer = NumPyPrinter({"fully_qualified_modules": True})
+    math_printer = PythonCodePrinter({"fully_qualified_modules": True})
+    lines = [
+        '"""Stability derivatives X0 ... Mq of eq. (29), GENERATED by flapping.derivation.',
+        "",
+        "Do not edit: regenerate with",
+        "`python -m flapping.derivation > flapping/_derivatives_generated.py`",
+        "(a test checks that the committed file equals a fresh generation).",
+        '"""',
+        "",
+        "import math",
+        "",
+        "import numpy",
+        "",
+        f"NAMES = {DERIVATIVE_NAMES!r}",
+        "",
+        "",
+        "def stability_derivatives(phi, phidot, absphidot, alpha_m, c):",
+        '    """(X0, Z0, M0, Xu, Xw, Xq, Zu, Zw, Zq, Mu, Mw, Mq) for arrays of phases (NumPy)."""',
+        *body(numpy_printer),
+        "",
+        "",
+        "def stability_derivatives_scalar(phi, phidot, absphidot, alpha_m, c):",
+        '    """The same for one phase, in plain floats (fast inside ODE right-hand sides)."""',
+        *body(math_printer),
+    ]
+    return "\n".join(lines) + "\n"
+
+
+if __name__ == "__main__":  # pragma: no cover - regeneration entry point
+    print(generate_source(), end="")

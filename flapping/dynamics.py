@@ -1,0 +1,234 @@
+"""Longitudinal equations of motion of a hovering flapping insect (eqs. 2, 28, 29).
+
+State x = (u, w, q, theta): body-axis velocities [m/s] (x forward, z down), pitch rate [rad/s] and
+pitch angle [rad], nose-up positive. Rigid body, wing inertia neglected (eq. 2):
+
+    u' = -q w - g sin(theta) + X/m
+    w' =  q u + g cos(theta) + Z/m
+    q' =  M / I_y
+    theta' = q
+
+The aerodynamic loads (X, Z, M) come from one of three models:
+
+``"linear"``
+    the paper's eq. (29): X = X0(t) + m (Xu u + Xw w + Xq q), etc., with the stability derivatives
+    derived in :mod:`flapping.derivation` (first order in the states);
+``"small-angle"``
+    the blade-element loads of eqs. (13)-(23), nonlinear in the states (small induced angle);
+``"exact"``
+    the blade-element loads with the exact inflow angle and speed.
+
+The right-hand side is smooth within each half-stroke only (the wing pitch flips at reversal,
+eq. 11), so :meth:`LongitudinalDynamics.segment_functions` returns one callable per half-stroke for
+integrators that restart at :data:`~flapping.kinematics.HALF_STROKE_BREAKPOINTS`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Literal
+
+import numpy as np
+
+from flapping import _derivatives_generated as _gen
+from flapping.aerodynamics import BladeElementModel, trim_angle_of_attack
+from flapping.kinematics import HALF_STROKE_BREAKPOINTS, segment_stroke_sign, stroke_sign
+from flapping.morphology import Insect
+from flapping.stability_derivatives import AeroConstants, aero_constants
+
+__all__ = ["STATE_NAMES", "AERODYNAMIC_MODELS", "LongitudinalDynamics"]
+
+#: Names of the state components, in order.
+STATE_NAMES: tuple[str, ...] = ("u", "w", "q", "theta")
+#: Aerodynamic models accepted by :class:`LongitudinalDynamics`.
+AERODYNAMIC_MODELS: tuple[str, ...] = ("linear", "small-angle", "exact")
+
+AerodynamicModel = Literal["linear", "small-angle", "exact"]
+
+
+@dataclass(frozen=True)
+class LongitudinalDynamics:
+    """Longitudinal flight dynamics of a flapping insect in the calling convention of ``solve_ivp``.
+
+    Parameters
+    ----------
+    insect : Insect
+        Morphology and constants.
+    amplitude : float, optional
+        Stroke amplitude Phi [rad], in (0, pi/2]; default ``insect.stroke_amplitude``.
+    alpha_m : float, optional
+        Mean geometric angle of attack [rad]; default the trim of eq. (40) at the insect's nominal
+        stroke amplitude.
+    aerodynamics : {"linear", "small-angle", "exact"}
+        Which aerodynamic model gives the loads (see the module docstring).
+    n_nodes : int
+        Span quadrature nodes for the blade-element models.
+
+    Examples
+    --------
+    >>> from scipy.integrate import solve_ivp
+    >>> model = LongitudinalDynamics(hawkmoth())                       # doctest: +SKIP
+    >>> sol = solve_ivp(model.rhs, (0, model.period), [0, 0, 0, 0], jac=model.jac)  # doctest: +SKIP
+    """
+
+    insect: Insect
+    amplitude: float | None = None
+    alpha_m: float | None = None
+    aerodynamics: AerodynamicModel = "linear"
+    n_nodes: int = 32
+    _constants: AeroConstants = field(init=False, repr=False, compare=False)
+    _blade: BladeElementModel | None = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.insect, Insect):
+            raise ValueError(f"insect must be an Insect; got {type(self.insect).__name__}")
+        amplitude = self.insect.stroke_amplitude if self.amplitude is None else self.amplitude
+        _check_amplitude(amplitude)
+        object.__setattr__(self, "amplitude", float(amplitude))
+        if self.alpha_m is None:
+            object.__setattr__(self, "alpha_m",
+                               trim_angle_of_attack(self.insect, self.insect.stroke_amplitude))
+        alpha_m = float(self.alpha_m)
+        if not (math.isfinite(alpha_m) and 0.0 < alpha_m < math.pi / 2):
+            raise ValueError(f"alpha_m must lie in (0, pi/2) rad; got {self.alpha_m!r}")
+        object.__setattr__(self, "alpha_m", alpha_m)
+        if self.aerodynamics not in AERODYNAMIC_MODELS:
+            raise ValueError(f"aerodynamics must be one of {AERODYNAMIC_MODELS}; got {self.aerodynamics!r}")
+        object.__setattr__(self, "_constants", aero_constants(self.insect))
+        blade = None
+        if self.aerodynamics != "linear":
+            blade = BladeElementModel(self.insect, alpha_m, self.amplitude, self.aerodynamics,
+                                      self.n_nodes)
+        object.__setattr__(self, "_blade", blade)
+
+    # ---------------------------------------------------------------- basics
+    @property
+    def period(self) -> float:
+        """Flapping period T [s]."""
+        return self.insect.period
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        """Stroke reversals as fractions of the period, where the right-hand side is not smooth."""
+        return HALF_STROKE_BREAKPOINTS
+
+    def with_amplitude(self, amplitude: float) -> "LongitudinalDynamics":
+        """The same model at another stroke amplitude (alpha_m kept)."""
+        return LongitudinalDynamics(self.insect, amplitude, self.alpha_m, self.aerodynamics,
+                                    self.n_nodes)
+
+    # ---------------------------------------------------------------- loads
+    def derivatives(self, t: float, amplitude: float | None = None) -> tuple[float, ...]:
+        """(X0, Z0, M0, Xu, ..., Mq) at time t (scalar), normalised as in eq. (29)."""
+        amplitude = self.amplitude if amplitude is None else amplitude
+        omega = 2.0 * math.pi * self.insect.frequency
+        phi = amplitude * math.cos(omega * t)
+        phidot = -omega * amplitude * math.sin(omega * t)
+        return _gen.stability_derivatives_scalar(phi, phidot, abs(phidot), self.alpha_m,
+                                                 self._constants)
+
+    def loads(self, t: float, x, stroke: float | None = None,
+              amplitude: float | None = None) -> np.ndarray:
+        """Aerodynamic loads (X, Z, M) [N, N, N m] at time t and state x (both wings).
+
+        ``stroke`` (+1 forward, -1 backward) overrides the half-stroke found from t; it matters
+        only for the blade-element models at stroke reversal.
+        """
+        u, w, q = float(x[0]), float(x[1]), float(x[2])
+        if self.aerodynamics == "linear":
+            d = self.derivatives(t, amplitude)
+            c = self._constants
+            return np.array([
+                d[0] + c.m * (d[3] * u + d[4] * w + d[5] * q),
+                d[1] + c.m * (d[6] * u + d[7] * w + d[8] * q),
+                d[2] + c.Iy * (d[9] * u + d[10] * w + d[11] * q),
+            ])
+        blade = self._blade if amplitude is None or amplitude == self.amplitude else \
+            BladeElementModel(self.insect, self.alpha_m, amplitude, self.aerodynamics, self.n_nodes)
+        s = float(stroke_sign(t, self.insect.frequency)) if stroke is None else stroke
+        return np.asarray(blade.loads(t, u, w, q, s), dtype=float)
+
+    # ---------------------------------------------------------------- vector field
+    def rhs(self, t: float, x, stroke: float | None = None,
+            amplitude: float | None = None) -> np.ndarray:
+        """dx/dt of eq. (2) with the chosen aerodynamic loads (eq. 29 for ``"linear"``)."""
+        u, w, q, theta = float(x[0]), float(x[1]), float(x[2]), float(x[3])
+        g, c = self.insect.gravity, self._constants
+        if self.aerodynamics == "linear":
+            d = self.derivatives(t, amplitude)
+            return np.array([
+                -q * w - g * math.sin(theta) + d[0] / c.m + d[3] * u + d[4] * w + d[5] * q,
+                q * u + g * math.cos(theta) + d[1] / c.m + d[6] * u + d[7] * w + d[8] * q,
+                d[2] / c.Iy + d[9] * u + d[10] * w + d[11] * q,
+                q,
+            ])
+        X, Z, M = self.loads(t, x, stroke, amplitude)
+        return np.array([
+            -q * w - g * math.sin(theta) + X / c.m,
+            q * u + g * math.cos(theta) + Z / c.m,
+            M / c.Iy,
+            q,
+        ])
+
+    def jac(self, t: float, x, stroke: float | None = None,
+            amplitude: float | None = None) -> np.ndarray:
+        """Jacobian d(dx/dt)/dx (eqs. 44-47): analytic for ``"linear"``, central differences of the
+        blade-element loads otherwise."""
+        u, w, q, theta = float(x[0]), float(x[1]), float(x[2]), float(x[3])
+        g, c = self.insect.gravity, self._constants
+        if self.aerodynamics == "linear":
+            d = self.derivatives(t, amplitude)
+            aero = np.array([[d[3], d[4], d[5]], [d[6], d[7], d[8]], [d[9], d[10], d[11]]])
+        else:
+            # The blade-element loads have no closed-form derivative (span quadrature of |U|
+            # and atan2); central differences with a step near eps**(1/3) are accurate to ~1e-10.
+            aero = np.empty((3, 3))
+            scale = np.array([1.0 / c.m, 1.0 / c.m, 1.0 / c.Iy])
+            for j in range(3):
+                h = 1e-6 * max(1.0, abs(float(x[j])))
+                xp = np.array([u, w, q], dtype=float)
+                xm = xp.copy()
+                xp[j] += h
+                xm[j] -= h
+                diff = self.loads(t, xp, stroke, amplitude) - self.loads(t, xm, stroke, amplitude)
+                aero[:, j] = diff * scale / (2.0 * h)
+        J = np.zeros((4, 4))
+        J[:3, :3] = aero
+        J[0, 1] -= q
+        J[0, 2] -= w
+        J[0, 3] = -g * math.cos(theta)
+        J[1, 0] += q
+        J[1, 2] += u
+        J[1, 3] = -g * math.sin(theta)
+        J[3, 2] = 1.0
+        return J
+
+    def segment_functions(self) -> tuple[list[Callable], list[Callable]]:
+        """Per-half-stroke right-hand sides and Jacobians, smooth on each closed half-stroke.
+
+        Returns ``(rhs_list, jac_list)``: element k is used on segment k of the period split at
+        :attr:`breakpoints` (k = 0: backward stroke, k = 1: forward stroke).
+        """
+        rhs, jac = [], []
+        for k in range(len(self.breakpoints) + 1):
+            s = segment_stroke_sign(k)
+            rhs.append(lambda t, x, _s=s: self.rhs(t, x, _s))
+            jac.append(lambda t, x, _s=s: self.jac(t, x, _s))
+        return rhs, jac
+
+    def trace_jacobian(self, t: float, x) -> float:
+        """trace of the Jacobian (for Liouville's formula): Xu + Zw + Mq for ``"linear"``."""
+        return float(np.trace(self.jac(t, x)))
+
+
+def _check_amplitude(amplitude) -> None:
+    try:
+        value = float(amplitude)
+    except (TypeError, ValueError):
+        raise ValueError(f"amplitude must be a real number; got {amplitude!r}") from None
+    if not (math.isfinite(value) and 0.0 < value <= math.pi / 2):
+        raise ValueError(
+            "amplitude must lie in (0, pi/2] rad (0 to 90 degrees: a larger stroke makes the "
+            f"wings cross); got {amplitude!r}"
+        )

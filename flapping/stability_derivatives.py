@@ -1,0 +1,140 @@
+"""Numeric time-periodic stability derivatives X0(t) ... Mq(t) of eq. (29).
+
+The formulas are the ones derived symbolically in :mod:`flapping.derivation`, used through the
+generated module ``flapping._derivatives_generated`` (plain NumPy / math code, no SymPy at run
+time). Normalisation as in eq. (29): X0, Z0 [N], M0 [N m]; Xu, Xw, Zu, Zw [1/s]; Xq, Zq [m/(s rad)];
+Mu, Mw [1/(m s)]; Mq [1/s] -- forces divided by the mass, moments by the pitch inertia.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from flapping import _derivatives_generated as _gen
+from flapping.aerodynamics import trim_angle_of_attack
+from flapping.kinematics import flapping_angle, flapping_rate
+from flapping.morphology import Insect
+
+__all__ = ["NAMES", "AeroConstants", "aero_constants", "StabilityDerivatives", "stability_derivatives"]
+
+#: Names of the derivatives, in order.
+NAMES: tuple[str, ...] = tuple(_gen.NAMES)
+
+
+@dataclass(frozen=True)
+class AeroConstants:
+    """The constants of the linearised loads (after eq. 29), SI units.
+
+    Attributes
+    ----------
+    K : dict
+        K[(m, n)] = rho A I_mn / 2.
+    Krot : dict
+        Krot[(m, n)] = rho pi (3/4 - x0_hat) I_mn.
+    Knu : float
+        (pi/16) rho I_04.
+    x_hat, x_h, mu1, f, m, Iy : float
+        Centre of pressure (fraction of chord), hinge offset [m], damping coefficient, flapping
+        frequency [Hz], mass [kg], pitch inertia [kg m^2].
+    """
+
+    K: dict
+    Krot: dict
+    Knu: float
+    x_hat: float
+    x_h: float
+    mu1: float
+    f: float
+    m: float
+    Iy: float
+
+
+def aero_constants(insect: Insect) -> AeroConstants:
+    """The K_mn, Krot_mn and K_nu of ``insect`` from its closed-form span integrals I_mn."""
+    rho, A = insect.air_density, insect.lift_slope
+    kappa = 0.75 - insect.pitch_axis
+    I = {(m, n): insect.span_integral(m, n) for m in range(4) for n in range(1, 5)
+         if (m + 1 + n * (insect.beta_p - 1.0)) > 0}
+    return AeroConstants(
+        K={k: 0.5 * rho * A * v for k, v in I.items()},
+        Krot={k: rho * math.pi * kappa * v for k, v in I.items()},
+        Knu=math.pi / 16.0 * rho * I[(0, 4)],
+        x_hat=insect.center_of_pressure,
+        x_h=insect.hinge_offset,
+        mu1=insect.mu1,
+        f=insect.frequency,
+        m=insect.mass,
+        Iy=insect.pitch_inertia,
+    )
+
+
+@dataclass(frozen=True)
+class StabilityDerivatives:
+    """Stability derivatives sampled at times ``t`` (arrays of the same shape as ``t``)."""
+
+    t: np.ndarray
+    alpha_m: float
+    amplitude: float
+    X0: np.ndarray
+    Z0: np.ndarray
+    M0: np.ndarray
+    Xu: np.ndarray
+    Xw: np.ndarray
+    Xq: np.ndarray
+    Zu: np.ndarray
+    Zw: np.ndarray
+    Zq: np.ndarray
+    Mu: np.ndarray
+    Mw: np.ndarray
+    Mq: np.ndarray
+
+    def as_dict(self) -> dict[str, np.ndarray]:
+        """The twelve derivatives by name."""
+        return {name: getattr(self, name) for name in NAMES}
+
+    def cycle_mean(self) -> dict[str, float]:
+        """Means over the samples (a cycle average when ``t`` is a uniform grid over one period)."""
+        return {name: float(np.mean(getattr(self, name))) for name in NAMES}
+
+
+def stability_derivatives(
+    insect: Insect,
+    t,
+    *,
+    alpha_m: float | None = None,
+    amplitude: float | None = None,
+) -> StabilityDerivatives:
+    """Evaluate X0(t) ... Mq(t) of eq. (29) for ``insect``.
+
+    Parameters
+    ----------
+    insect : Insect
+        Morphology and aerodynamic constants.
+    t : array_like
+        Times [s].
+    alpha_m : float, optional
+        Mean geometric angle of attack [rad]; default: the trim of eq. (40) at the insect's
+        nominal ``stroke_amplitude`` (the paper fixes alpha_m there and then frees Phi).
+    amplitude : float, optional
+        Stroke amplitude Phi [rad]; default ``insect.stroke_amplitude``.
+
+    Returns
+    -------
+    StabilityDerivatives
+    """
+    amplitude = insect.stroke_amplitude if amplitude is None else float(amplitude)
+    if not (math.isfinite(amplitude) and 0.0 < amplitude <= math.pi / 2):
+        raise ValueError(f"amplitude must lie in (0, pi/2] rad; got {amplitude!r}")
+    if alpha_m is None:
+        alpha_m = trim_angle_of_attack(insect, insect.stroke_amplitude)
+    t = np.asarray(t, dtype=float)
+    if not np.all(np.isfinite(t)):
+        raise ValueError("t must be finite")
+    phi = flapping_angle(t, amplitude, insect.frequency)
+    phidot = flapping_rate(t, amplitude, insect.frequency)
+    values = _gen.stability_derivatives(phi, phidot, np.abs(phidot), alpha_m, aero_constants(insect))
+    arrays = [np.broadcast_to(np.asarray(v, dtype=float), t.shape).copy() for v in values]
+    return StabilityDerivatives(t, float(alpha_m), amplitude, *arrays)

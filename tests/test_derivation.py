@@ -1,0 +1,119 @@
+"""The SymPy derivation: reproducible generated code, and agreement with the blade-element model."""
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import flapping
+from flapping.aerodynamics import BladeElementModel, trim_angle_of_attack
+from flapping.dynamics import LongitudinalDynamics
+from flapping.stability_derivatives import aero_constants, stability_derivatives
+
+sympy = pytest.importorskip("sympy")
+from flapping import derivation  # noqa: E402  (needs sympy)
+
+GENERATED = Path(flapping.__file__).with_name("_derivatives_generated.py")
+
+
+def test_generated_code_is_what_the_derivation_produces():
+    # The committed numeric code must be exactly the output of the derivation, so the model
+    # cannot drift from the algebra the book shows.
+    assert GENERATED.read_text() == derivation.generate_source()
+
+
+def test_importing_flapping_does_not_run_the_derivation():
+    code = "import sys, flapping, flapping.dynamics; print('sympy' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+@pytest.fixture(scope="module")
+def hawkmoth_models():
+    insect = flapping.hawkmoth(hinge_offset=1.5e-3)  # x_h != 0 exercises every term
+    alpha_m = trim_angle_of_attack(insect)
+    linear = LongitudinalDynamics(insect, alpha_m=alpha_m)
+    blade = BladeElementModel(insect, alpha_m, variant="small-angle", n_nodes=40)
+    return insect, linear, blade
+
+
+# Phases avoiding stroke reversal (t = 0, T/2), where |U| has a kink at the zero state.
+PHASES = [0.03, 0.11, 0.2, 0.27, 0.38, 0.46, 0.55, 0.61, 0.74, 0.83, 0.9, 0.97]
+
+
+@pytest.mark.parametrize("phase", PHASES)
+def test_symbolic_derivatives_match_finite_differences_of_blade_element_loads(hawkmoth_models, phase):
+    insect, linear, blade = hawkmoth_models
+    t = phase * insect.period
+    d = np.array(linear.derivatives(t))
+    loads0 = blade.loads(t, 0.0, 0.0, 0.0)
+    scale = np.array([insect.mass, insect.mass, insect.pitch_inertia])
+    # Zero-state loads: exact quadrature of polynomials in r times c^n, so near round-off.
+    np.testing.assert_allclose(d[:3], loads0, rtol=1e-10, atol=1e-12 * np.abs(loads0).max())
+    # Central differences, step 1e-4 in natural units: truncation O(h^2) ~ 1e-8 relative.
+    h = 1e-4
+    fd = np.empty((3, 3))
+    for j in range(3):
+        e = np.zeros(3)
+        e[j] = h
+        fd[:, j] = (blade.loads(t, *e) - blade.loads(t, *(-e))) / (2 * h) / scale
+    sym = d[3:].reshape(3, 3)
+    np.testing.assert_allclose(sym, fd, rtol=1e-6, atol=1e-6 * np.abs(fd).max())
+
+
+def test_linearisation_error_shrinks_as_square_of_state(hawkmoth_models):
+    insect, linear, blade = hawkmoth_models
+    t = 0.3 * insect.period
+    direction = np.array([0.3, -0.4, 2.0])  # m/s, m/s, rad/s
+    errors = []
+    for eps in (1e-2, 5e-3, 2.5e-3):
+        x = eps * direction
+        errors.append(np.abs(linear.loads(t, x) - blade.loads(t, *x)).max())
+    ratios = np.array(errors[:-1]) / np.array(errors[1:])
+    # Second-order remainder: halving the state quarters the error (within 10 %).
+    np.testing.assert_allclose(ratios, 4.0, rtol=0.1)
+
+
+def test_cycle_mean_of_z0_balances_weight_at_trim():
+    insect = flapping.hawkmoth()
+    t = np.linspace(0.0, insect.period, 2048, endpoint=False)
+    mean_z0 = stability_derivatives(insect, t).cycle_mean()["Z0"]
+    assert mean_z0 / insect.mass == pytest.approx(-insect.gravity, rel=1e-12)
+
+
+def test_k_constants_use_the_closed_form_span_integrals():
+    insect = flapping.hawkmoth()
+    c = aero_constants(insect)
+    assert c.K[(2, 1)] == pytest.approx(
+        0.5 * insect.air_density * insect.lift_slope * 2 * insect.wing_area
+        * insect.semi_span**2 * insect.r2**2, rel=1e-12)
+    assert c.Knu == pytest.approx(math.pi / 16 * insect.air_density * insect.span_integral(0, 4))
+
+
+def test_paper_comparison_finds_the_dropped_cos_phi_in_x0():
+    rows = {(r.name, str(r.constant)): r for r in derivation.compare_with_paper()}
+    x0 = rows[("X0", "K_{21}")]
+    assert x0.status == "differs"
+    S = derivation.symbols()
+    # Ours carries cos(phi) (eq. 24 has it); the printed X0 (eq. 25 onwards) does not.
+    assert sympy.simplify(x0.ours / x0.paper + sympy.cos(S.phi)) == 0
+
+
+def test_paper_comparison_finds_the_extra_hinge_term_in_mu():
+    rows = {(r.name, str(r.constant)): r for r in derivation.compare_with_paper()}
+    mu = rows[("Mu", "K_{11}*x_h/I_y")]
+    # The printed (m/I_y)(2 Xq + x_h Zu) doubles the x_h term we derive.
+    assert mu.status == "differs"
+    assert sympy.simplify(mu.paper / mu.ours) == 2
+
+
+def test_derived_forces_have_the_symmetries_of_the_stroke():
+    d = derivation.stability_derivatives()
+    S = derivation.symbols()
+    # Z0 is the same on both half-strokes: even in phi_dot.
+    assert sympy.simplify(d["Z0"].subs(S.phidot, -S.phidot) - d["Z0"]) == 0
+    # X0 reverses with the stroke (odd in phi_dot for fixed |phi_dot|).
+    assert sympy.simplify(d["X0"].subs(S.phidot, -S.phidot) + d["X0"]) == 0

@@ -1,0 +1,76 @@
+"""Equations of motion: Jacobian, validation, and consistency between the aerodynamic models."""
+
+import math
+
+import numpy as np
+import pytest
+
+import flapping
+from flapping.dynamics import LongitudinalDynamics
+
+
+@pytest.fixture(scope="module")
+def insect():
+    return flapping.hawkmoth(hinge_offset=1e-3)
+
+
+@pytest.mark.parametrize("aerodynamics", ["linear", "small-angle", "exact"])
+def test_jacobian_matches_finite_differences_of_rhs(insect, aerodynamics):
+    model = LongitudinalDynamics(insect, aerodynamics=aerodynamics)
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        t = rng.uniform(0.05, 0.45) * insect.period
+        x = rng.normal(scale=[0.2, 0.2, 2.0, 0.3])
+        J = model.jac(t, x)
+        h = 1e-6
+        fd = np.column_stack([(model.rhs(t, x + h * e) - model.rhs(t, x - h * e)) / (2 * h)
+                              for e in np.eye(4)])
+        np.testing.assert_allclose(J, fd, rtol=1e-5, atol=1e-6 * np.abs(fd).max())
+
+
+def test_linear_and_blade_element_models_agree_to_second_order(insect):
+    lin = LongitudinalDynamics(insect, aerodynamics="linear")
+    ble = LongitudinalDynamics(insect, aerodynamics="small-angle")
+    t = 0.21 * insect.period
+    direction = np.array([0.2, 0.3, -1.5, 0.1])
+    diffs = [np.abs(lin.rhs(t, e * direction) - ble.rhs(t, e * direction)).max()
+             for e in (4e-3, 2e-3)]
+    assert diffs[0] / diffs[1] == pytest.approx(4.0, rel=0.1)
+
+
+def test_rhs_at_rest_is_gravity_plus_aerodynamic_forcing(insect):
+    model = LongitudinalDynamics(insect)
+    t = 0.1 * insect.period
+    d = model.derivatives(t)
+    f = model.rhs(t, np.zeros(4))
+    np.testing.assert_allclose(f, [d[0] / insect.mass, insect.gravity + d[1] / insect.mass,
+                                   d[2] / insect.pitch_inertia, 0.0])
+
+
+def test_segment_functions_use_their_own_stroke_sign(insect):
+    model = LongitudinalDynamics(insect, aerodynamics="exact")
+    rhs, _ = model.segment_functions()
+    x = np.array([0.5, 0.0, 0.0, 0.0])  # forward speed: U != 0 at reversal
+    t_rev = 0.5 * insect.period
+    left, right = rhs[0](t_rev, x), rhs[1](t_rev, x)
+    # The wing pitch flips at reversal: with u != 0 the loads jump there.
+    assert np.abs(left - right).max() > 1e-3
+    np.testing.assert_allclose(left, model.rhs(t_rev * (1 - 1e-12), x), rtol=1e-6)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(amplitude=2.0), "amplitude"),
+    (dict(amplitude=-0.1), "amplitude"),
+    (dict(amplitude=float("nan")), "amplitude"),
+    (dict(aerodynamics="quasi"), "aerodynamics"),
+    (dict(alpha_m=2.0), "alpha_m"),
+])
+def test_bad_arguments_raise(insect, kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        LongitudinalDynamics(insect, **kwargs)
+
+
+def test_too_heavy_insect_cannot_trim():
+    heavy = flapping.hawkmoth(mass=0.05)
+    with pytest.raises(ValueError, match="weight"):
+        LongitudinalDynamics(heavy)
