@@ -1,0 +1,122 @@
+"""Run the book's chapters as tests: `python -m pytest` executes every chapter listed in
+book/_toc.yml with nbval, beside the unit tests in tests/.
+
+Chapters are MyST Markdown notebooks (book/NAME.md with jupytext front matter). For each chapter
+in the toc (except the bibliography page) this hook:
+
+1. converts the .md to an .ipynb with jupytext, written under pytest's cache directory
+   (.pytest_cache/, git-ignored), never beside the chapter;
+2. hands that notebook to nbval in lax mode: every code cell runs in order in one fresh kernel of
+   the Python running pytest, an exception fails that cell's test, and outputs are not compared
+   (none are stored); cells tagged ``raises-exception`` may raise, as in the book build;
+3. starts the kernel in book/, as the Jupyter Book build does, so relative paths behave the same.
+
+Test IDs name the chapter, e.g. ``book/intro.md::Cell 0``. A chapter listed in the toc whose file
+does not exist yet is reported as skipped (``book/_toc.yml::NAME``); the book build fails on it.
+"""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+import jupytext
+import nbformat
+import pytest
+import yaml
+from nbval.kernel import CURRENT_ENV_KERNEL_NAME, RunningKernel
+from nbval.plugin import IPyNbFile
+
+BOOK = Path(__file__).parent / "book"
+TOC = BOOK / "_toc.yml"
+NOT_EXECUTED = {"references"}  # pages with no code: only the bibliography directive
+
+
+def _toc_entries(toc: dict) -> list[str]:
+    """Every `file:` (and the root) of a jb-book toc, in reading order, without extension."""
+    entries = [toc["root"]]
+
+    def walk(node):
+        if isinstance(node, dict):
+            if "file" in node:
+                entries.append(node["file"])
+            for value in node.values():
+                walk(value)
+        elif isinstance(node, list):
+            for value in node:
+                walk(value)
+
+    walk({k: v for k, v in toc.items() if k != "root"})
+    return [str(Path(e).with_suffix("")) for e in entries]
+
+
+def book_chapters() -> list[str]:
+    """Chapter names (paths relative to book/, no extension) that pytest executes."""
+    toc = yaml.safe_load(TOC.read_text(encoding="utf-8"))
+    return [name for name in _toc_entries(toc) if name not in NOT_EXECUTED]
+
+
+class MystChapter(IPyNbFile):
+    """nbval's notebook collector, reading a MyST Markdown chapter through jupytext."""
+
+    _read_from: Path | None = None
+
+    @property
+    def fspath(self):
+        # nbval's collect() reads the notebook from str(self.fspath): during collection that is
+        # the converted .ipynb; everywhere else it is the chapter, so test IDs name the chapter.
+        return self._read_from if self._read_from is not None else self.path
+
+    def collect(self):
+        notebook = jupytext.read(self.path)
+        ipynb = _notebook_dir(self.config) / (self.path.stem + ".ipynb")
+        nbformat.write(notebook, ipynb)
+        self.compare_outputs = False  # lax: outputs are never compared (none are stored)
+        self._read_from = ipynb
+        try:
+            yield from super().collect()
+        finally:
+            self._read_from = None
+
+    def setup(self):
+        # Same interpreter as pytest (not whatever `python3` kernelspec is on the PATH), run from
+        # book/ like the Jupyter Book build.
+        self.kernel = RunningKernel(
+            CURRENT_ENV_KERNEL_NAME,
+            cwd=str(BOOK),
+            startup_timeout=self.config.option.nbval_kernel_startup_timeout,
+        )
+        self.setup_sanitize_files()
+
+
+class MissingChapter(pytest.Item):
+    """A toc entry whose chapter file has not been written yet."""
+
+    def runtest(self):
+        pytest.skip(f"listed in book/_toc.yml but book/{self.name}.md does not exist yet")
+
+    def reportinfo(self):
+        return self.path, None, f"book/_toc.yml::{self.name}"
+
+
+class TocFile(pytest.File):
+    def collect(self):
+        for name in book_chapters():
+            if not (BOOK / f"{name}.md").exists():
+                yield MissingChapter.from_parent(self, name=name)
+
+
+def _notebook_dir(config) -> Path:
+    cache = getattr(config, "cache", None)
+    if cache is not None:
+        return cache.mkdir("book-notebooks")
+    return Path(tempfile.mkdtemp(prefix="book-notebooks-"))
+
+
+def pytest_collect_file(file_path: Path, parent):
+    if file_path == TOC:
+        return TocFile.from_parent(parent, path=file_path)
+    if file_path.suffix == ".md" and file_path.parent == BOOK:
+        if file_path.stem in book_chapters():
+            return MystChapter.from_parent(parent, path=file_path)
+    return None
