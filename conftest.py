@@ -69,7 +69,8 @@ class MystChapter(IPyNbFile):
 
     def collect(self):
         notebook = jupytext.read(self.path)
-        ipynb = _notebook_dir(self.config) / (self.path.stem + ".ipynb")
+        name = self.path.relative_to(BOOK).with_suffix("").as_posix().replace("/", "--")
+        ipynb = _notebook_dir(self.config) / f"{name}.ipynb"
         nbformat.write(notebook, ipynb)
         self.compare_outputs = False  # lax: outputs are never compared (none are stored)
         self._read_from = ipynb
@@ -116,7 +117,7 @@ def _notebook_dir(config) -> Path:
 def pytest_collect_file(file_path: Path, parent):
     if file_path == TOC:
         return TocFile.from_parent(parent, path=file_path)
-    if file_path.suffix == ".md" and file_path.parent == BOOK:
-        if file_path.stem in book_chapters():
+    if file_path.suffix == ".md" and file_path.is_relative_to(BOOK):
+        if file_path.relative_to(BOOK).with_suffix("").as_posix() in book_chapters():
             return MystChapter.from_parent(parent, path=file_path)
     return None
