@@ -98,3 +98,106 @@ def stability_derivatives_scalar(phi, phidot, absphidot, alpha_m, c):
         2*t19*t23*(t16*t25 + t22*t25 - t24*t3),  # Mw
         t23*(-c.Knu*c.mu1*c.f*t12 + 2*phidot*c.K[1, 2]*c.x_hat*c.x_h*t19*t2 + phidot*c.Krot[1, 2]*c.x_h*t2 + phidot*c.K[2, 2]*c.x_hat*t18*t19 + (1/2)*phidot*c.Krot[2, 2]*t18 - c.K[1, 1]*c.x_h**2*t21 - c.Krot[1, 3]*c.x_hat*t12*t25 - c.K[3, 1]*t21*t8**2 - c.x_h*t13*t20*t22),  # Mq
     )
+
+
+def stability_derivatives_scalar_with_amplitude(phi, phidot, absphidot, alpha_m, c):
+    """The twelve derivatives and then Phi * d/dPhi of each (24 floats), for one phase."""
+    t0 = math.cos(phi)
+    t1 = 2*t0
+    t2 = absphidot*t1
+    t3 = math.sin(alpha_m)
+    t4 = t3**2
+    t5 = phidot*c.K[2, 1]*t4
+    t6 = math.sin(2*alpha_m)
+    t7 = c.K[2, 1]*t6
+    t8 = phidot**2*t7
+    t9 = phidot*t7
+    t10 = c.x_h*t9
+    t11 = math.sin(phi)
+    t12 = phidot*t6
+    t13 = c.K[3, 1]*t11*t12
+    t14 = c.K[2, 2]*c.x_hat
+    t15 = t14*t3
+    t16 = t0**2
+    t17 = 4*t16
+    t18 = 1/c.m
+    t19 = c.K[1, 1]*t18
+    t20 = absphidot*t19
+    t21 = t20*t4
+    t22 = phidot*t0
+    t23 = t22*t6
+    t24 = c.K[1, 1]*c.x_h
+    t25 = 2*phi
+    t26 = math.sin(t25)
+    t27 = (1/2)*t26
+    t28 = c.K[2, 1]*t27 + t0*t24
+    t29 = t12*t18
+    t30 = c.K[1, 1]*t29
+    t31 = math.cos(alpha_m)
+    t32 = t31**2
+    t33 = 2*t32
+    t34 = -t20*t33
+    t35 = c.Krot[1, 2]*t22
+    t36 = absphidot*t33
+    t37 = c.K[2, 1]*t11
+    t38 = t24*t36 - t35 + t36*t37
+    t39 = 1/c.Iy
+    t40 = t12*t24
+    t41 = c.K[1, 2]*c.x_hat
+    t42 = absphidot*t3*t41
+    t43 = t1*t40 - t17*t42 + t26*t9
+    t44 = absphidot*t31
+    t45 = -t22*t41 + t24*t44 + t37*t44
+    t46 = 2*t31*t39
+    t47 = c.Knu*c.mu1*c.f
+    t48 = c.Krot[1, 3]*c.x_hat*t44
+    t49 = t16*t48
+    t50 = c.K[1, 1]*c.x_h**2*t36
+    t51 = 4*absphidot
+    t52 = t32*t51
+    t53 = c.x_h*t52
+    t54 = t37*t53
+    t55 = c.K[3, 1]*t11**2*t36
+    t56 = phi*t11
+    t57 = t11*t25
+    t58 = -t0
+    t59 = t30*(t56 + t58)
+    t60 = math.cos(t25)
+    t61 = phi*t60
+    t62 = phidot*t56
+    t63 = c.Krot[1, 2]*t62
+    t64 = c.K[2, 1]*t0
+    t65 = t25*t60
+    t66 = t0*t56
+    t67 = phi*t64
+    t68 = phidot*c.Krot[2, 2]
+    t69 = phidot*t31
+    t70 = t14*t69
+    t71 = t0*t57
+    t72 = c.x_h*t41*t69
+    return (
+        -t2*t5,  # X0
+        -t8,  # Z0
+        phidot*(t10 + t13 - t15*t2),  # M0
+        -t17*t21,  # Xu
+        -t19*t23,  # Xw
+        t28*t29,  # Xq
+        -t1*t30,  # Zu
+        t34,  # Zw
+        t18*t38,  # Zq
+        t39*t43,  # Mu
+        t45*t46,  # Mw
+        t39*(2*phidot*c.K[1, 2]*c.x_hat*c.x_h*t0*t31 + phidot*c.Krot[1, 2]*c.x_h*t0 + phidot*c.K[2, 2]*c.x_hat*t26*t31 + (1/2)*phidot*c.Krot[2, 2]*t26 - t16*t47 - t49 - t50 - t54 - t55),  # Mq
+        2*absphidot*t5*(-t1 + t56),  # Phi dX0/dPhi
+        -2*t8,  # Phi dZ0/dPhi
+        phidot*(phi*c.K[3, 1]*t23 + absphidot*t15*t57 - t0*t15*t51 + 2*t10 + 2*t13),  # Phi dM0/dPhi
+        4*t0*t21*(t57 + t58),  # Phi dXu/dPhi
+        t59,  # Phi dXw/dPhi
+        t29*(c.K[2, 1]*t61 - t24*t56 + t28),  # Phi dXq/dPhi
+        2*t59,  # Phi dZu/dPhi
+        t34,  # Phi dZw/dPhi
+        t18*(absphidot*t25*t32*t64 + t38 + t63),  # Phi dZq/dPhi
+        t39*(-t40*t57 + 8*t42*t66 + t43 + t65*t9),  # Phi dMu/dPhi
+        t46*(t41*t62 + t44*t67 + t45),  # Phi dMw/dPhi
+        t39*(-c.K[3, 1]*t52*t66 + c.x_h*t35 - c.x_h*t63 + t1*t72 + t26*t70 + t27*t68 + t47*t71 + t48*t71 - t49 - t50 - t53*t67 - t54 - t55 - t57*t72 + t61*t68 + t65*t70),  # Phi dMq/dPhi
+    )

@@ -386,10 +386,10 @@ def generate_source() -> str:
     names = _numeric_names()
     placeholders = {sym: sp.Symbol(f"__{i}__") for i, sym in enumerate(names)}
     printed_of = {placeholders[sym]: names[sym] for sym in names}
-    replacements, reduced = sp.cse([e.xreplace(placeholders) for e in exprs],
-                                   symbols=sp.numbered_symbols("t"), optimizations="basic")
+    def body(printer, exprs, labels) -> list[str]:
+        replacements, reduced = sp.cse([e.xreplace(placeholders) for e in exprs],
+                                       symbols=sp.numbered_symbols("t"), optimizations="basic")
 
-    def body(printer) -> list[str]:
         def show(e: sp.Expr) -> str:
             text = printer.doprint(e)
             for ph in sorted(printed_of, key=lambda p: -len(p.name)):
@@ -398,9 +398,16 @@ def generate_source() -> str:
 
         lines = [f"    {sym} = {show(e)}" for sym, e in replacements]
         lines.append("    return (")
-        lines += [f"        {show(e)},  # {name}" for name, e in zip(DERIVATIVE_NAMES, reduced)]
+        lines += [f"        {show(e)},  # {name}" for name, e in zip(labels, reduced)]
         lines.append("    )")
         return lines
+
+    # Phi d/dPhi of each derivative: phi, phi_dot and |phi_dot| are all proportional to the
+    # amplitude Phi, so Phi d/dPhi is the Euler operator phi d/dphi + phi_dot d/dphi_dot + ...
+    S = symbols()
+    euler = [sp.expand(S.phi * sp.diff(e, S.phi) + S.phidot * sp.diff(e, S.phidot)
+                       + S.absphidot * sp.diff(e, S.absphidot)) for e in exprs]
+    amp_labels = [f"Phi d{name}/dPhi" for name in DERIVATIVE_NAMES]
 
     from sympy.printing.numpy import NumPyPrinter
     from sympy.printing.pycode import PythonCodePrinter
@@ -424,12 +431,17 @@ def generate_source() -> str:
         "",
         "def stability_derivatives(phi, phidot, absphidot, alpha_m, c):",
         '    """(X0, Z0, M0, Xu, Xw, Xq, Zu, Zw, Zq, Mu, Mw, Mq) for arrays of phases (NumPy)."""',
-        *body(numpy_printer),
+        *body(numpy_printer, exprs, DERIVATIVE_NAMES),
         "",
         "",
         "def stability_derivatives_scalar(phi, phidot, absphidot, alpha_m, c):",
         '    """The same for one phase, in plain floats (fast inside ODE right-hand sides)."""',
-        *body(math_printer),
+        *body(math_printer, exprs, DERIVATIVE_NAMES),
+        "",
+        "",
+        "def stability_derivatives_scalar_with_amplitude(phi, phidot, absphidot, alpha_m, c):",
+        '    """The twelve derivatives and then Phi * d/dPhi of each (24 floats), for one phase."""',
+        *body(math_printer, exprs + euler, list(DERIVATIVE_NAMES) + amp_labels),
     ]
     return "\n".join(lines) + "\n"
 

@@ -79,6 +79,9 @@ class LongitudinalDynamics:
     n_nodes: int = 32
     _constants: AeroConstants = field(init=False, repr=False, compare=False)
     _blade: BladeElementModel | None = field(init=False, repr=False, compare=False)
+    # Last (t, amplitude) -> derivatives: rhs and jac are called at the same t by integrators of
+    # the variational equations, and the derivatives are most of the cost of either.
+    _cache: list = field(init=False, repr=False, compare=False, default_factory=lambda: [None, None])
 
     def __post_init__(self) -> None:
         if not isinstance(self.insect, Insect):
@@ -121,12 +124,25 @@ class LongitudinalDynamics:
     # ---------------------------------------------------------------- loads
     def derivatives(self, t: float, amplitude: float | None = None) -> tuple[float, ...]:
         """(X0, Z0, M0, Xu, ..., Mq) at time t (scalar), normalised as in eq. (29)."""
+        return self._derivatives_with_amplitude(t, amplitude)[:12]
+
+    def amplitude_derivatives(self, t: float, amplitude: float | None = None) -> tuple[float, ...]:
+        """d/dPhi of (X0, Z0, M0, Xu, ..., Mq) at time t (from the generated code)."""
         amplitude = self.amplitude if amplitude is None else amplitude
+        return tuple(v / amplitude for v in self._derivatives_with_amplitude(t, amplitude)[12:])
+
+    def _derivatives_with_amplitude(self, t: float, amplitude: float | None) -> tuple[float, ...]:
+        amplitude = self.amplitude if amplitude is None else float(amplitude)
+        key = (float(t), amplitude)
+        if self._cache[0] == key:
+            return self._cache[1]
         omega = 2.0 * math.pi * self.insect.frequency
         phi = amplitude * math.cos(omega * t)
         phidot = -omega * amplitude * math.sin(omega * t)
-        return _gen.stability_derivatives_scalar(phi, phidot, abs(phidot), self.alpha_m,
-                                                 self._constants)
+        values = _gen.stability_derivatives_scalar_with_amplitude(
+            phi, phidot, abs(phidot), self.alpha_m, self._constants)
+        self._cache[0], self._cache[1] = key, values
+        return values
 
     def loads(self, t: float, x, stroke: float | None = None,
               amplitude: float | None = None) -> np.ndarray:
@@ -203,6 +219,24 @@ class LongitudinalDynamics:
         J[1, 3] = -g * math.sin(theta)
         J[3, 2] = 1.0
         return J
+
+    def amplitude_jac(self, t: float, x, stroke: float | None = None,
+                      amplitude: float | None = None) -> np.ndarray:
+        """d(dx/dt)/dPhi, shape (4, 1): analytic for ``"linear"``, central differences otherwise."""
+        amplitude = self.amplitude if amplitude is None else float(amplitude)
+        if self.aerodynamics == "linear":
+            u, w, q = float(x[0]), float(x[1]), float(x[2])
+            d = self.amplitude_derivatives(t, amplitude)
+            c = self._constants
+            return np.array([
+                [d[0] / c.m + d[3] * u + d[4] * w + d[5] * q],
+                [d[1] / c.m + d[6] * u + d[7] * w + d[8] * q],
+                [d[2] / c.Iy + d[9] * u + d[10] * w + d[11] * q],
+                [0.0],
+            ])
+        h = 1e-7 * amplitude
+        return ((self.rhs(t, x, stroke, amplitude + h) - self.rhs(t, x, stroke, amplitude - h))
+                / (2.0 * h))[:, None]
 
     def segment_functions(self) -> tuple[list[Callable], list[Callable]]:
         """Per-half-stroke right-hand sides and Jacobians, smooth on each closed half-stroke.

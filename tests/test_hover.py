@@ -1,0 +1,147 @@
+"""The hovering orbit of the hawkmoth and its Floquet stability."""
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import flapping
+from flapping.errors import ConvergenceError
+from flapping.hover import (
+    HALF_PERIOD_SYMMETRY,
+    find_hover_orbit,
+    forced_orbit,
+    hover_stability,
+    paper_hover_problem,
+    perturbation_growth,
+)
+
+
+@pytest.fixture(scope="module")
+def insect():
+    return flapping.hawkmoth()
+
+
+@pytest.fixture(scope="module")
+def orbit(insect):
+    return find_hover_orbit(insect)
+
+
+@pytest.fixture(scope="module")
+def stability(orbit):
+    return hover_stability(orbit)
+
+
+def test_orbit_closes(orbit):
+    assert orbit.shooting.success
+    assert orbit.residual_norm < 1e-10
+    # Independent check: integrate the found initial state over one period.
+    x = orbit.x
+    np.testing.assert_allclose(x[:, -1], x[:, 0], atol=1e-9 * np.abs(x).max())
+
+
+def test_orbit_hovers_mean_vertical_velocity_vanishes(orbit):
+    v = orbit.mean_inertial_velocity
+    scale = np.abs(orbit.x[1]).max()
+    assert abs(v["climb"]) < 1e-8 * max(scale, 1.0)
+
+
+def test_mean_vertical_aerodynamic_force_equals_weight(orbit, insect):
+    # Over a closed hover orbit the inertial vertical velocity is periodic, so the cycle mean of the
+    # vertical aerodynamic force balances the weight exactly.
+    model = orbit.model
+    t, x = orbit.t[:-1], orbit.x[:, :-1]
+    loads = np.array([model.loads(ti, xi) for ti, xi in zip(t, x.T)]).T
+    vertical = loads[1] * np.cos(x[3]) - loads[0] * np.sin(x[3])  # down positive
+    # Trapezoid on a uniform periodic grid: error dominated by the |phi_dot| kinks, O(h^2).
+    assert np.mean(vertical) == pytest.approx(-insect.weight, rel=1e-4)
+
+
+def test_hover_amplitude_is_a_proper_stroke(orbit):
+    assert 0.0 < orbit.amplitude <= math.pi / 2
+
+
+def test_half_period_symmetry_of_the_symmetric_stroke(orbit):
+    # With x_h = 0 the equations are invariant under t -> t + T/2, (u, w, q, theta) -> S(...).
+    assert orbit.half_period_symmetry_error < 1e-7
+    assert np.allclose(np.diag(HALF_PERIOD_SYMMETRY), [-1, 1, -1, -1])
+
+
+def test_liouville(stability):
+    assert stability.liouville_error < 1e-9
+
+
+def test_multipliers_rk4_agree_with_dop853(orbit, stability):
+    rk4 = hover_stability(orbit, method="RK4")
+    # RK4 at 2^-10 of a period: global error ~ (h * |lambda|)^4 is far below 1e-6 here.
+    np.testing.assert_allclose(np.sort_complex(rk4.multipliers), np.sort_complex(stability.multipliers),
+                               rtol=1e-6, atol=1e-8)
+
+
+def test_hover_is_unstable_and_nonlinear_growth_matches_multiplier(stability):
+    assert not stability.is_stable
+    growth = perturbation_growth(stability, epsilon=1e-8, n_cycles=30)
+    assert growth.growth_per_cycle == pytest.approx(abs(stability.multipliers[0]), rel=2e-3)
+
+
+def test_averaged_jacobian_has_the_trace_of_liouville(stability):
+    # trace of the averaged Jacobian times T is the integral of trace J: a consistency check of
+    # the quadrature against the monodromy's determinant.
+    T = stability.orbit.period
+    assert math.exp(np.trace(stability.averaged_jacobian) * T) == pytest.approx(stability.det, rel=1e-9)
+
+
+def test_prescribed_amplitude_orbits_climb_or_sink(insect, orbit):
+    low = forced_orbit(insect, orbit.amplitude * 0.97)
+    high = forced_orbit(insect, orbit.amplitude * 1.03)
+    # Less stroke, less lift: the body sinks (z down positive); more stroke: it climbs.
+    assert low.z_drift > 0 > high.z_drift
+
+
+def test_paper_h_condition_leaves_amplitude_undetermined(insect):
+    result, sv = paper_hover_problem(insect)
+    assert result.success
+    # Rank 4 for 6 unknowns: a two-dimensional null space (h0 does not feed back, and the h
+    # residual repeats the others), so the amplitude is not fixed by the paper's condition.
+    rank = int(np.sum(sv > 1e-8 * sv[0]))
+    assert rank == 4
+
+
+def test_too_heavy_insect_has_no_hover_orbit():
+    with pytest.raises(ValueError, match="weight"):
+        find_hover_orbit(flapping.hawkmoth(mass=0.05))
+
+
+def test_bad_guess_raises(insect):
+    with pytest.raises(ValueError, match="x0_guess"):
+        find_hover_orbit(insect, x0_guess=[0.0, 0.0])
+    with pytest.raises(ValueError, match="amplitude"):
+        find_hover_orbit(insect, amplitude_guess=2.0)
+
+
+def _run_cli(*args):
+    return subprocess.run([sys.executable, "-m", "flapping", *args], capture_output=True, text=True,
+                          timeout=120)
+
+
+def test_cli_json_parses_and_carries_the_keys():
+    out = _run_cli("hover", "--json")
+    assert out.returncode == 0, out.stderr
+    report = json.loads(out.stdout)
+    for key in ("amplitude_deg", "initial_state", "period_s", "multipliers", "det_monodromy",
+                "liouville_det", "averaged_eigenvalues"):
+        assert key in report
+    assert set(report["initial_state"]) == {"u", "w", "q", "theta"}
+    assert all(set(m) == {"re", "im"} for m in report["multipliers"])
+    assert len(report["multipliers"]) == 4
+
+
+@pytest.mark.parametrize("args", [("hover", "--insect", "dragonfly"), ("fly",), ("hover", "--bogus")])
+def test_cli_bad_arguments_exit_nonzero_with_one_line(args):
+    out = _run_cli(*args)
+    assert out.returncode != 0
+    assert "Traceback" not in out.stderr
+    assert len(out.stderr.strip().splitlines()) == 1
