@@ -48,7 +48,18 @@ from flapping.integrate import (
     variational_flow,
 )
 
-__all__ = ["PeriodicOrbit", "find_periodic_orbit", "JACOBIANS"]
+__all__ = [
+    "PeriodicOrbit",
+    "find_periodic_orbit",
+    "JACOBIANS",
+    "lorenz",
+    "lorenz_jac",
+    "rossler",
+    "rossler_jac",
+    "forced_oscillator",
+    "forced_oscillator_jac",
+    "forced_oscillator_orbit",
+]
 
 #: Accepted values of ``jacobian``.
 JACOBIANS: tuple[str, ...] = ("variational", "finite-difference")
@@ -163,7 +174,6 @@ def find_periodic_orbit(
     xtol: float = 1e-12,
     ftol: float = 1e-12,
     min_period: float | None = None,
-    inexact: bool = True,
     args: tuple = (),
 ) -> PeriodicOrbit:
     """Find a periodic orbit by the optimized shooting method (eqs. 30-38).
@@ -230,11 +240,6 @@ def find_periodic_orbit(
     min_period : float, optional
         Autonomous only: a converged period below this is rejected as the trivial solution
         ``T -> 0`` every autonomous shooting residual has (default ``1e-2 * period``).
-    inexact : bool, optional
-        Loosen the integration tolerance while the residual is large (at most to 1e-6, and to
-        1e-4 of the best residual so far relative to the state's scale), as in inexact Newton
-        methods; the last iterations and the reported residual use ``rtol``/``atol``. Adaptive
-        methods only.
     args : tuple, optional
         Extra arguments of ``fun`` and ``jac`` (before ``p``).
 
@@ -356,26 +361,11 @@ def find_periodic_orbit(
     taus_b = 1.0 + taus_a
     tau_out = np.concatenate([taus_a[1:], taus_b])
 
-    state = {"z": None, "r": None, "last_good": z_init.copy(), "best": math.inf}
+    state = {"z": None, "r": None, "last_good": z_init.copy()}
     residual_history: list[float] = []
     iteration_history: list[float] = []
     jcounter = _Counter()
     jac_cache = {"z": None, "J": None}
-    scale = max(1.0, float(np.max(np.abs(x_init))))
-
-    def tolerances(final=False):
-        """Integration tolerances for the next evaluation (inexact Newton).
-
-        Far from the orbit the residual is large, and integrating it to 1e-11 buys nothing: the
-        tolerance follows the best residual so far (1e-4 of it, relative to the state's scale,
-        never looser than 1e-6), and reaches ``rtol`` well before convergence, so the final
-        iterates and the reported residual are computed at full accuracy.
-        """
-        if final or not inexact or method == "RK4":
-            return rtol, atol
-        factor = min(1e-6, 1e-4 * state["best"] / scale) / rtol
-        factor = max(1.0, factor) if math.isfinite(factor) else 1e-6 / rtol
-        return rtol * factor, np.asarray(atol) * factor
 
     def extra(z):
         x, T, p = unpack(z)
@@ -402,12 +392,11 @@ def find_periodic_orbit(
             raise _IntegrationFailed("non-finite residual")
         return r
 
-    def plain_residual(z, final=False):
+    def plain_residual(z):
         """Eq. (38) by one integration of the state (states at tau = k delta, 1 + k delta)."""
         x, T, p = unpack(z)
-        tr, ta = tolerances(final)
         out = _propagate(bind(p), 0.0, float(taus_b[-1] * T), x, period=T,
-                         breakpoints=breakpoints, method=method, rtol=tr, atol=ta,
+                         breakpoints=breakpoints, method=method, rtol=rtol, atol=atol,
                          rk4_h=T / rk4_steps, t_out=tuple(tau_out * T))
         if not out["success"]:
             raise _IntegrationFailed(out["message"])
@@ -415,13 +404,12 @@ def find_periodic_orbit(
         xa = np.vstack([x[None, :], ys[: n_points - 1]])
         return finish((ys[n_points - 1:] - xa).ravel(), z)
 
-    def variational_residual(z, final=False):
+    def variational_residual(z):
         """Eq. (38) and its Jacobian from one integration of the variational equations."""
         x, T, p = unpack(z)
-        tr, ta = tolerances(final)
         var = variational_flow(
             fun, jac, (0.0, float(taus_b[-1] * T)), x, breakpoints=breakpoints, period=T,
-            method=method, rtol=tr, atol=ta, rk4_steps=rk4_steps, t_out=tuple(tau_out * T),
+            method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps, t_out=tuple(tau_out * T),
             params=p, param_jac=param_jac, args=args,
         )
         counter.n += var.nfev
@@ -451,6 +439,12 @@ def find_periodic_orbit(
     def residual(z):
         if state["z"] is not None and np.array_equal(z, state["z"]):
             return state["r"]  # scipy re-requests points it has seen; do not integrate twice
+        if autonomous and not z[free.size] > 0.0:
+            raise _IntegrationFailed(
+                f"the period left (0, inf) (T = {z[free.size]:.3e}): the iteration is heading for "
+                f"the trivial solution T -> 0 of the autonomous residual (no periodic orbit near "
+                f"the guess, or an equilibrium)"
+            )
         if jacobian == "variational":
             # Integrate the variational equations with every residual: a trial point that LM
             # accepts (the usual case near the orbit) then has its Jacobian for free, one
@@ -461,7 +455,6 @@ def find_periodic_orbit(
             r = plain_residual(z)
         norm = float(np.linalg.norm(r))
         state["z"], state["r"], state["last_good"] = z.copy(), r, z.copy()
-        state["best"] = min(state["best"], norm)
         residual_history.append(norm)
         return r
 
@@ -496,22 +489,16 @@ def find_periodic_orbit(
         result = least_squares(residual, z_init, jac=jacobian_fn, method="lm", x_scale="jac",
                                xtol=xtol, ftol=ftol, gtol=_EPS * 10, max_nfev=max_nfev)
     except _IntegrationFailed as exc:
-        failure = f"integration failed during the iteration: {exc}"
+        failure = f"the iteration failed: {exc}"
     except (np.linalg.LinAlgError, FloatingPointError, OverflowError) as exc:
         failure = f"numerical failure during the iteration: {exc}"
 
     if result is not None:
         z_final = result.x
-        try:
-            # The reported residual is recomputed at full accuracy, with the same discretisation
-            # as the iteration (the variational integration takes other steps than the plain one,
-            # and on an expanding orbit the two differ by their global errors, ~1e-10 on Lorenz).
-            if jacobian == "variational":
-                r_final = variational_residual(z_final, final=True)[0]
-            else:
-                r_final = plain_residual(z_final, final=True)
-        except _IntegrationFailed as exc:
-            r_final, failure = np.full(n_residuals, np.nan), f"integration failed: {exc}"
+        # The residual of the final iterate, from the discretisation the iteration used (the
+        # variational integration takes other steps than the plain one; on an expanding orbit
+        # the two differ by their global errors, ~1e-10 on Lorenz).
+        r_final = residual(z_final)
         message = result.message
         status_ok = result.status > 0
     else:
@@ -547,3 +534,69 @@ def find_periodic_orbit(
             iterations=orbit.iterations, result=orbit,
         )
     return orbit
+
+
+# --------------------------------------------------------------------------------------------
+# Test problems with literature answers (used by the tests, the benchmark and the book)
+# --------------------------------------------------------------------------------------------
+
+
+def lorenz(t: float, x, sigma: float = 10.0, rho: float = 28.0, beta: float = 8.0 / 3.0) -> np.ndarray:
+    """Lorenz (1963) vector field; trace of its Jacobian is ``-(sigma + 1 + beta)``."""
+    return np.array([sigma * (x[1] - x[0]), x[0] * (rho - x[2]) - x[1], x[0] * x[1] - beta * x[2]])
+
+
+def lorenz_jac(t: float, x, sigma: float = 10.0, rho: float = 28.0, beta: float = 8.0 / 3.0) -> np.ndarray:
+    """Jacobian of :func:`lorenz`."""
+    return np.array([[-sigma, sigma, 0.0], [rho - x[2], -1.0, -x[0]], [x[1], x[0], -beta]])
+
+
+def rossler(t: float, x, a: float = 0.2, b: float = 0.2, c: float = 5.7) -> np.ndarray:
+    """Roessler (1976) vector field."""
+    return np.array([-x[1] - x[2], x[0] + a * x[1], b + x[2] * (x[0] - c)])
+
+
+def rossler_jac(t: float, x, a: float = 0.2, b: float = 0.2, c: float = 5.7) -> np.ndarray:
+    """Jacobian of :func:`rossler`."""
+    return np.array([[0.0, -1.0, -1.0], [1.0, a, 0.0], [x[2], 0.0, x[0] - c]])
+
+
+def _scalar(value) -> float:
+    # Free parameters arrive as 1-element arrays; fixed ones as numbers.
+    return float(np.asarray(value, dtype=float).reshape(-1)[0])
+
+
+def forced_oscillator(t: float, x, zeta: float, omega0: float, omega: float, amplitude) -> np.ndarray:
+    """Damped linear oscillator under harmonic forcing, ``y'' + 2 zeta w0 y' + w0^2 y = A cos(W t)``.
+
+    State ``x = (y, y')``. ``amplitude`` may be a number or a 1-element array (a free parameter).
+    """
+    a = _scalar(amplitude)
+    return np.array([x[1], a * math.cos(omega * t) - 2.0 * zeta * omega0 * x[1] - omega0**2 * x[0]])
+
+
+def forced_oscillator_jac(t: float, x, zeta: float, omega0: float, omega: float, amplitude) -> np.ndarray:
+    """Jacobian of :func:`forced_oscillator` (constant)."""
+    return np.array([[0.0, 1.0], [-omega0**2, -2.0 * zeta * omega0]])
+
+
+def forced_oscillator_orbit(zeta: float, omega0: float, omega: float, amplitude: float):
+    """Closed forms for :func:`forced_oscillator`: periodic state at t = 0 and Floquet multipliers.
+
+    The periodic solution is ``y(t) = Re(A H e^{i W t})``, ``H = 1 / (w0^2 - W^2 + 2 i zeta w0 W)``;
+    the multipliers are ``exp(lambda T)`` for the roots ``lambda`` of ``s^2 + 2 zeta w0 s + w0^2``
+    and ``T = 2 pi / W``.
+
+    Returns
+    -------
+    x0 : ndarray, shape (2,)
+        ``(y(0), y'(0))`` on the periodic solution.
+    multipliers : ndarray, shape (2,), complex
+        Sorted by modulus, then argument (descending).
+    """
+    H = 1.0 / (omega0**2 - omega**2 + 2j * zeta * omega0 * omega)
+    x0 = np.array([(amplitude * H).real, (1j * omega * amplitude * H).real])
+    lam = np.roots([1.0, 2.0 * zeta * omega0, omega0**2]).astype(complex)
+    mu = np.exp(lam * 2.0 * math.pi / omega)
+    order = np.lexsort((-np.angle(mu), -np.abs(mu)))
+    return x0, mu[order]

@@ -1,0 +1,131 @@
+"""Floquet analysis (flapping.floquet): Liouville, the trivial multiplier, independent methods."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from flapping.floquet import (
+    FloquetAccuracyWarning,
+    floquet_exponents,
+    floquet_multipliers,
+    monodromy,
+    nontrivial_multipliers,
+    trivial_multiplier,
+)
+from flapping.integrate import flow
+from flapping.shooting import find_periodic_orbit, lorenz, lorenz_jac, rossler, rossler_jac
+
+SIGMA, BETA = 10.0, 8.0 / 3.0
+
+
+@pytest.fixture(scope="module")
+def orbit_ab():
+    return find_periodic_orbit(lorenz, [-13.8, -19.6, 27.0], 1.56, fixed=[2], jac=lorenz_jac)
+
+
+@pytest.fixture(scope="module")
+def mon_ab(orbit_ab):
+    return monodromy(lorenz, orbit_ab.x0, orbit_ab.period, jac=lorenz_jac)
+
+
+def test_lorenz_multipliers_trivial_expanding_contracting(mon_ab):
+    # One multiplier is 1 (flow direction): within 1e-8 (integration at 1e-12 over an orbit whose
+    # largest multiplier is ~5: errors ~1e-11). One expands, one contracts.
+    mu = mon_ab.multipliers
+    i = trivial_multiplier(mon_ab)
+    assert abs(mu[i] - 1.0) <= 1e-8
+    others = np.abs(nontrivial_multipliers(mon_ab))
+    assert others[0] > 1.0 > others[1] > 0.0
+    assert np.all(np.abs(mu.imag) == 0.0)
+
+
+def test_lorenz_det_matches_liouville(orbit_ab, mon_ab):
+    # det M (product of well-conditioned factors) vs exp(int trace J) = exp(-(sigma+1+beta) T):
+    # 1e-9 relative (each factor keeps ~1e-12 / cond; det M ~ 5.6e-10 is tiny, so a plain
+    # det(eig) would fail this by orders of magnitude).
+    exact = math.exp(-(SIGMA + 1.0 + BETA) * orbit_ab.period)
+    assert abs(mon_ab.liouville_det / exact - 1.0) <= 1e-12  # the trace is constant: exact
+    assert mon_ab.liouville_error <= 1e-9
+    assert abs(mon_ab.det / exact - 1.0) <= 1e-9
+    # the small multiplier, from the periodic QR, is consistent with det / (mu_e * 1)
+    mu = mon_ab.multipliers.real
+    assert abs(mu[0] * mu[1] * mu[2] / exact - 1.0) <= 1e-9
+
+
+def test_variational_monodromy_matches_finite_differences_of_the_flow(orbit_ab, mon_ab):
+    # Central differences of the one-period flow (h = 1e-6; truncation ~h^2 |d3x|, rounding
+    # ~1e-12/h): the large entries agree to ~1e-6 relative.
+    h = 1e-6
+    x0, T = orbit_ab.x0, orbit_ab.period
+    fd = np.empty((3, 3))
+    for j in range(3):
+        e = np.zeros(3)
+        e[j] = h
+        xp = flow(lorenz, (0.0, T), x0 + e, rtol=1e-12, atol=1e-12).x[:, -1]
+        xm = flow(lorenz, (0.0, T), x0 - e, rtol=1e-12, atol=1e-12).x[:, -1]
+        fd[:, j] = (xp - xm) / (2 * h)
+    np.testing.assert_allclose(mon_ab.matrix, fd, atol=1e-5 * np.abs(fd).max())
+
+
+def test_finite_difference_jacobian_gives_the_same_multipliers(orbit_ab, mon_ab):
+    # jac=None: central differences inside the variational equations (error ~eps^(2/3)).
+    fd = monodromy(lorenz, orbit_ab.x0, orbit_ab.period)
+    np.testing.assert_allclose(fd.multipliers[:2], mon_ab.multipliers[:2], rtol=1e-8)
+    assert fd.liouville_error <= 1e-9
+
+
+def test_roessler_expanding_multiplier_matches_chaosbook():
+    # ChaosBook: the period-1 orbit (a = b = 0.2, c = 5.7) has Lambda_e = -2.40395 (6 digits).
+    orbit = find_periodic_orbit(rossler, [0.0, -6.8, 0.03], 5.9, fixed=[0], jac=rossler_jac)
+    mon = monodromy(rossler, orbit.x0, orbit.period, jac=rossler_jac)
+    assert abs(mon.multipliers[0].real + 2.40395) <= 5e-6
+    assert abs(mon.multipliers[trivial_multiplier(mon)] - 1.0) <= 1e-8
+    assert mon.liouville_error <= 1e-9
+
+
+def test_segmented_monodromy_of_jumping_rhs():
+    # x' = -a x + s(t) with s jumping at T/2: M = exp(-a T) exactly, whatever the forcing.
+    # Relative 1e-10: the finite-difference Jacobian (jac=None) has relative error ~eps^(2/3)
+    # ~ 4e-11 and DOP853 at rtol 1e-12 accumulates ~1e-11 over the period's steps.
+    a, T = 1.3, 2.0
+    funs = [lambda t, x: -a * x + 1.0, lambda t, x: -a * x - 1.0]
+    mon = monodromy(funs, [0.0], T, breakpoints=(0.5,))
+    assert abs(mon.multipliers[0] / math.exp(-a * T) - 1.0) <= 1e-10
+    assert mon.liouville_error <= 1e-10
+
+
+def test_rk4_monodromy_agrees_to_rk4_accuracy(orbit_ab, mon_ab):
+    # RK4 at 2^-10 of the period: multipliers agree to its truncation error (~1e-7 here).
+    rk4 = monodromy(lorenz, orbit_ab.x0, orbit_ab.period, jac=lorenz_jac, method="RK4")
+    np.testing.assert_allclose(rk4.multipliers[:2], mon_ab.multipliers[:2], rtol=1e-6)
+
+
+def test_tiny_multiplier_from_eig_warns():
+    with pytest.warns(FloquetAccuracyWarning):
+        floquet_multipliers(np.diag([2.0, 1e-20]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mu = floquet_multipliers(np.diag([0.5, 2.0, -1.0]))
+    np.testing.assert_array_equal(mu, [2.0, -1.0, 0.5])  # sorted by modulus, descending
+
+
+def test_exponents_are_log_over_period():
+    mu = np.array([math.e**2, -1.0])
+    ex = floquet_exponents(mu, 2.0)
+    assert ex[0] == pytest.approx(1.0)
+    assert ex[1] == pytest.approx(1j * math.pi / 2.0)
+    with pytest.raises(ValueError, match="`period`"):
+        floquet_exponents(mu, 0.0)
+
+
+def test_bad_arguments():
+    with pytest.raises(ValueError, match="`matrix`"):
+        floquet_multipliers(np.ones((2, 3)))
+    with pytest.raises(ValueError, match="`n_sub`"):
+        monodromy(lorenz, [1.0, 1.0, 1.0], 1.0, n_sub=0)
+    with pytest.raises(ValueError, match="`period`"):
+        monodromy(lorenz, [1.0, 1.0, 1.0], -1.0)

@@ -1,0 +1,188 @@
+"""Segment-aware integration (flapping.integrate): each test states one property that must hold."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from flapping.integrate import flow, variational_flow
+from flapping.shooting import lorenz, lorenz_jac
+
+# Viswanath's orbit AB of the Lorenz system (a convenient, bounded, chaotic test trajectory).
+X_AB = np.array([-13.763610682134, -19.578751942452, 27.0])
+T_AB = 1.5586522107162
+
+
+def square_wave_rhs(a, T):
+    """x' = -a x + s(t), s = +1 on [0, T/2], -1 on [T/2, T]: one callable per closed half-period.
+
+    Each callable asserts that it is only ever evaluated on its own closed segment.
+    """
+    calls = {"first": [], "second": []}
+
+    def first(t, x):
+        phase = t / T - math.floor(t / T + 1e-12)
+        assert phase <= 0.5 + 1e-12, f"segment-0 callable evaluated at phase {phase}"
+        calls["first"].append(t)
+        return -a * x + 1.0
+
+    def second(t, x):
+        phase = t / T - math.floor(t / T)
+        assert phase >= 0.5 - 1e-12 or phase <= 1e-12, f"segment-1 callable evaluated at phase {phase}"
+        calls["second"].append(t)
+        return -a * x - 1.0
+
+    return [first, second], calls
+
+
+def square_wave_exact(t, x0, a, T):
+    """Closed-form solution of the square-wave problem, piece by piece."""
+    x, s = x0, 0.0
+    while s < t - 1e-15:
+        half = math.floor(2 * s / T + 1e-12)
+        end = min(t, (half + 1) * T / 2)
+        sign = 1.0 if half % 2 == 0 else -1.0
+        x = sign / a + (x - sign / a) * math.exp(-a * (end - s))
+        s = end
+    return x
+
+
+def test_linear_decay_matches_exponential():
+    # x' = -x: DOP853 at rtol 1e-11 must give exp(-t) to ~1e-11 (10x margin for the global error).
+    r = flow(lambda t, x: -x, (0.0, 3.0), [1.0], t_eval=[1.0, 2.0, 3.0])
+    np.testing.assert_allclose(r.x[0], np.exp(-r.t), rtol=1e-10)
+    assert r.success and r.nfev > 0
+
+
+@pytest.mark.parametrize("method", ["DOP853", "RK4"])
+def test_segment_callables_respected_at_segment_ends(method):
+    # A right-hand side that jumps at t = T/2: each half-period's callable is used on its closed
+    # segment only (asserted inside), and the solution matches the closed form. DOP853 to 1e-10;
+    # RK4 at 2^-10 of T = 2 has local error h^5 ~ 1e-14 for this smooth-per-segment problem.
+    a, T = 1.3, 2.0
+    funs, calls = square_wave_rhs(a, T)
+    r = flow(funs, (0.0, 2.5 * T), [0.2], breakpoints=(0.5,), period=T, method=method,
+             t_eval=[0.5 * T, T, 1.75 * T, 2.5 * T])
+    exact = [square_wave_exact(t, 0.2, a, T) for t in r.t]
+    np.testing.assert_allclose(r.x[0], exact, rtol=0, atol=1e-10)
+    assert any(abs(t - T / 2) < 1e-12 for t in calls["first"])  # used at its closing end
+    assert any(abs(t - T / 2) < 1e-12 for t in calls["second"])  # and the other at its opening
+
+
+def test_rk4_counts_four_evaluations_per_step():
+    # Classical RK4: exactly 4 right-hand-side evaluations per step, 1024 steps per period.
+    r = flow(lorenz, (0.0, T_AB), X_AB, method="RK4", period=T_AB)
+    assert r.nfev == 4 * 1024
+    assert len(r.t) == 1025
+
+
+def test_rk4_is_fourth_order_and_agrees_with_dop853_to_its_accuracy():
+    # RK4 at 2^-10 of the period differs from DOP853 (1e-12) by its own truncation error, which
+    # Richardson extrapolation estimates as |x_h - x_{h/2}| * 16/15; halving h divides it by ~16.
+    ref = flow(lorenz, (0.0, T_AB), X_AB, rtol=1e-13, atol=1e-13).x[:, -1]
+    x1 = flow(lorenz, (0.0, T_AB), X_AB, method="RK4", period=T_AB, rk4_steps=1024).x[:, -1]
+    x2 = flow(lorenz, (0.0, T_AB), X_AB, method="RK4", period=T_AB, rk4_steps=2048).x[:, -1]
+    e1, e2 = np.linalg.norm(x1 - ref), np.linalg.norm(x2 - ref)
+    assert 12.0 < e1 / e2 < 20.0  # order 4: ratio 16
+    assert e1 <= 2.0 * (16.0 / 15.0) * np.linalg.norm(x1 - x2)
+
+
+def test_rk4_breakpoint_off_grid_is_rejected():
+    with pytest.raises(ValueError, match="step boundary"):
+        flow(lambda t, x: -x, (0.0, 1.0), [1.0], method="RK4", period=1.0, breakpoints=(0.3,))
+
+
+def test_dense_output_is_continuous_across_breakpoints():
+    # The piecewise interpolant agrees with the restart states at the breakpoint (1e-10).
+    a, T = 0.7, 1.0
+    funs, _ = square_wave_rhs(a, T)
+    r = flow(funs, (0.0, 2.0), [0.0], breakpoints=(0.5,), period=T, dense_output=True)
+    for t in (0.5, 1.0, 1.5):
+        assert abs(r.sol(t)[0] - square_wave_exact(t, 0.0, a, T)) < 1e-10
+        assert abs(r.sol(t - 1e-9)[0] - r.sol(t + 1e-9)[0]) < 1e-8
+
+
+def test_backward_integration_returns_to_start():
+    fwd = flow(lorenz, (0.0, 0.5), X_AB)
+    back = flow(lorenz, (0.5, 0.0), fwd.x[:, -1])
+    np.testing.assert_allclose(back.x[:, -1], X_AB, atol=1e-8)  # Lorenz expands errors ~e^{0.9*0.5}
+
+
+def test_variational_stm_matches_finite_differences_of_the_flow():
+    # Phi(T) from the variational equations vs central differences of the flow (step 1e-5:
+    # truncation ~ 1e-10 |x'''|, rounding ~ 1e-12 / 1e-5): agree to 1e-6 relative.
+    var = variational_flow(lorenz, lorenz_jac, (0.0, T_AB), X_AB)
+    h = 1e-5
+    fd = np.empty((3, 3))
+    for j in range(3):
+        e = np.zeros(3)
+        e[j] = h
+        fd[:, j] = (flow(lorenz, (0.0, T_AB), X_AB + e).x[:, -1]
+                    - flow(lorenz, (0.0, T_AB), X_AB - e).x[:, -1]) / (2 * h)
+    np.testing.assert_allclose(var.stm_end, fd, rtol=1e-6, atol=1e-6 * np.abs(fd).max())
+
+
+def test_fd_jacobian_variational_matches_analytic():
+    # jac=None (central differences per evaluation, error ~eps^(2/3)) vs the analytic Jacobian.
+    a = variational_flow(lorenz, lorenz_jac, (0.0, T_AB), X_AB)
+    b = variational_flow(lorenz, None, (0.0, T_AB), X_AB)
+    np.testing.assert_allclose(b.stm_end, a.stm_end, rtol=1e-7, atol=1e-7 * np.abs(a.stm_end).max())
+    assert b.nfev > 6 * a.nfev / 2  # 2n = 6 extra evaluations per call are counted
+
+
+def test_parameter_sensitivity_matches_finite_differences():
+    # dx(T)/drho from the sensitivity equation vs central differences of the flow in rho.
+    def f(t, x, p):
+        return lorenz(t, x, 10.0, p[0], 8.0 / 3.0)
+
+    def fj(t, x, p):
+        return lorenz_jac(t, x, 10.0, p[0], 8.0 / 3.0)
+
+    var = variational_flow(f, fj, (0.0, 0.5), X_AB, params=[28.0])
+    h = 1e-5
+    plus = flow(lambda t, x: f(t, x, [28.0 + h]), (0.0, 0.5), X_AB).x[:, -1]
+    minus = flow(lambda t, x: f(t, x, [28.0 - h]), (0.0, 0.5), X_AB).x[:, -1]
+    np.testing.assert_allclose(var.sensitivity[-1][:, 0], (plus - minus) / (2 * h), rtol=1e-6)
+
+
+def test_trace_integral_of_lorenz_is_exact():
+    # trace J = -(sigma + 1 + beta) is constant on Lorenz: the quadrature state is exact.
+    var = variational_flow(lorenz, lorenz_jac, (0.0, T_AB), X_AB, trace=True)
+    assert abs(var.trace_integral[-1] + (10 + 1 + 8 / 3) * T_AB) < 1e-12 * 13.7 * T_AB
+
+
+def test_wrong_output_shape_names_fun():
+    with pytest.raises(ValueError, match="`fun` must return an array of shape"):
+        flow(lambda t, x: np.zeros(2), (0.0, 1.0), [1.0, 2.0, 3.0])
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(breakpoints=(0.5,)), "give `period`"),
+        (dict(breakpoints=(1.2,), period=1.0), r"open interval \(0, 1\)"),
+        (dict(breakpoints=(0.6, 0.4), period=1.0), "strictly increasing"),
+        (dict(method="Euler"), "`method` must be"),
+        (dict(rtol=-1.0), "`rtol`"),
+        (dict(rk4_steps=0, method="RK4"), "`rk4_steps`"),
+    ],
+)
+def test_bad_arguments_raise_valueerror(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        flow(lambda t, x: -x, (0.0, 1.0), [1.0], **kwargs)
+
+
+def test_sequence_length_must_match_segments():
+    with pytest.raises(ValueError, match="one callable per segment"):
+        flow([lambda t, x: -x], (0.0, 1.0), [1.0], breakpoints=(0.5,), period=1.0)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.one_of(st.floats(max_value=0.0), st.just(math.inf), st.just(math.nan)))
+def test_non_positive_or_non_finite_period_is_rejected(period):
+    with pytest.raises(ValueError, match="`period` must be a positive finite number"):
+        flow(lambda t, x: -x, (0.0, 1.0), [1.0], period=period)

@@ -1,0 +1,200 @@
+"""Optimized shooting (flapping.shooting), validated against literature and closed forms."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from flapping.errors import ConvergenceError
+from flapping.floquet import monodromy, nontrivial_multipliers
+from flapping.shooting import (
+    find_periodic_orbit,
+    forced_oscillator,
+    forced_oscillator_jac,
+    forced_oscillator_orbit,
+    lorenz,
+    lorenz_jac,
+    rossler,
+    rossler_jac,
+)
+
+# Literature values. Viswanath (2003) gives the Lorenz orbit AB to 14 digits; ChaosBook the Roessler
+# period-1 orbit to 16; Dednam & Botha (2015, Table 1 case) the period to 13. Our integrations at
+# rtol = 1e-11 reproduce periods to ~1e-12 relative, so 1e-9 is a margin of 1000, not a fit.
+T_AB = 1.5586522107162
+X_AB = np.array([-13.763610682134, -19.578751942452, 27.0])
+T_ROSSLER = 5.881088455554846
+T_DEDNAM = 5.920340248194
+DEDNAM_ARGS = (0.15, 0.2, 3.5)
+DEDNAM_GUESS = [2.7002161609, 3.4723025491, 3.0]
+
+
+@pytest.mark.parametrize("perturbation", [(0.04, -0.02, 0.002), (-0.3, 0.4, -0.02), (0.5, 0.5, 0.03)])
+def test_lorenz_orbit_ab_from_perturbed_guesses(perturbation):
+    # z = 27 held fixed (Poincare section through Viswanath's point); rough guesses converge.
+    dx, dy, dT = perturbation
+    guess = np.round(X_AB, 1) + [dx, dy, 0.0]
+    orbit = find_periodic_orbit(lorenz, guess, round(T_AB, 2) + dT, fixed=[2], jac=lorenz_jac)
+    assert orbit.success and orbit.residual_norm <= 1e-10
+    assert abs(orbit.period / T_AB - 1.0) <= 1e-9
+    np.testing.assert_allclose(orbit.x0, X_AB, atol=1e-8)  # Viswanath's 12 decimals, margin 100
+
+
+def test_roessler_period_one_orbit_matches_chaosbook():
+    orbit = find_periodic_orbit(rossler, [0.0, -6.8, 0.03], 5.9, fixed=[0], jac=rossler_jac)
+    assert abs(orbit.period / T_ROSSLER - 1.0) <= 1e-9
+
+
+def test_dednam_botha_table1_case():
+    # x3 held fixed, the paper's guess; T and the largest non-trivial multiplier modulus (0.812252,
+    # six digits given) are reproduced.
+    orbit = find_periodic_orbit(rossler, DEDNAM_GUESS, 5.92030065, fixed=[2], jac=rossler_jac,
+                                args=DEDNAM_ARGS)
+    assert abs(orbit.period / T_DEDNAM - 1.0) <= 1e-10
+    mon = monodromy(rossler, orbit.x0, orbit.period, jac=rossler_jac, args=DEDNAM_ARGS)
+    largest = np.max(np.abs(nontrivial_multipliers(mon)))
+    assert abs(largest - 0.812252) <= 1e-6
+
+
+def test_variational_and_finite_difference_jacobians_find_the_same_orbit():
+    # Two independent Jacobians (variational equations vs differenced residual), same orbit:
+    # agreement to the integration accuracy (periods ~1e-12; 1e-10 with margin).
+    kw = dict(fixed=[2], args=DEDNAM_ARGS)
+    a = find_periodic_orbit(rossler, DEDNAM_GUESS, 5.92, jacobian="variational", **kw)
+    b = find_periodic_orbit(rossler, DEDNAM_GUESS, 5.92, jacobian="finite-difference", **kw)
+    assert abs(a.period - b.period) <= 1e-10 * a.period
+    np.testing.assert_allclose(a.x0, b.x0, atol=1e-9)
+    assert a.jacobian == "variational" and b.jacobian == "finite-difference"
+
+
+def test_paper_method_rk4_reaches_rk4_accuracy():
+    # The paper's configuration (FD Jacobian, RK4 at 2^-10): the period is limited by RK4's
+    # truncation error, O(h^4) with h = T/1024; on this orbit that is below 1e-10 relative.
+    orbit = find_periodic_orbit(rossler, DEDNAM_GUESS, 5.92, fixed=[2], args=DEDNAM_ARGS,
+                                jacobian="finite-difference", method="RK4")
+    assert abs(orbit.period / T_DEDNAM - 1.0) <= 1e-10
+    assert orbit.method == "RK4"
+
+
+def test_history_and_counters_are_consistent():
+    orbit = find_periodic_orbit(rossler, DEDNAM_GUESS, 5.92, fixed=[2], jac=rossler_jac,
+                                args=DEDNAM_ARGS)
+    assert orbit.iteration_history[0] > 1e-3 > 1e-10 >= orbit.iteration_history[-1]
+    assert len(orbit.residual_history) == orbit.n_residual_evals
+    assert orbit.n_rhs_evals > 0 and orbit.n_jac_evals > 0
+
+
+FORCED = (0.1, 1.0, 1.3)  # zeta, omega0, Omega
+
+
+def test_forced_oscillator_periodic_solution_and_multipliers():
+    # Non-autonomous: T = 2 pi / Omega is known; the periodic solution and the multipliers
+    # exp(lambda T) have closed forms (1e-10: integration at 1e-11 on an O(1) solution).
+    A = 0.7
+    x_exact, mu_exact = forced_oscillator_orbit(*FORCED, A)
+    T = 2 * math.pi / FORCED[2]
+    orbit = find_periodic_orbit(forced_oscillator, [0.0, 0.0], T, autonomous=False,
+                                jac=forced_oscillator_jac, args=FORCED + (A,))
+    assert orbit.period == T
+    np.testing.assert_allclose(orbit.x0, x_exact, atol=1e-10)
+    mon = monodromy(forced_oscillator, orbit.x0, T, jac=forced_oscillator_jac, args=FORCED + (A,))
+    np.testing.assert_allclose(mon.multipliers, mu_exact, atol=1e-10)
+
+
+@pytest.mark.parametrize("jacobian", ["variational", "finite-difference"])
+def test_free_parameter_with_extra_residual(jacobian):
+    # Free forcing amplitude A and the extra condition y(0) = target: A = target / Re(H) exactly.
+    A_true = 0.7
+    x_exact, _ = forced_oscillator_orbit(*FORCED, A_true)
+    orbit = find_periodic_orbit(
+        forced_oscillator, [0.0, 0.0], 2 * math.pi / FORCED[2], autonomous=False, args=FORCED,
+        free_params=[1.0], extra_residual=lambda x, T, p: [x[0] - x_exact[0]], jacobian=jacobian,
+    )
+    assert abs(orbit.params[0] - A_true) <= 1e-9
+    np.testing.assert_allclose(orbit.x0, x_exact, atol=1e-10)
+
+
+def test_segment_callables_free_param_and_fixed_state_like_the_hover_problem():
+    # The hover engineer's configuration: forced, two half-period callables (jump at T/2),
+    # a free parameter (forcing level q), a fixed "altitude" state h with h' = x - 0.1, whose
+    # periodicity h(T) = h(0) is the zero-net-drift condition fixing q.
+    # x' = -a x + q s(t), s = +1 then -1: periodic x has mean 0 for any q... so use bias b:
+    # x' = -a x + q (s(t) + b): mean(x) = q b / a, and h periodic <=> q = 0.1 a / b.
+    a, b, T = 1.3, 0.5, 2.0
+
+    def half(sign):
+        def f(t, x, p):
+            return np.array([-a * x[0] + p[0] * (sign + b), x[0] - 0.1])
+        return f
+
+    orbit = find_periodic_orbit([half(1.0), half(-1.0)], [0.0, 0.0], T, autonomous=False,
+                                breakpoints=(0.5,), free_params=[1.0], fixed=[1])
+    q = 0.1 * a / b
+    E = math.exp(-a * T / 2)
+    # Periodic x(0) for x' = -a x + q (s + b): superposition of the square wave and the bias.
+    x0_exact = -q * (1 - E) / (a * (1 + E)) + q * b / a
+    assert abs(orbit.params[0] - q) <= 1e-9
+    assert abs(orbit.x0[0] - x0_exact) <= 1e-10
+    assert orbit.x0[1] == 0.0  # fixed component untouched
+
+
+def test_no_periodic_orbit_autonomous_raises_convergence_error():
+    # x' = 1 has no periodic orbit; the residual T can only shrink towards the trivial T -> 0.
+    with pytest.raises(ConvergenceError) as info:
+        find_periodic_orbit(lambda t, x: np.ones(2), [0.0, 0.0], 1.0, n_points=2)
+    err = info.value
+    assert err.x is not None and err.residual is not None and err.iterations is not None
+    assert err.result is not None and not err.result.success
+
+
+def test_unbounded_drift_forced_system_raises_convergence_error():
+    # x' = 1 + cos t: every solution drifts by 2 pi per period; residual constant, no orbit.
+    with pytest.raises(ConvergenceError) as info:
+        find_periodic_orbit(lambda t, x: np.array([1.0 + math.cos(t)]), [0.0], 2 * math.pi,
+                            autonomous=False)
+    assert info.value.residual == pytest.approx(2 * math.pi, rel=1e-8)
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(period=-1.0), "`period` must be a positive finite number"),
+        (dict(period=math.nan), "`period` must be a positive finite number"),
+        (dict(x0=[[1.0, 2.0, 3.0]]), "`x0` must be a non-empty 1-D array"),
+        (dict(x0=[1.0, math.inf, 3.0]), "`x0` must be finite"),
+        (dict(fixed=[3]), r"`fixed` must be a sequence of distinct integer indices in \[0, 3\)"),
+        (dict(fixed=[0, 0]), "distinct"),
+        (dict(n_points=0), "`n_points` must be an integer >= 1"),
+        (dict(fixed=()), "too few residuals"),
+        (dict(breakpoints=(0.5,)), "autonomous=False"),
+        (dict(jacobian="broyden"), "`jacobian` must be one of"),
+        (dict(delta=1.5), "`delta` must lie in"),
+        (dict(tol=0.0), "`tol`"),
+    ],
+)
+def test_bad_arguments_raise_valueerror(kwargs, match):
+    base = dict(x0=[1.0, 1.0, 20.0], period=1.5, fixed=[2])
+    base.update(kwargs)
+    with pytest.raises(ValueError, match=match):
+        find_periodic_orbit(lorenz, base.pop("x0"), base.pop("period"), **base)
+
+
+def test_wrong_fun_output_shape_raises_valueerror():
+    with pytest.raises(ValueError, match="`fun` must return an array of shape"):
+        find_periodic_orbit(lambda t, x: np.zeros(2), [1.0, 1.0, 1.0], 1.0, fixed=[0])
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    n_points=st.integers(min_value=-3, max_value=0),
+    index=st.integers().filter(lambda i: not 0 <= i < 3),
+)
+def test_invalid_n_points_and_fixed_indices_always_rejected(n_points, index):
+    with pytest.raises(ValueError, match="`n_points`"):
+        find_periodic_orbit(lorenz, [1.0, 1.0, 20.0], 1.5, fixed=[2], n_points=n_points)
+    with pytest.raises(ValueError, match="`fixed`"):
+        find_periodic_orbit(lorenz, [1.0, 1.0, 20.0], 1.5, fixed=[index])
