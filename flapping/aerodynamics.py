@@ -1,0 +1,683 @@
+"""Quasi-steady blade-element aerodynamics of a hovering flapping wing, nonlinear in the states.
+
+Paper Sec. II (eqs. 3-23). A section of one wing at radius r, chord c, moves in the (xi, z) plane of
+the section (xi: chordwise horizontal, with body-x component cos(phi); z down) with velocity
+
+    U     = r phi_dot + u cos(phi)                   (eq. 9, signed)
+    w_eff = w - q (r sin(phi) + x_h)                 (eq. 12)
+
+and pitches about its span axis at Omega = q cos(phi) (alpha_dot = 0 within a half-stroke). The
+geometric pitch is alpha_g = alpha_m on the forward stroke (s = sign(phi_dot) = +1) and
+pi - alpha_m on the backward stroke (eq. 11). Loads per unit span:
+
+* leading-edge-vortex lift, C_L = A sin(2 alpha) (eq. 3), drag C_D = 2 A sin(alpha)**2 (eq. 6);
+* rotational lift rho |V| Gamma with Gamma = pi c**2 (3/4 - x0_hat) Omega (eq. 5);
+* a pitching moment about the centre of gravity from these forces acting at the centre of pressure,
+  x_hat c behind the pitch line along the chord, plus Berman & Wang's rotational damping torque
+  tau = -(pi/16) rho c**4 (mu1 f + mu2 |Omega|) Omega (eqs. 20-23).
+
+Two variants:
+
+``"small-angle"``
+    The paper's eqs. (13)-(19): first order in the induced angle alpha_i = w_eff/|U|, |V| ~ |U|.
+``"exact"``
+    The exact inflow angle psi = atan2(-w_eff, U) and speed |V| = sqrt(U**2 + w_eff**2).
+
+Both agree to first order in w_eff/|U|, and differ at second order (tested), on either stroke and
+also where U opposes the stroke (s != sign(U), near reversal with u != 0). Neither is linearised
+in (u, w, q): the linearised model of eq. (29) lives elsewhere and is checked against finite
+differences of these loads.
+
+Span integration
+----------------
+Every section load is a polynomial in the chord, ``load = sum_n c(r)**n g_n(r)`` (n = 1..4; the
+coefficients g_n do not depend on c), and Ellington's beta chord
+c(r) = c_bar/B(p, q) r_hat**(p-1) (1 - r_hat)**(q-1) is singular at the root when p < 1. Each
+power is therefore integrated by Gauss-Jacobi quadrature whose weight is exactly
+r_hat**(n(p-1)) (1 - r_hat)**(n(q-1)): polynomial g_n are integrated exactly, and the singularity
+costs nothing (:func:`span_quadrature`). The small-angle g_n are polynomials in r except for the
+kink of |U| where U changes sign, which is handled in closed form, so that variant is integrated
+exactly at every state; the exact variant converges geometrically with the number of nodes
+(:class:`BladeElementModel`).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+from scipy import special
+
+from flapping.kinematics import stroke_sign as _kinematic_stroke_sign
+from flapping.morphology import Insect
+
+__all__ = [
+    "VARIANTS",
+    "SpanQuadrature",
+    "span_quadrature",
+    "trim_angle_of_attack",
+    "section_loads",
+    "BladeElementModel",
+    "wing_loads",
+]
+
+Variant = Literal["small-angle", "exact"]
+
+#: The aerodynamic model variants: the paper's small induced angle, or exact inflow.
+VARIANTS: tuple[str, ...] = ("small-angle", "exact")
+
+#: Scalar types of the fast path of :meth:`BladeElementModel.loads` (NumPy float64 is a float).
+_REAL = (float, int)
+
+#: Highest power of the chord in a section load (the damping torque, c**4).
+_MAX_CHORD_POWER = 4
+
+
+# =========================================================================== span quadrature
+@dataclass(frozen=True, eq=False)
+class SpanQuadrature:
+    """Gauss-Jacobi rules for ``2 int_0^R c(r)**n g(r) dr`` (both wings), n = 0..4.
+
+    ``weights[n] @ g(nodes[n])`` approximates the integral and is exact when g is a polynomial of
+    degree < 2 * n_nodes: the chord power
+    c**n = (c_bar/B(p,q))**n r_hat**a_n (1 - r_hat)**b_n, a_n = n(p-1), b_n = n(q-1), is the
+    Gauss-Jacobi weight, and the chord factor and the factor 2 for the wing pair are inside the
+    weights. Rules are ``None`` when the integral diverges for the planform (a_n <= -1: a root
+    singularity too strong).
+
+    Attributes
+    ----------
+    n_nodes : int
+        Nodes per rule.
+    nodes, weights : tuple of (numpy.ndarray or None)
+        One rule per chord power n = 0..4 ([m] and [m^(n+1)]).
+    """
+
+    n_nodes: int
+    nodes: tuple
+    weights: tuple
+
+    def integrate(self, n: int, values) -> float:
+        """``2 int_0^R c**n g dr`` from ``values = g(nodes[n])``."""
+        if self.weights[n] is None:
+            raise ValueError(f"2 int_0^R c(r)**{n} g(r) dr diverges for this chord distribution")
+        return float(self.weights[n] @ np.asarray(values, dtype=float))
+
+
+def span_quadrature(insect: Insect, n_nodes: int = 32) -> SpanQuadrature:
+    """Gauss-Jacobi span quadrature adapted to the insect's beta chord distribution.
+
+    With r = R r_hat, r_hat = (1 + x)/2 and a_n = n(p - 1), b_n = n(q - 1),
+
+        2 int_0^R c**n g dr = 2 R (c_bar/B(p,q))**n 2**-(a_n+b_n+1)
+                              int_-1^1 (1 - x)**b_n (1 + x)**a_n g dx,
+
+    a Gauss-Jacobi integral with (scipy's convention) alpha = b_n (tip), beta = a_n (root).
+    Rules are cached per (R, c_bar, p, q, n_nodes); nothing is computed at import.
+
+    Parameters
+    ----------
+    insect : Insect
+        Supplies R, c_bar and the beta shape (p, q).
+    n_nodes : int
+        Nodes per rule, >= 2.
+
+    Returns
+    -------
+    SpanQuadrature
+
+    Raises
+    ------
+    ValueError
+        If n_nodes is not an integer >= 2.
+    """
+    n_nodes = _node_count(n_nodes)
+    return _span_quadrature_cached(
+        float(insect.semi_span), float(insect.mean_chord),
+        float(insect.beta_p), float(insect.beta_q), n_nodes,
+    )
+
+
+@functools.lru_cache(maxsize=64)
+def _span_quadrature_cached(R: float, c_bar: float, p: float, q: float,
+                            n_nodes: int) -> SpanQuadrature:
+    log_scale = math.log(c_bar) - special.betaln(p, q)
+    nodes, weights = [], []
+    for n in range(_MAX_CHORD_POWER + 1):
+        a, b = n * (p - 1.0), n * (q - 1.0)
+        if a <= -1.0 or b <= -1.0:
+            nodes.append(None)
+            weights.append(None)
+            continue
+        # scipy: int_-1^1 (1 - x)**alpha (1 + x)**beta f(x) dx; here alpha = b (tip), beta = a.
+        x, wx = special.roots_jacobi(n_nodes, b, a)
+        nodes.append(_frozen(0.5 * R * (1.0 + x)))
+        weights.append(_frozen(2.0 * math.exp(n * log_scale) * R * 2.0 ** -(a + b + 1.0) * wx))
+    return SpanQuadrature(n_nodes, tuple(nodes), tuple(weights))
+
+
+def _frozen(array: np.ndarray) -> np.ndarray:
+    array.setflags(write=False)
+    return array
+
+
+# =========================================================================== trim
+def trim_angle_of_attack(insect: Insect, amplitude: float | None = None) -> float:
+    """Mid-stroke angle of attack alpha_m that balances the weight with mean LEV lift, eq. (40).
+
+    At zero body state the vertical force of both wings is
+    Z0(t) = -K21 phi_dot(t)**2 sin(2 alpha_m) with K21 = rho A I21 / 2 (eq. 26 integrated), on
+    both half-strokes. With phi = Phi cos(2 pi f t) the cycle mean of phi_dot**2 is
+    2 pi**2 f**2 Phi**2, so mean(Z0) = -m g requires
+
+        sin(2 alpha_m) = m g / (2 pi**2 f**2 Phi**2 K21) = m g T**2 / (pi**2 rho A Phi**2 I21).
+
+    The root in (0, pi/4] is returned (the other, pi/2 - alpha_m, has the same LEV lift and more
+    drag).
+
+    Parameters
+    ----------
+    insect : Insect
+        Mass, gravity, density, frequency, lift slope A (eq. 4) and planform (I21).
+    amplitude : float, optional
+        Stroke amplitude Phi [rad] in (0, pi/2]; default ``insect.stroke_amplitude``.
+
+    Returns
+    -------
+    float
+        alpha_m [rad] in (0, pi/4].
+
+    Raises
+    ------
+    ValueError
+        If amplitude is outside (0, pi/2], or if the weight exceeds the largest mean lift the
+        wings can make at this amplitude (sin(2 alpha_m) would exceed 1).
+    """
+    amplitude = _amplitude(insect, amplitude)
+    k21 = 0.5 * insect.air_density * insect.lift_slope * insect.span_integral(2, 1)
+    max_mean_lift = 2.0 * math.pi**2 * insect.frequency**2 * amplitude**2 * k21
+    ratio = insect.weight / max_mean_lift
+    if ratio > 1.0:
+        raise ValueError(
+            f"{insect.name}: weight m g = {insect.weight:.6g} N exceeds the largest mean lift "
+            f"{max_mean_lift:.6g} N (alpha_m = 45 deg) at amplitude {amplitude!r} rad "
+            f"({math.degrees(amplitude):.4g} deg): eq. (40) needs sin(2 alpha_m) = {ratio:.6g} > 1"
+        )
+    return 0.5 * math.asin(ratio)
+
+
+# =========================================================================== section loads
+def _lev_coefficients(U, w_eff, sin_2ag, cos_2am, sin_am2, cos_am2, variant, sign_u=None):
+    """Leading-edge-vortex force coefficients of a section, per unit span, chord and rho A.
+
+    Returns (a, b) with F_xi = rho A c a and F_z = rho A c b for the LEV lift and drag of one
+    section (the rotational lift, c**2 terms, is added by the callers: rho Gamma (w_eff, -U)).
+    Inputs broadcast; nothing is validated. In the small-angle variant, ``sign_u`` (+1 or -1)
+    replaces |U| by sign_u * U, which makes the coefficients polynomial in r (the span
+    integration then adds the correction where sign(U) differs).
+    """
+    if variant == "small-angle":
+        # eqs. (17)-(19), first order in w_eff/|U|, signs restored for both strokes:
+        # F_xi = -rho A c (U|U| sin^2 alpha_m + |U| w_eff sin(2 alpha_g)/2)
+        # F_z  = -rho A c (U|U| sin(2 alpha_g)/2 + |U| w_eff cos^2 alpha_m)
+        abs_u = np.abs(U) if sign_u is None else sign_u * U
+        uu = U * abs_u
+        aw = abs_u * w_eff
+        a = -(uu * sin_am2 + (0.5 * sin_2ag) * aw)
+        b = -((0.5 * sin_2ag) * uu + cos_am2 * aw)
+        return a, b
+    # Exact inflow: with psi = atan2(-w_eff, U) and alpha = alpha_g - psi, the products
+    # |V|^2 sin(2 alpha) and |V|^2 cos(2 alpha) are quadratic forms in (U, w_eff); the lift
+    # direction is n = (w_eff, -U)/|V| and the drag direction -V_hat = -(U, w_eff)/|V|. With
+    # l = rho A c |V|^2 sin(2 alpha)/2 and d = rho A c |V|^2 sin^2(alpha) = rho A c |V|^2
+    # (1 - cos(2 alpha))/2 no trigonometric function is needed.
+    uw = U * w_eff
+    uu = U * U
+    ww = w_eff * w_eff
+    diff = uu - ww
+    v2 = uu + ww
+    lift = sin_2ag * diff + (2.0 * cos_2am) * uw                 # 2 l / (rho A c)
+    drag = v2 - cos_2am * diff + (2.0 * sin_2ag) * uw            # 2 d / (rho A c)
+    # Where |V| = 0, lift = drag = 0 and the tiny offset keeps 0 * finite = 0.
+    half_inv_v = 0.5 * (v2 + 1e-300) ** -0.5
+    a = (lift * w_eff - drag * U) * half_inv_v
+    b = -(lift * U + drag * w_eff) * half_inv_v
+    return a, b
+
+
+def section_loads(r, chord, phi, phi_dot, s, u, w, q, alpha_m, insect: Insect,
+                  variant: Variant = "small-angle"):
+    """Aerodynamic loads per unit span on one wing section, eqs. (9)-(23), nonlinear in (u, w, q).
+
+    Parameters
+    ----------
+    r : array_like
+        Radius of the section from the wing hinge [m].
+    chord : array_like
+        Chord of the section [m] (broadcasts with r; e.g. ``insect.chord(r)``).
+    phi, phi_dot : float or array_like
+        Flapping angle [rad] and rate [rad/s].
+    s : float or array_like
+        Stroke sign, +1 forward (geometric pitch alpha_m), -1 backward (pi - alpha_m), eq. (11).
+    u, w, q : float or array_like
+        Body velocities [m/s] (x forward, z down) and pitch rate [rad/s] (nose-up positive).
+    alpha_m : float
+        Mid-stroke angle of attack [rad].
+    insect : Insect
+        Air density, lift slope A, x0_hat, x_hat, x_h, mu1, mu2, frequency.
+    variant : {"small-angle", "exact"}
+        Induced-angle treatment (see the module docstring).
+
+    Returns
+    -------
+    F_x, F_z, M : numpy.ndarray
+        Body-axis force per unit span [N/m] (x forward, z down) and pitching moment per unit span
+        about the centre of gravity [N m/m] (nose-up positive), for one wing.
+
+    Raises
+    ------
+    ValueError
+        If variant is unknown or an input is not finite.
+
+    Notes
+    -----
+    F_x = F_xi cos(phi). The centre of pressure is at x_cp = x_h + r sin(phi)
+    - x_hat c cos(alpha_g) cos(phi), z_cp = x_hat c sin(alpha_g), and
+    M = z_cp F_x - x_cp F_z + tau cos(phi), tau = -(pi/16) rho c**4 (mu1 f + mu2 |Omega|) Omega
+    with Omega = q cos(phi) (eqs. 20-23).
+    """
+    variant = _variant(variant)
+    arrays = [np.asarray(v, dtype=float) for v in (r, chord, phi, phi_dot, s, u, w, q)]
+    for name, value in zip(("r", "chord", "phi", "phi_dot", "s", "u", "w", "q"), arrays):
+        if not np.all(np.isfinite(value)):
+            raise ValueError(f"{name} must be finite")
+    r, c, phi, phi_dot, s, u, w, q = arrays
+    if not np.all((s == 1.0) | (s == -1.0)):
+        raise ValueError(f"stroke sign s must be +1 or -1; got {s!r}")
+    alpha_m = _alpha_m(alpha_m)
+    rho = insect.air_density
+    cphi, sphi = np.cos(phi), np.sin(phi)
+    U = r * phi_dot + u * cphi
+    w_eff = w - q * (r * sphi + insect.hinge_offset)
+    omega = q * cphi
+    k = math.pi * (0.75 - insect.pitch_axis) * omega
+    a1, b1 = _lev_coefficients(
+        U, w_eff, s * math.sin(2.0 * alpha_m), math.cos(2.0 * alpha_m),
+        math.sin(alpha_m) ** 2, math.cos(alpha_m) ** 2, variant)
+    rho_a = rho * insect.lift_slope
+    a1, b1 = rho_a * a1, rho_a * b1
+    # Rotational lift rho |V| Gamma along n = (w_eff, -U)/|V|, Gamma = c^2 k: the same in both
+    # variants.
+    a2 = rho * k * w_eff
+    b2 = -rho * k * U
+    f_x = cphi * (c * a1 + c * c * a2)
+    f_z = c * b1 + c * c * b2
+    x_hat = insect.center_of_pressure
+    x_cp = insect.hinge_offset + r * sphi - x_hat * c * (s * math.cos(alpha_m)) * cphi
+    z_cp = x_hat * c * math.sin(alpha_m)
+    tau = -(math.pi / 16.0) * rho * c**4 * (
+        insect.mu1 * insect.frequency + insect.mu2 * np.abs(omega)) * omega
+    moment = z_cp * f_x - x_cp * f_z + tau * cphi
+    return tuple(np.broadcast_arrays(f_x, f_z, moment))
+
+
+# =========================================================================== wing loads
+@dataclass(frozen=True)
+class BladeElementModel:
+    """Blade-element loads of both wings for one insect, trim and variant, for ODE right-hand sides.
+
+    Everything that depends only on the insect, alpha_m, the amplitude and the quadrature is
+    computed once at construction; :meth:`loads` then costs a few vectorised operations on
+    ``3 n_nodes`` span stations (about 15-30 microseconds).
+
+    Span integration is exact (to rounding) for the small-angle variant at any state: its section
+    loads are polynomials in r times powers of the chord, except for |U|, which has a kink at the
+    station r* = -u cos(phi)/phi_dot where U changes sign. The loads are integrated with |U|
+    replaced by sigma U (sigma the sign of U on most of the span; polynomial, so Gauss-Jacobi is
+    exact), and the difference, non-zero only between the root or tip and r*, is added in closed
+    form with incomplete beta functions. The exact variant's integrand sqrt(U**2 + w_eff**2) is
+    smooth but varies on the scale |w_eff/phi_dot| about r*; its quadrature converges
+    geometrically in n_nodes, slowly when w_eff is small near r* (tested).
+
+    Parameters
+    ----------
+    insect : Insect
+    alpha_m : float
+        Mid-stroke angle of attack [rad], in [0, pi/2] (e.g. :func:`trim_angle_of_attack`).
+    amplitude : float, optional
+        Stroke amplitude Phi [rad] in (0, pi/2]; default ``insect.stroke_amplitude``.
+    variant : {"small-angle", "exact"}
+    n_nodes : int
+        Gauss-Jacobi nodes per chord power, >= 2 (default 32).
+
+    Raises
+    ------
+    ValueError
+        For an unknown variant, n_nodes < 2, alpha_m or amplitude out of range, or a planform
+        whose root singularity makes a needed span integral diverge.
+    """
+
+    insect: Insect
+    alpha_m: float
+    amplitude: float | None = None
+    variant: Variant = "small-angle"
+    n_nodes: int = 32
+    _partial_moments: tuple = field(init=False, repr=False, compare=False)
+    _r: np.ndarray = field(init=False, repr=False, compare=False)
+    _weights: np.ndarray = field(init=False, repr=False, compare=False)
+    _weight_sums: np.ndarray = field(init=False, repr=False, compare=False)
+    _weight_moments: np.ndarray = field(init=False, repr=False, compare=False)
+    _consts: tuple = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        insect = self.insect
+        if not isinstance(insect, Insect):
+            raise ValueError(f"insect must be an Insect; got {type(insect).__name__}")
+        object.__setattr__(self, "variant", _variant(self.variant))
+        object.__setattr__(self, "n_nodes", _node_count(self.n_nodes))
+        object.__setattr__(self, "alpha_m", _alpha_m(self.alpha_m))
+        object.__setattr__(self, "amplitude", _amplitude(insect, self.amplitude))
+        quad = span_quadrature(insect, self.n_nodes)
+        needed = [1, 2]
+        if insect.center_of_pressure != 0.0:
+            needed.append(3)
+        if insect.mu1 != 0.0 or insect.mu2 != 0.0:
+            needed.append(4)
+        for n in needed:
+            if quad.weights[n] is None:
+                raise ValueError(
+                    f"the span integral of c(r)**{n} diverges for {insect.name} (beta shape "
+                    f"p={insect.beta_p:.4g}: root exponent {n}(p-1) <= -1); the loads are infinite"
+                )
+        # Stations of the c, c^2, c^3 rules side by side. Column j of the weight matrix holds the
+        # rule of chord power j + 1 (j < 3) on its own stations, zero elsewhere; columns 3..5 the
+        # same times r (for the r sin(phi) moment arms).
+        powers = [n for n in (1, 2, 3) if quad.weights[n] is not None]
+        r = np.concatenate([quad.nodes[n] for n in powers])
+        weights = np.zeros((r.size, 6))
+        for k, n in enumerate(powers):
+            rows = slice(k * self.n_nodes, (k + 1) * self.n_nodes)
+            weights[rows, n - 1] = quad.weights[n]
+            weights[rows, n + 2] = quad.weights[n] * quad.nodes[n]
+        i04 = float(quad.weights[4].sum()) if quad.weights[4] is not None else 0.0
+        # I_mn over part of the span, for the sign correction of the small-angle variant:
+        # 2 int_0^x r^m c^n dr = I_mn betainc(m + n(p-1) + 1, n(q-1) + 1, x/R).
+        moments = ((0, 1), (1, 1), (2, 1), (3, 1), (0, 2), (1, 2), (2, 2))
+        p, q = insect.beta_p, insect.beta_q
+        object.__setattr__(self, "_partial_moments", (
+            _frozen(np.array([m + n * (p - 1.0) + 1.0 for m, n in moments])),
+            _frozen(np.array([n * (q - 1.0) + 1.0 for m, n in moments])),
+            _frozen(np.array([insect.span_integral(m, n) for m, n in moments])),
+        ))
+        object.__setattr__(self, "_r", _frozen(r))
+        object.__setattr__(self, "_weights", _frozen(weights))
+        object.__setattr__(self, "_weight_sums", _frozen(weights.sum(axis=0)))
+        object.__setattr__(self, "_weight_moments", _frozen(r @ weights))
+        am = self.alpha_m
+        object.__setattr__(self, "_consts", (
+            2.0 * math.pi * insect.frequency,
+            math.sin(2.0 * am), math.cos(2.0 * am), math.sin(am) ** 2, math.cos(am) ** 2,
+            insect.air_density * insect.lift_slope,                 # rho A
+            insect.air_density * math.pi * (0.75 - insect.pitch_axis),  # rho Gamma/(c^2 Omega)
+            insect.hinge_offset,
+            insect.center_of_pressure * math.sin(am),       # z_cp / c
+            insect.center_of_pressure * math.cos(am),       # |chordwise x_cp offset| / c
+            -(math.pi / 16.0) * insect.air_density * i04,   # damping torque / (...) both wings
+            insect.mu1 * insect.frequency, insect.mu2,
+        ))
+
+    @property
+    def period(self) -> float:
+        """Flapping period T [s]."""
+        return self.insect.period
+
+    def loads(self, t, u, w, q, s=None) -> np.ndarray:
+        """Total aerodynamic force and moment of both wings, (X, Z, M), eqs. (17)-(23) integrated.
+
+        Parameters
+        ----------
+        t : float or array_like
+            Time [s]; phi = Phi cos(2 pi f t) (eq. 39).
+        u, w, q : float or array_like
+            Body state (broadcasts with t): [m/s], [m/s], [rad/s].
+        s : float or array_like, optional
+            Stroke sign +1/-1 overriding ``sign(phi_dot(t))`` (e.g. exactly at stroke reversal,
+            or per half-stroke segment). Default :func:`flapping.kinematics.stroke_sign`.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(X, Z, M)`` [N, N, N m] in body axes (x forward, z down, nose-up moment about the
+            CG); shape ``(3,) + broadcast shape`` of the inputs.
+
+        Raises
+        ------
+        ValueError
+            If an input is not finite or s is not +1 or -1.
+        """
+        if (isinstance(t, _REAL) and isinstance(u, _REAL) and isinstance(w, _REAL)
+                and isinstance(q, _REAL) and (s is None or isinstance(s, _REAL))):
+            if not (math.isfinite(t) and math.isfinite(u) and math.isfinite(w)
+                    and math.isfinite(q)):
+                raise ValueError(f"t and the state must be finite; got t={t!r}, "
+                                 f"(u, w, q)=({u!r}, {w!r}, {q!r})")
+            if s is None:
+                s = -1.0 if (t * self.insect.frequency) % 1.0 < 0.5 else 1.0
+            elif s != 1 and s != -1:
+                raise ValueError(f"stroke sign s must be +1 or -1; got {s!r}")
+            return np.array(self._loads(float(t), float(u), float(w), float(q), float(s)))
+        # Arrays (or NumPy scalars): validate, broadcast, and evaluate point by point.
+        t, u, w, q = (np.asarray(v, dtype=float) for v in (t, u, w, q))
+        for name, value in (("t", t), ("u", u), ("w", w), ("q", q)):
+            if not np.all(np.isfinite(value)):
+                raise ValueError(f"{name} must be finite")
+        if s is None:
+            s = _kinematic_stroke_sign(t, self.insect.frequency)
+        else:
+            s = np.asarray(s, dtype=float)
+            if not np.all((s == 1.0) | (s == -1.0)):
+                raise ValueError("stroke sign s must be +1 or -1")
+        t, u, w, q, s = np.broadcast_arrays(t, u, w, q, s)
+        out = np.empty((3,) + t.shape)
+        for index in np.ndindex(t.shape):
+            out[(slice(None),) + index] = self._loads(
+                float(t[index]), float(u[index]), float(w[index]), float(q[index]),
+                float(s[index]))
+        return out
+
+    def _loads(self, t: float, u: float, w: float, q: float, s: float) -> tuple:
+        """(X, Z, M) for trusted scalar inputs."""
+        (omega_f, sin_2am, cos_2am, sin_am2, cos_am2, rho_a, rho_k, x_h, zh, xc, damping,
+         mu1f, mu2) = self._consts
+        amplitude = self.amplitude
+        phase = omega_f * t
+        phi = amplitude * math.cos(phase)
+        phi_dot = -omega_f * amplitude * math.sin(phase)
+        cphi, sphi = math.cos(phi), math.sin(phi)
+        sin_2ag = s * sin_2am
+        # U = phi_dot r + u_c and w_eff = w_0 - q_s r (eqs. 9, 12) are linear in r.
+        u_c = u * cphi
+        w_0 = w - q * x_h
+        q_s = q * sphi
+        r = self._r
+        W = self._weights
+        if self.variant == "small-angle":
+            # |U| is integrated exactly as sigma U (polynomial in r) plus a correction on the
+            # part of the span where sign(U) = -sigma; sigma is the sign of U on most of the span.
+            sigma, piece = _sign_split(phi_dot, u_c, s, self.insect.semi_span)
+        else:
+            sigma, piece = None, None
+        a1, b1 = _lev_coefficients(phi_dot * r + u_c, w_0 - q_s * r, sin_2ag, cos_2am, sin_am2,
+                                   cos_am2, self.variant, sign_u=sigma)
+        # Span integrals: columns are the c, c^2, c^3 rules, then the same times r.
+        A1 = (a1 @ W).tolist()
+        B1 = (b1 @ W).tolist()
+        if piece is not None:
+            _add_sign_correction(A1, B1, self._partial_moments, self.insect.semi_span, piece,
+                                 sigma, phi_dot, u_c, w_0, q_s, sin_2ag, sin_am2, cos_am2)
+        # Rotational lift rho Gamma (w_eff, -U) with Gamma = c^2 k: linear in r, so integrated with
+        # the precomputed sums of the weights (S0) and of r times the weights (S1).
+        omega = q * cphi
+        k = rho_k * omega
+        S0, S1 = self._weight_sums, self._weight_moments
+        A2 = (k * (w_0 * S0 - q_s * S1)).tolist()
+        B2 = (-k * (phi_dot * S1 + u_c * S0)).tolist()
+        a1_c, a1_c2 = rho_a * A1[0], rho_a * A1[1]
+        b1_c, b1_c2, b1_cr = rho_a * B1[0], rho_a * B1[1], rho_a * B1[3]
+        x_force = cphi * (a1_c + A2[1])
+        z_force = b1_c + B2[1]
+        # M' = z_cp F_x - x_cp F_z + tau cos(phi) with z_cp = zh c,
+        # x_cp = x_h + r sin(phi) - xcp c, F_x = cos(phi)(c a1 + c^2 a2), F_z = c b1 + c^2 b2.
+        xcp = xc * s * cphi
+        zcp = zh * cphi
+        moment = (
+            -(x_h * b1_c + sphi * b1_cr)                                      # c
+            + zcp * a1_c2 - (x_h * B2[1] + sphi * B2[4]) + xcp * b1_c2       # c^2
+            + zcp * A2[2] + xcp * B2[2]                                       # c^3
+            + damping * (mu1f + mu2 * abs(omega)) * omega * cphi              # c^4
+        )
+        return x_force, z_force, moment
+
+
+def _sign_split(phi_dot: float, u_c: float, s: float, R: float):
+    """Where U = phi_dot r + u_c changes sign on [0, R]: (sigma, piece).
+
+    sigma is the sign of U on the larger part of the span; piece = (x, root) describes the
+    smaller part, [0, x] (root True) or [x, R], where sign(U) = -sigma; piece is None when U does
+    not change sign inside the span (sigma is then its sign, or s if U = 0 throughout).
+    """
+    if phi_dot == 0.0:
+        return (s if u_c == 0.0 else math.copysign(1.0, u_c)), None
+    x = -u_c / phi_dot
+    if not 0.0 < x < R:
+        # No sign change inside: the sign at mid-span is everybody's sign.
+        mid = phi_dot * 0.5 * R + u_c
+        return (s if mid == 0.0 else math.copysign(1.0, mid)), None
+    root_sign = math.copysign(1.0, u_c)        # sign of U on [0, x)
+    if x <= 0.5 * R:
+        return -root_sign, (x, True)
+    return root_sign, (x, False)
+
+
+def _add_sign_correction(A1, B1, partial_moments, R, piece, sigma, phi_dot, u_c, w_0, q_s,
+                         sin_2ag, sin_am2, cos_am2) -> None:
+    """Add to the span integrals A1, B1 (lists, in place; per rho A) of the small-angle LEV
+    coefficients computed with |U| := sigma U the correction on ``piece``, where |U| = -sigma U.
+
+    There |U| - sigma U = -2 sigma U, so the coefficients of :func:`_lev_coefficients` change by
+    Delta a = 2 sigma (sin^2(alpha_m) U^2 + sin(2 alpha_g) U w_eff / 2) and
+    Delta b = 2 sigma (sin(2 alpha_g) U^2 / 2 + cos^2(alpha_m) U w_eff), quadratics in r whose
+    integrals against c and c^2 over the piece are incomplete span moments (incomplete beta
+    functions): exact. Only the c, c^2 and c r columns involve these coefficients.
+    """
+    x, root = piece
+    a, b, full = partial_moments
+    fraction = special.betainc(a, b, x / R) if root else special.betaincc(a, b, x / R)
+    j01, j11, j21, j31, j02, j12, j22 = (full * fraction).tolist()
+    # U^2 = c2 r^2 + c1 r + c0 and U w_eff = d2 r^2 + d1 r + d0.
+    c2, c1, c0 = phi_dot * phi_dot, 2.0 * phi_dot * u_c, u_c * u_c
+    d2, d1, d0 = -phi_dot * q_s, phi_dot * w_0 - u_c * q_s, u_c * w_0
+    two_sigma, half_sin = 2.0 * sigma, 0.5 * sin_2ag
+    pairs = ((c2, d2), (c1, d1), (c0, d0))
+    e2, e1, e0 = (two_sigma * (sin_am2 * c + half_sin * d) for c, d in pairs)    # Delta a
+    f2, f1, f0 = (two_sigma * (half_sin * c + cos_am2 * d) for c, d in pairs)    # Delta b
+    A1[0] += e0 * j01 + e1 * j11 + e2 * j21
+    A1[1] += e0 * j02 + e1 * j12 + e2 * j22
+    B1[0] += f0 * j01 + f1 * j11 + f2 * j21
+    B1[1] += f0 * j02 + f1 * j12 + f2 * j22
+    B1[3] += f0 * j11 + f1 * j21 + f2 * j31
+
+
+@functools.lru_cache(maxsize=32)
+def _cached_model(insect: Insect, alpha_m: float, amplitude: float | None, variant: str,
+                  n_nodes: int) -> BladeElementModel:
+    return BladeElementModel(insect, alpha_m, amplitude, variant, n_nodes)
+
+
+def wing_loads(t, state, insect: Insect, alpha_m: float, *, amplitude: float | None = None,
+               variant: Variant = "small-angle", stroke_sign=None, n_nodes: int = 32) -> np.ndarray:
+    """Aerodynamic force and pitching moment of both wings, (X, Z, M), nonlinear in the state.
+
+    A thin wrapper around :meth:`BladeElementModel.loads` (models are memoised per argument set;
+    build a :class:`BladeElementModel` once for the fastest calls). Paper eqs. (9)-(23), integrated
+    over the span of both wings as after eq. (29).
+
+    Parameters
+    ----------
+    t : float or array_like
+        Time [s].
+    state : sequence of float or arrays
+        (u, w, q) or (u, w, q, theta) [m/s, m/s, rad/s, rad]; theta does not enter the loads.
+    insect : Insect
+    alpha_m : float
+        Mid-stroke angle of attack [rad] (e.g. :func:`trim_angle_of_attack`).
+    amplitude : float, optional
+        Stroke amplitude Phi [rad]; default ``insect.stroke_amplitude``.
+    variant : {"small-angle", "exact"}
+    stroke_sign : float, optional
+        +1/-1, overrides the stroke sign from t (for evaluation at reversal / per segment).
+    n_nodes : int
+        Gauss-Jacobi nodes per chord power, >= 2.
+
+    Returns
+    -------
+    numpy.ndarray
+        (X, Z, M) [N, N, N m], body axes, shape ``(3,)`` for scalar inputs.
+
+    Raises
+    ------
+    ValueError
+        Unknown variant, n_nodes < 2, non-finite time or state, a state of wrong length, or a
+        stroke sign other than +1/-1.
+    """
+    if len(state) not in (3, 4):
+        raise ValueError(f"state must be (u, w, q) or (u, w, q, theta); got length {len(state)}")
+    if len(state) == 4 and not np.all(np.isfinite(state[3])):
+        raise ValueError(f"theta must be finite; got {state[3]!r}")
+    # NumPy scalars other than float64 (a float subclass) take the fast scalar path as floats.
+    u, w, q = (float(v) if isinstance(v, np.floating) else v for v in state[:3])
+    if isinstance(t, np.floating):
+        t = float(t)
+    try:
+        model = _cached_model(insect, alpha_m, amplitude, variant, n_nodes)
+    except TypeError:  # unhashable argument (e.g. an array): build it afresh
+        model = BladeElementModel(insect, alpha_m, amplitude, variant, n_nodes)
+    return model.loads(t, u, w, q, stroke_sign)
+
+
+# =========================================================================== validation helpers
+def _variant(variant) -> str:
+    if variant not in VARIANTS:
+        raise ValueError(f"variant must be one of {VARIANTS}; got {variant!r}")
+    return variant
+
+
+def _node_count(n_nodes) -> int:
+    if isinstance(n_nodes, bool) or not isinstance(n_nodes, (int, np.integer)) or n_nodes < 2:
+        raise ValueError(f"n_nodes must be an integer >= 2; got {n_nodes!r}")
+    return int(n_nodes)
+
+
+def _alpha_m(alpha_m) -> float:
+    try:
+        value = float(alpha_m)
+    except (TypeError, ValueError):
+        raise ValueError(f"alpha_m must be a real number; got {alpha_m!r}") from None
+    if not (math.isfinite(value) and 0.0 <= value <= 0.5 * math.pi):
+        raise ValueError(f"alpha_m must lie in [0, pi/2] rad; got {alpha_m!r}")
+    return value
+
+
+def _amplitude(insect: Insect, amplitude) -> float:
+    if amplitude is None:
+        return float(insect.stroke_amplitude)
+    try:
+        value = float(amplitude)
+    except (TypeError, ValueError):
+        raise ValueError(f"amplitude must be a real number; got {amplitude!r}") from None
+    if not (math.isfinite(value) and 0.0 < value <= 0.5 * math.pi):
+        raise ValueError(f"amplitude must lie in (0, pi/2] rad; got {amplitude!r}")
+    return value
