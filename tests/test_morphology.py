@@ -1,0 +1,162 @@
+"""Tests of the insect morphology (flapping.morphology): beta chord distribution, span integrals
+I_mn (paper, after eq. 29), the lift slope of eq. (4), and input validation.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy import integrate
+
+from flapping.morphology import Insect, beta_shape_parameters, hawkmoth, lev_lift_slope
+
+
+@pytest.fixture(scope="module")
+def moth():
+    return hawkmoth()
+
+
+def span_integral_by_quad(insect, m, n):
+    """2 int_0^R r^m c(r)^n dr by adaptive quadrature of Insect.chord, independent of the
+    closed form. The substitution r = R v**g with g = 1/(1 + n(p-1)) turns the root singularity
+    r^(n(p-1)) dr into a bounded integrand (v^(g m) times the smooth tip factor)."""
+    R = insect.semi_span
+    g = 1.0 / (1.0 + n * (insect.beta_p - 1.0))
+
+    def integrand(v):
+        r = R * v**g
+        return r**m * insect.chord(r) ** n * R * g * v ** (g - 1.0)
+
+    value, _ = integrate.quad(integrand, 0.0, 1.0, epsabs=0.0, epsrel=1e-13, limit=200)
+    return 2.0 * value
+
+
+# ----------------------------------------------------------------------------- span integrals
+@pytest.mark.parametrize("n", range(5))
+@pytest.mark.parametrize("m", range(4))
+def test_span_integral_closed_form_matches_quadrature(moth, m, n):
+    # Two independent evaluations of I_mn; QUADPACK reaches ~1e-13 on the regularised integrand.
+    assert moth.span_integral(m, n) == pytest.approx(span_integral_by_quad(moth, m, n),
+                                                     rel=1e-11)
+
+
+@pytest.mark.parametrize("k", [1, 2])
+def test_first_moments_of_area_reproduce_ellington_radii(moth, k):
+    # Ellington's radii: r_k^k = int r^k c dr / (S R^k) for one wing, so I_k1 = 2 S R^k r_k^k.
+    r_k = {1: moth.r1, 2: moth.r2}[k]
+    assert moth.span_integral(k, 1) == pytest.approx(
+        2.0 * moth.wing_area * moth.semi_span**k * r_k**k, rel=1e-13)
+
+
+def test_chord_integrates_to_wing_area(moth):
+    area, _ = integrate.quad(moth.chord, 0.0, moth.semi_span, limit=200, epsrel=1e-12)
+    assert area == pytest.approx(moth.wing_area, rel=1e-9)   # endpoint singularity: QUADPACK
+    assert moth.span_integral(0, 1) == pytest.approx(2.0 * moth.wing_area, rel=1e-13)
+    assert moth.mean_chord == pytest.approx(moth.wing_area / moth.semi_span, rel=1e-15)
+
+
+def test_chord_vanishes_outside_the_wing(moth):
+    R = moth.semi_span
+    np.testing.assert_array_equal(moth.chord(np.array([-1e-3, R, 1.5 * R])), 0.0)
+    assert np.all(moth.chord(np.linspace(1e-6, R * (1 - 1e-6), 50)) > 0.0)
+
+
+def test_divergent_span_integral_raises(moth):
+    # n(p-1) + m + 1 <= 0: the root singularity of c^n is not integrable.
+    n = math.ceil(1.0 / (1.0 - moth.beta_p)) + 1
+    with pytest.raises(ValueError, match="diverges"):
+        moth.span_integral(0, n)
+
+
+@settings(max_examples=60, deadline=None)
+@given(r1=st.floats(0.05, 0.95), fraction=st.floats(0.01, 0.99))
+def test_beta_moments_reproduce_r1_and_r2(r1, fraction):
+    # The beta distribution with the fitted (p, q) has mean r1 and mean square r2^2.
+    r2 = r1 + fraction * (math.sqrt(r1) - r1)
+    p, q = beta_shape_parameters(r1, r2)
+    assert p > 0.0 and q > 0.0
+    assert p / (p + q) == pytest.approx(r1, rel=1e-12)
+    assert p * (p + 1.0) / ((p + q) * (p + q + 1.0)) == pytest.approx(r2**2, rel=1e-10)
+
+
+def test_hawkmoth_shape_and_lift_slope(moth):
+    # Appendix: r1 = 0.44, r2 = 0.525 give p < 1 (chord singular at the root) and q > 1.
+    assert moth.beta_p == pytest.approx(0.88174, abs=1e-5)
+    assert moth.beta_q == pytest.approx(1.12222, abs=1e-5)
+    assert moth.aspect_ratio == pytest.approx(2 * 51.9**2 / 947.8, rel=1e-12)
+    assert moth.with_(aspect_ratio_convention="single").aspect_ratio == pytest.approx(
+        51.9**2 / 947.8, rel=1e-12)
+
+
+def test_lift_slope_limits():
+    # eq. (4): A -> a0/2 for an infinite wing, A ~ pi AR / 4 for a slender one.
+    assert lev_lift_slope(1e9) == pytest.approx(math.pi, rel=1e-8)
+    assert lev_lift_slope(1e-6) == pytest.approx(math.pi * 1e-6 / 4, rel=1e-9)
+
+
+# ----------------------------------------------------------------------------- validation
+POSITIVE_FIELDS = ["semi_span", "wing_area", "frequency", "mass", "pitch_inertia",
+                   "air_density", "a0", "stroke_amplitude"]
+
+
+@settings(max_examples=80, deadline=None)
+@given(name=st.sampled_from(POSITIVE_FIELDS),
+       value=st.one_of(st.floats(max_value=0.0), st.just(math.nan), st.just(math.inf),
+                       st.just(-math.inf)))
+def test_non_positive_or_non_finite_sizes_raise_naming_the_parameter(name, value):
+    with pytest.raises(ValueError, match=name):
+        hawkmoth(**{name: value})
+
+
+@pytest.mark.parametrize("name", ["gravity", "mu1", "mu2", "hinge_offset", "r1", "r2",
+                                  "pitch_axis", "center_of_pressure"])
+def test_nan_parameters_raise_naming_the_parameter(name):
+    with pytest.raises(ValueError, match=name):
+        hawkmoth(**{name: math.nan})
+
+
+@pytest.mark.parametrize("name", ["gravity", "mu1", "mu2"])
+def test_negative_nonnegative_parameters_raise(name):
+    with pytest.raises(ValueError, match=name):
+        hawkmoth(**{name: -0.1})
+
+
+@settings(max_examples=60, deadline=None)
+@given(r1=st.floats(0.05, 0.95), offset=st.floats(0.0, 0.5))
+def test_r2_outside_the_beta_range_raises(r1, offset):
+    # A beta distribution needs r1 < r2 < sqrt(r1) (positive variance, positive p and q).
+    for r2 in (r1 - offset, math.sqrt(r1) + offset):
+        with pytest.raises(ValueError, match="r2"):
+            hawkmoth(r1=r1, r2=r2)
+
+
+@pytest.mark.parametrize("r1", [0.0, 1.0, -0.2, 1.5])
+def test_r1_outside_unit_interval_raises(r1):
+    with pytest.raises(ValueError, match="r1"):
+        beta_shape_parameters(r1, 0.5)
+
+
+@pytest.mark.parametrize("amplitude", [math.pi / 2 + 1e-12, 2.0, math.pi])
+def test_stroke_amplitude_above_ninety_degrees_raises(amplitude):
+    with pytest.raises(ValueError, match="stroke_amplitude"):
+        hawkmoth(stroke_amplitude=amplitude)
+    hawkmoth(stroke_amplitude=math.pi / 2)      # the limit itself is allowed
+
+
+@pytest.mark.parametrize("name, value", [("pitch_axis", 1.2), ("center_of_pressure", -0.1),
+                                         ("aspect_ratio_convention", "both")])
+def test_other_out_of_range_parameters_raise(name, value):
+    with pytest.raises(ValueError, match=name):
+        hawkmoth(**{name: value})
+
+
+def test_with_revalidates_and_insect_is_hashable(moth):
+    with pytest.raises(ValueError, match="mass"):
+        moth.with_(mass=-1.0)
+    assert moth.with_(mass=moth.mass) == moth
+    assert hash(moth.with_(mass=moth.mass)) == hash(moth)
+    assert isinstance(moth, Insect)
