@@ -42,6 +42,9 @@ __all__ = [
     "paper_hover_problem",
     "hover_stability",
     "perturbation_growth",
+    "SensitivityRow",
+    "OPEN_CHOICES",
+    "hover_sensitivity",
 ]
 
 #: x(t + T/2) = S x(t) for the symmetric stroke (x_h = 0): u, q, theta change sign, w does not.
@@ -244,7 +247,7 @@ def find_hover_orbit(
     amplitude_guess: float | None = None,
     x0_guess: Sequence[float] | None = None,
     method: str = "DOP853",
-    jacobian: str = "variational",
+    jacobian: str | None = None,
     rtol: float = 1e-11,
     atol: float = 1e-12,
     tol: float = 1e-10,
@@ -267,7 +270,13 @@ def find_hover_orbit(
         Initial guess of Phi [rad]; default ``insect.stroke_amplitude``.
     x0_guess : sequence of 4 floats, optional
         Initial guess of (u, w, q, theta); default zeros.
-    method, jacobian, rtol, atol, tol
+    jacobian : {"variational", "finite-difference"}, optional
+        Jacobian of the shooting residual. Default: ``"variational"`` for the linear model (its
+        Jacobian is analytic), ``"finite-difference"`` for the blade-element models (their
+        Jacobian would itself be differenced at every step, which costs more, and the variational
+        system's step sequence then varies enough between iterates to hold the residual at the
+        integration-noise floor ~1e-10).
+    method, rtol, atol, tol
         Passed to :func:`flapping.shooting.find_periodic_orbit` (``tol``: largest accepted
         residual norm).
     n_samples : int
@@ -291,6 +300,8 @@ def find_hover_orbit(
     x0 = _state_guess(x0_guess)
     if n_samples < 2 or n_samples % 2:
         raise ValueError(f"n_samples must be an even integer >= 2; got {n_samples!r}")
+    if jacobian is None:
+        jacobian = "variational" if aerodynamics == "linear" else "finite-difference"
     rhs, jac, pjac = _hover_fields(model)
     result = find_periodic_orbit(
         rhs, np.append(x0, 0.0), model.period, autonomous=False, jac=jac, param_jac=pjac,
@@ -488,6 +499,63 @@ def perturbation_growth(
     slope = np.polyfit(np.arange(start, n_cycles + 1), np.log(deviation[start:]), 1)[0]
     return PerturbationGrowth(np.arange(n_cycles + 1), deviation, float(np.exp(slope)),
                               float(np.abs(stability.multipliers[0])))
+
+
+# =========================================================================== sensitivity
+#: Modelling choices the paper leaves open, as Insect field changes from the defaults.
+OPEN_CHOICES: dict[str, dict] = {
+    "defaults (AR = 2R^2/S, x_hat = 1/4, x0_hat = 0, x_h = 0)": {},
+    "AR = R^2/S in eq. (4)": {"aspect_ratio_convention": "single"},
+    "x_hat = 0.15": {"center_of_pressure": 0.15},
+    "x_hat = 0.35": {"center_of_pressure": 0.35},
+    "x0_hat = 0.25": {"pitch_axis": 0.25},
+    "x_h = +1 mm": {"hinge_offset": 1e-3},
+    "x_h = -1 mm": {"hinge_offset": -1e-3},
+    "no rotational damping (mu1 = mu2 = 0)": {"mu1": 0.0, "mu2": 0.0},
+}
+
+
+@dataclass(frozen=True)
+class SensitivityRow:
+    """Hover orbit and stability of one variant of the insect."""
+
+    label: str
+    changes: dict
+    alpha_m_deg: float
+    amplitude_deg: float
+    multipliers: np.ndarray
+    averaged_eigenvalues: np.ndarray
+    mean_forward_velocity: float
+
+    @property
+    def largest_multiplier(self) -> float:
+        """Modulus of the largest Floquet multiplier."""
+        return float(np.abs(self.multipliers[0]))
+
+
+def hover_sensitivity(
+    insect: Insect,
+    variations: dict[str, dict] | None = None,
+    *,
+    aerodynamics: str = "linear",
+) -> list[SensitivityRow]:
+    """Hover amplitude and multipliers for variants of ``insect`` (default :data:`OPEN_CHOICES`).
+
+    Each variant is re-trimmed (eq. 40) and its hover orbit found from the default guess. With
+    x_h != 0 the half-period symmetry is lost, and the hover orbit (which fixes only the vertical
+    drift) may drift horizontally: its mean forward velocity is reported.
+    """
+    variations = OPEN_CHOICES if variations is None else variations
+    rows = []
+    for label, changes in variations.items():
+        variant = insect.with_(**changes)
+        orbit = find_hover_orbit(variant, aerodynamics=aerodynamics)
+        stab = hover_stability(orbit)
+        rows.append(SensitivityRow(label, dict(changes), math.degrees(orbit.model.alpha_m),
+                                   orbit.amplitude_deg, stab.multipliers,
+                                   stab.averaged_eigenvalues,
+                                   orbit.mean_inertial_velocity["forward"]))
+    return rows
 
 
 def _state_guess(x0_guess) -> np.ndarray:

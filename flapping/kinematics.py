@@ -48,6 +48,10 @@ def stroke_sign(t, frequency: float):
     integrators that need the left limit use :func:`segment_stroke_sign` per segment.
     """
     phase = np.mod(np.asarray(t, dtype=float) * frequency, 1.0)
+    # t * f rounds: snap phases within 1e-9 of a reversal onto it, so that k T and k T + T/2
+    # consistently start their half-stroke.
+    snapped = np.round(phase * 2.0) / 2.0
+    phase = np.where(np.abs(phase - snapped) < 1e-9, np.mod(snapped, 1.0), phase)
     return np.where(phase < 0.5, -1.0, 1.0)
 
 

@@ -213,7 +213,8 @@ class Insect:
         """Chord c(r) [m] at radius r [m] from the hinge, Ellington's beta distribution.
 
         c(r) = c_bar / B(p, q) * (r/R)**(p-1) * (1 - r/R)**(q-1). Singular (integrably) at the root
-        when p < 1; zero outside [0, R].
+        when p < 1; returned as zero outside the open interval (0, R), including at the root
+        and tip themselves where the true value may be infinite.
         """
         r_hat = np.asarray(r, dtype=float) / self.semi_span
         p, q = self._shape
@@ -271,7 +272,8 @@ class Insect:
             ("x0_hat", "pitch axis behind leading edge / chord", self.pitch_axis, "-"),
             ("x_hat", "centre of pressure behind pitch axis / chord", self.center_of_pressure, "-"),
             ("x_h", "hinge ahead of centre of gravity", self.hinge_offset * 1e3, "mm"),
-            ("mu1, mu2", "rotational damping coefficients", self.mu1, "-"),
+            ("mu1", "rotational damping coefficient (frequency term)", self.mu1, "-"),
+            ("mu2", "rotational damping coefficient (rate term)", self.mu2, "-"),
         ]
 
 
