@@ -145,3 +145,23 @@ def test_cli_bad_arguments_exit_nonzero_with_one_line(args):
     assert out.returncode != 0
     assert "Traceback" not in out.stderr
     assert len(out.stderr.strip().splitlines()) == 1
+
+
+def test_blade_element_hover_orbit_closes_and_hovers(insect):
+    orbit = find_hover_orbit(insect, aerodynamics="small-angle")
+    assert orbit.residual_norm < 1e-10
+    assert abs(orbit.mean_inertial_velocity["climb"]) < 1e-8
+    assert orbit.half_period_symmetry_error < 1e-6
+
+
+def test_hinge_offset_sign_mirrors_the_orbit(insect):
+    # Reflecting the body fore-aft (x_h -> -x_h) must give the same amplitude and multipliers,
+    # and the opposite horizontal drift.
+    from flapping.hover import hover_sensitivity
+
+    ahead, behind = hover_sensitivity(insect, {"+": {"hinge_offset": 1e-3},
+                                               "-": {"hinge_offset": -1e-3}})
+    assert ahead.amplitude_deg == pytest.approx(behind.amplitude_deg, rel=1e-9)
+    np.testing.assert_allclose(np.abs(ahead.multipliers), np.abs(behind.multipliers), rtol=1e-8)
+    assert ahead.mean_forward_velocity == pytest.approx(-behind.mean_forward_velocity, rel=1e-6)
+    assert abs(ahead.mean_forward_velocity) > 1e-3
