@@ -1,0 +1,111 @@
+"""Plotting helpers: each runs headless and returns a figure or axes; matplotlib stays optional."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import flapping
+from flapping import plotting
+
+matplotlib = pytest.importorskip("matplotlib")
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.axes import Axes  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
+
+
+def test_importing_plotting_does_not_import_matplotlib():
+    # matplotlib is not a dependency of the package: the module must import without it.
+    code = "import sys, flapping, flapping.plotting; print('matplotlib' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+def test_each_state_and_load_has_its_own_colour():
+    colours = list(plotting.STATE_COLORS.values()) + list(plotting.LOAD_COLORS.values())
+    assert len(set(colours)) == len(colours)
+    assert set(plotting.STATE_COLORS) == set(plotting.STATE_NAMES) == set(plotting.STATE_LABELS)
+
+
+def test_derivative_takes_the_colour_of_its_state_or_load():
+    assert plotting.derivative_color("Mw") == plotting.STATE_COLORS["w"]
+    assert plotting.derivative_color("Z0") == plotting.LOAD_COLORS["Z"]
+    with pytest.raises(ValueError, match="name"):
+        plotting.derivative_color("Xtheta")
+
+
+def test_draw_insect_model_returns_a_figure_with_three_panels():
+    fig = plotting.draw_insect_model(flapping.hawkmoth())
+    assert isinstance(fig, Figure)
+    assert len(fig.axes) == 3
+
+
+def test_plot_states_overlays_on_given_axes():
+    t = np.linspace(0.0, 0.076, 50)
+    x = np.vstack([np.sin(t), np.cos(t), t, 0.1 * t])
+    fig = plotting.plot_states(t, x, period=0.038, label="a")
+    assert isinstance(fig, Figure) and len(fig.axes) == 4
+    again = plotting.plot_states(t, x.T, axes=fig.axes, linestyle="--")
+    assert again is fig
+    # theta is drawn in degrees
+    assert np.allclose(fig.axes[3].lines[0].get_ydata(), np.degrees(x[3]))
+    with pytest.raises(ValueError, match="shape"):
+        plotting.plot_states(t, x[:3])
+
+
+def test_plot_loads_and_load_models():
+    t = np.linspace(0.0, 0.038, 40)
+    loads = np.vstack([np.sin(t), np.cos(t), t])
+    assert isinstance(plotting.plot_loads(t, loads, period=0.038, model="exact"), Figure)
+    fig = plotting.plot_load_models(t, {"small-angle": loads, "exact": 1.01 * loads},
+                                    period=0.038)
+    assert isinstance(fig, Figure)
+    with pytest.raises(ValueError, match="model"):
+        plotting.plot_load_models(t, {"viscous": loads})
+
+
+def test_plot_derivatives_and_relative_difference():
+    t = np.linspace(0.0, 0.038, 30)
+    values = {name: np.sin(t + k) for k, name in enumerate(plotting.DERIVATIVE_LABELS)}
+    fig = plotting.plot_derivatives(t, values, ["Xu", "Zw", "Mq", "M0"], period=0.038)
+    assert isinstance(fig, Figure)
+    assert sum(ax.get_visible() for ax in fig.axes) == 4
+    other = {k: v + 1e-9 for k, v in values.items()}
+    ax = plotting.plot_relative_difference(t, values, other, period=0.038)
+    assert isinstance(ax, Axes) and len(ax.lines) == len(values)
+
+
+def test_plot_multipliers_keeps_the_unit_circle_in_view():
+    mu = np.array([0.59, 1.03, 0.987 + 0.01j, 0.987 - 0.01j])
+    ax = plotting.plot_multipliers(mu, label="ours")
+    assert isinstance(ax, Axes)
+    lo, hi = ax.get_xlim()
+    assert lo <= -1.0 and hi >= 1.03
+    assert plotting.plot_multipliers(2.5, ax=ax, circle=False, marker="x") is ax
+    assert ax.get_xlim()[1] >= 2.5
+
+
+def test_markdown_table_has_one_line_per_row_and_escapes_pipes():
+    text = plotting.markdown_table(["a", "b"], [[1, "x|y"], [2, 3]], align="lr")
+    lines = text.splitlines()
+    assert len(lines) == 4 and lines[1] == "|:--|--:|"
+    assert r"x\|y" in lines[2]
+    with pytest.raises(ValueError, match="cells"):
+        plotting.markdown_table(["a", "b"], [[1]])
+
+
+def test_latex_aligned_breaks_long_sums():
+    sympy = pytest.importorskip("sympy")
+    x = sympy.symbols("x0:7")
+    text = plotting.latex_aligned({"y": sympy.Add(*x), "z": r"\alpha"}, terms_per_line=3)
+    assert text.startswith(r"\begin{aligned}") and text.endswith(r"\end{aligned}")
+    assert text.count(r"&\qquad") == 2        # 7 terms, 3 per line: two continuation lines
+    assert r"z &= \alpha" in text
