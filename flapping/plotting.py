@@ -46,6 +46,7 @@ __all__ = [
     "plot_load_models",
     "plot_derivatives",
     "plot_relative_difference",
+    "plot_agreement",
     "plot_multipliers",
     "markdown_table",
     "latex_aligned",
@@ -100,10 +101,10 @@ DERIVATIVE_LABELS: dict[str, str] = {
     "M0": r"$M_0$ [N m]",
     "Xu": r"$X_u$ [1/s]",
     "Xw": r"$X_w$ [1/s]",
-    "Xq": r"$X_q$ [m/rad/s]",
+    "Xq": r"$X_q$ [m/(s rad)]",
     "Zu": r"$Z_u$ [1/s]",
     "Zw": r"$Z_w$ [1/s]",
-    "Zq": r"$Z_q$ [m/rad/s]",
+    "Zq": r"$Z_q$ [m/(s rad)]",
     "Mu": r"$M_u$ [1/(m s)]",
     "Mw": r"$M_w$ [1/(m s)]",
     "Mq": r"$M_q$ [1/s]",
@@ -339,7 +340,8 @@ def plot_load_models(t, loads: Mapping[str, np.ndarray], *, reference: str | Non
 
 def plot_derivatives(t, values: Mapping[str, np.ndarray], names: Sequence[str] | None = None, *,
                      period: float | None = None, axes=None, ncols: int = 3,
-                     label: str | None = None, shade: bool = True, **line_kw):
+                     label: str | None = None, shade: bool = True, show_mean: bool = False,
+                     **line_kw):
     """Stability derivatives against time, one panel each, coloured by :func:`derivative_color`.
 
     Parameters
@@ -358,6 +360,9 @@ def plot_derivatives(t, values: Mapping[str, np.ndarray], names: Sequence[str] |
         Panels per row.
     label : str, optional
         Legend entry (shown on the first panel).
+    show_mean : bool
+        Draw the mean of the samples as a thin dashed line (the cycle average when ``t`` is a
+        uniform grid over whole periods).
     **line_kw
         Passed to ``Axes.plot``; ``color`` overrides the derivative colours.
 
@@ -378,7 +383,11 @@ def plot_derivatives(t, values: Mapping[str, np.ndarray], names: Sequence[str] |
     flat = list(grid.flat)
     for ax, name in zip(flat, names):
         kw = {"color": derivative_color(name), **line_kw}
-        ax.plot(tt, np.broadcast_to(values[name], tt.shape), label=label, **kw)
+        series = np.broadcast_to(values[name], tt.shape)
+        ax.plot(tt, series, label=label, **kw)
+        if show_mean:
+            ax.axhline(float(np.mean(series)), color=kw["color"], lw=0.9, ls="--", zorder=1)
+        ax.axhline(0.0, color="0.7", lw=0.6, zorder=0)
         ax.set_ylabel(DERIVATIVE_LABELS[name])
         if new and shade and period is not None:
             shade_half_strokes(ax, tt.min(), tt.max(), label=None)
@@ -437,6 +446,72 @@ def plot_relative_difference(t, reference: Mapping[str, np.ndarray],
     ax.set_xlabel(xlabel)
     ax.set_ylabel("|difference| / max|reference|")
     return ax
+
+
+def plot_agreement(t, reference: Mapping[str, np.ndarray], other: Mapping[str, np.ndarray],
+                   shown: Sequence[str], names: Sequence[str] | None = None, *,
+                   period: float | None = None, labels: tuple[str, str] = ("formula", "check"),
+                   markers: int = 40):
+    """Two independent computations of the same quantities: a few overlaid, all compared.
+
+    Left: the quantities ``shown``, each divided by the largest magnitude of its reference, as
+    lines (``reference``) and markers (``other``, about ``markers`` of them). Right: for every
+    one of ``names``, the largest ``|other - reference|`` over the samples relative to the largest
+    ``|reference|``, as bars on a log axis.
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        Times [s].
+    reference, other : mapping
+        Name -> array of shape (n,) (stability-derivative names, for the colours and labels).
+    shown : sequence of str
+        The names overlaid in the left panel.
+    names : sequence of str, optional
+        The names compared in the right panel (default: all keys of ``reference``).
+    period : float, optional
+        Flapping period T [s] (time in cycles).
+    labels : (str, str)
+        Legend texts of ``reference`` and ``other``.
+    markers : int
+        Approximate number of markers per curve in the left panel.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    names = list(reference) if names is None else list(names)
+    plt = _pyplot()
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10.0, 3.6), layout="constrained",
+                                      width_ratios=(1.2, 1.0))
+    tt, xlabel = _time_axis(t, period)
+    every = max(1, len(tt) // markers)
+    for name in shown:
+        ref = np.asarray(reference[name], dtype=float)
+        scale = np.abs(ref).max() or 1.0
+        colour = derivative_color(name)
+        symbol = DERIVATIVE_LABELS[name].split(" [")[0]
+        left.plot(tt, ref / scale, color=colour, lw=1.4, label=f"{symbol}, {labels[0]}")
+        left.plot(tt[::every], np.asarray(other[name], dtype=float)[::every] / scale, "o",
+                  color=colour, ms=4, mfc="none", label=f"{symbol}, {labels[1]}")
+    left.set_xlabel(xlabel)
+    left.set_ylabel("value / max|value|")
+    left.set_ylim(-1.15, 1.6)
+    left.legend(fontsize="x-small", ncols=2, loc="upper center", frameon=False)
+    rel = []
+    for name in names:
+        ref = np.asarray(reference[name], dtype=float)
+        diff = np.abs(np.asarray(other[name], dtype=float) - ref).max()
+        rel.append(diff / (np.abs(ref).max() or 1.0))
+    x = np.arange(len(names))
+    right.bar(x, np.maximum(rel, 1e-18), color=[derivative_color(n) for n in names])
+    right.set_yscale("log")
+    right.set_xticks(x, [DERIVATIVE_LABELS[n].split(" [")[0] for n in names])
+    right.set_ylabel("max|difference| / max|value|")
+    right.set_ylim(1e-17, 1e-3)
+    right.grid(axis="y", color="0.9", lw=0.6)
+    right.set_axisbelow(True)
+    return fig
 
 
 # =========================================================================== Floquet multipliers
