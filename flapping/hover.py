@@ -42,6 +42,7 @@ __all__ = [
     "paper_hover_problem",
     "hover_stability",
     "perturbation_growth",
+    "mode_response",
     "SensitivityRow",
     "OPEN_CHOICES",
     "hover_sensitivity",
@@ -166,10 +167,13 @@ class HoverStability:
 
     @property
     def unstable_mode(self) -> np.ndarray:
-        """Eigenvector of the largest multiplier, real, scaled to unit max-norm."""
-        v = np.real_if_close(self.eigenvectors[:, 0])
-        v = np.real(v) if np.iscomplexobj(v) else v
-        return v / v[np.argmax(np.abs(v))]
+        """Eigenvector of the largest multiplier scaled so its largest component is 1.
+
+        Real (float) when that multiplier is real; complex when it belongs to a complex pair.
+        """
+        v = self.eigenvectors[:, 0]
+        v = v / v[np.argmax(np.abs(v))]
+        return np.real(v) if abs(self.multipliers[0].imag) == 0.0 else v
 
 
 @dataclass(frozen=True)
@@ -443,13 +447,60 @@ def hover_stability(
     mon = monodromy(rhs, orbit.x0, orbit.period, jac=jac, breakpoints=model.breakpoints,
                     method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps)
     values, vectors = np.linalg.eig(mon.matrix)
+    values = values.astype(complex)
     order = np.argsort(-np.abs(values), kind="stable")
     averaged = _averaged_jacobian(orbit, n_average)
-    avg_eig = np.linalg.eigvals(averaged)
+    avg_eig = np.linalg.eigvals(averaged).astype(complex)  # always complex: one dtype for all
     avg_eig = avg_eig[np.argsort(-avg_eig.real, kind="stable")]
     return HoverStability(orbit, mon.matrix, values[order], np.log(values[order].astype(complex)) / orbit.period,
                           vectors[:, order], float(mon.det), float(mon.liouville_det), averaged,
                           avg_eig)
+
+
+def mode_response(
+    stability: HoverStability,
+    *,
+    mode: int = 0,
+    n_periods: int = 1,
+    samples_per_period: int = 48,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Time history of a Floquet mode along the orbit: delta x(t) = Phi(t, 0) v_k.
+
+    Parameters
+    ----------
+    stability : HoverStability
+    mode : int
+        Index into ``stability.multipliers`` (0: the largest).
+    n_periods : int
+        Number of periods to follow (>= 1).
+    samples_per_period : int
+        Output samples per period (>= 2).
+
+    Returns
+    -------
+    t : ndarray, shape (m,)
+    delta : ndarray, shape (4, m)
+        The linearised response to a disturbance equal to the eigenvector (scaled to max 1);
+        after k periods it equals mu_k^k v_k.
+    """
+    if not (isinstance(n_periods, int) and n_periods >= 1):
+        raise ValueError(f"n_periods must be an integer >= 1; got {n_periods!r}")
+    if not (isinstance(samples_per_period, int) and samples_per_period >= 2):
+        raise ValueError(f"samples_per_period must be an integer >= 2; got {samples_per_period!r}")
+    if not 0 <= mode < stability.multipliers.size:
+        raise ValueError(f"mode must lie in [0, {stability.multipliers.size - 1}]; got {mode!r}")
+    orbit = stability.orbit
+    model = orbit.model
+    v = stability.eigenvectors[:, mode]
+    v = v / v[np.argmax(np.abs(v))]
+    if stability.multipliers[mode].imag == 0.0:
+        v = np.real(v)
+    t = np.linspace(0.0, n_periods * orbit.period, samples_per_period * n_periods + 1)
+    rhs, jac = model.segment_functions()
+    var = variational_flow(rhs, jac, (0.0, t[-1]), orbit.x0, breakpoints=model.breakpoints,
+                           period=orbit.period, t_out=t[1:], rtol=1e-12, atol=1e-12)
+    delta = np.column_stack([v, np.einsum("kij,j->ik", var.stm, v)])
+    return t, delta
 
 
 def _averaged_jacobian(orbit: HoverOrbit, n_nodes: int) -> np.ndarray:
@@ -526,6 +577,12 @@ class SensitivityRow:
     multipliers: np.ndarray
     averaged_eigenvalues: np.ndarray
     mean_forward_velocity: float
+    stability: HoverStability = field(repr=False)
+
+    @property
+    def orbit(self) -> HoverOrbit:
+        """The variant's hover orbit."""
+        return self.stability.orbit
 
     @property
     def largest_multiplier(self) -> float:
@@ -554,7 +611,7 @@ def hover_sensitivity(
         rows.append(SensitivityRow(label, dict(changes), math.degrees(orbit.model.alpha_m),
                                    orbit.amplitude_deg, stab.multipliers,
                                    stab.averaged_eigenvalues,
-                                   orbit.mean_inertial_velocity["forward"]))
+                                   orbit.mean_inertial_velocity["forward"], stab))
     return rows
 
 

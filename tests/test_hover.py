@@ -165,3 +165,15 @@ def test_hinge_offset_sign_mirrors_the_orbit(insect):
     np.testing.assert_allclose(np.abs(ahead.multipliers), np.abs(behind.multipliers), rtol=1e-8)
     assert ahead.mean_forward_velocity == pytest.approx(-behind.mean_forward_velocity, rel=1e-6)
     assert abs(ahead.mean_forward_velocity) > 1e-3
+
+
+def test_mode_response_grows_by_its_multiplier_each_period(stability):
+    from flapping.hover import mode_response
+
+    t, delta = mode_response(stability, n_periods=2, samples_per_period=8)
+    mu = stability.multipliers[0].real
+    np.testing.assert_allclose(delta[:, 8], mu * delta[:, 0], atol=1e-9)
+    np.testing.assert_allclose(delta[:, 16], mu**2 * delta[:, 0], atol=1e-9)
+    assert stability.averaged_eigenvalues.dtype == complex
+    with pytest.raises(ValueError, match="n_periods"):
+        mode_response(stability, n_periods=0)
