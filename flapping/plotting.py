@@ -679,7 +679,7 @@ def draw_insect_model(insect=None, *, alpha_m: float | None = None, theta_deg: f
 
         alpha_m = trim_angle_of_attack(insect)
     plt = _pyplot()
-    fig = plt.figure(figsize=(10.0, 7.6), layout="constrained")
+    fig = plt.figure(figsize=(9.0, 7.2), layout="constrained")
     grid = fig.add_gridspec(2, 2, width_ratios=(1.0, 1.0))
     ax_top = fig.add_subplot(grid[0, 0])
     ax_side = fig.add_subplot(grid[1, 0])
@@ -690,9 +690,9 @@ def draw_insect_model(insect=None, *, alpha_m: float | None = None, theta_deg: f
     for ax in (ax_top, ax_side, ax_sec):
         ax.set_aspect("equal")
         ax.axis("off")
-    ax_top.set_title("(a) the stroke, seen from above", fontsize=12, loc="left")
-    ax_side.set_title("(b) body axes and states, seen from the side", fontsize=12, loc="left")
-    ax_sec.set_title("(c) a wing section at radius $r$, seen along the span", fontsize=12,
+    ax_top.set_title("(a) the stroke, from above", fontsize=13, loc="left")
+    ax_side.set_title("(b) body axes and states, from the side", fontsize=13, loc="left")
+    ax_sec.set_title("(c) a wing section, along the span", fontsize=13,
                      loc="left")
     return fig
 
@@ -703,7 +703,7 @@ _LIFT = "#117733"   # lift and drag are drawn only in the model figure
 _DRAG = "#AA3377"
 _X_TEXT = "#A86F00"  # darker shades of the load colours, for text on white
 _Z_TEXT = "#1F78B4"
-_FONT = 11
+_FONT = 12
 
 
 def _arrow(ax, start, end, color=_INK, lw=1.6, style="-|>", ls="-", mutation=13, zorder=3,
@@ -787,13 +787,13 @@ def _draw_top_view(ax, insect, phi):
     ax.plot(*zip(hinge, _add(hinge, down, 1.12 * R)), color=_GREY, lw=0.8, ls=":", zorder=1)
     _text(ax, _add(hinge, down, 1.17 * R), r"$y$", color=_GREY, ha="center", va="top")
     _arrow(ax, _add(hinge, down, 0.45), _add(hinge, span, 0.45), rad=0.2, lw=1.2)
-    _text(ax, _add(hinge, _rot(down, phi / 2), 0.55), r"$\phi$", fontsize=13, ha="left",
+    _text(ax, _add(hinge, _rot(down, phi / 2), 0.55), r"$\phi$", fontsize=14, ha="left",
           va="center")
     # A section at radius r and its chordwise velocity (forward stroke shown).
     sec = _add(hinge, span, 0.66 * R)
     ax.plot(*sec, "o", color=_INK, ms=4.5, zorder=4)
     _text(ax, _add(_add(hinge, span, 0.3 * R), behind, 0.1), r"$r$", ha="center",
-          va="center", fontsize=12)
+          va="center", fontsize=13)
     motion = (-behind[0], -behind[1])
     tip = _add(sec, motion, 0.5)
     _arrow(ax, sec, tip, color=STATE_COLORS["u"], lw=2.2)
@@ -807,11 +807,11 @@ def _draw_top_view(ax, insect, phi):
     # CG, hinge and the body x axis.
     ax.plot(0.0, 0.0, "o", color=_INK, ms=5, zorder=5)
     ax.plot(*hinge, marker="o", mfc="white", mec=_INK, ms=7, zorder=5)
-    _text(ax, (-0.05, 0.05), "CG", ha="right", va="bottom", fontsize=10)
-    _text(ax, (x_h + 0.05, 0.05), "hinge", ha="left", va="bottom", fontsize=10)
+    _text(ax, (-0.05, 0.05), "CG", ha="right", va="bottom", fontsize=11)
+    _text(ax, (x_h + 0.05, 0.05), "hinge", ha="left", va="bottom", fontsize=11)
     _arrow(ax, (0.9, 0.0), (1.3, 0.0), lw=1.4)
-    _text(ax, (1.33, 0.0), r"$x$", va="center", fontsize=12)
-    ax.set_xlim(-0.95, 1.95)
+    _text(ax, (1.33, 0.0), r"$x$", va="center", fontsize=13)
+    ax.set_xlim(-0.95, 2.15)
     ax.set_ylim(-1.45, 0.45)
 
 
@@ -822,43 +822,43 @@ def _draw_side_view(ax, theta):
 
     x_h = 0.12
     ax.plot([-1.1, 1.75], [0.0, 0.0], color=_GREY, lw=0.9, ls=(0, (6, 4)), zorder=1)
-    _text(ax, (-1.1, -0.04), "horizon", color=_GREY, fontsize=10, ha="left", va="top")
+    _text(ax, (-1.1, -0.04), "horizon", color=_GREY, fontsize=11, ha="left", va="top")
     # Stroke plane: fixed in the body, through the hinge, containing the x axis.
     ax.plot(*zip(body((-0.95, 0.0)), body((1.05, 0.0))), color=LOAD_COLORS["X"], lw=3.0,
             alpha=0.6, zorder=3, solid_capstyle="round")
     _draw_body(ax, body)
-    _text(ax, body((0.8, 0.1)), "stroke plane", color=_X_TEXT, fontsize=10, ha="left",
+    _text(ax, body((0.8, 0.1)), "stroke plane", color=_X_TEXT, fontsize=11, ha="left",
           va="top", rotation=math.degrees(theta), rotation_mode="anchor")
     ax.plot(0.0, 0.0, "o", color=_INK, ms=5, zorder=5)
     ax.plot(*body((x_h, 0.0)), marker="o", mfc="white", mec=_INK, ms=7, zorder=6)
-    _text(ax, body((-0.1, -0.03)), "CG", fontsize=10, ha="right", va="bottom")
-    _text(ax, body((x_h + 0.07, 0.03)), "hinge", fontsize=10, ha="left", va="top")
+    _text(ax, body((-0.1, -0.03)), "CG", fontsize=11, ha="right", va="bottom")
+    _text(ax, body((x_h + 0.07, 0.03)), "hinge", fontsize=11, ha="left", va="top")
     # Body axes.
     _arrow(ax, body((0.85, 0.0)), body((1.45, 0.0)), lw=1.5)
-    _text(ax, body((1.5, 0.0)), r"$x$", fontsize=12, va="center")
+    _text(ax, body((1.5, 0.0)), r"$x$", fontsize=13, va="center")
     _arrow(ax, body((0.0, 0.16)), body((0.0, 0.85)), lw=1.5)
-    _text(ax, body((0.0, 0.92)), r"$z$", fontsize=12, va="top", ha="center")
+    _text(ax, body((0.0, 0.92)), r"$z$", fontsize=13, va="top", ha="center")
     # States: u along x, w along z, q nose-up about the CG, theta from the horizon.
     u0, u1 = body((-0.3, -0.36)), body((0.3, -0.36))
     _arrow(ax, u0, u1, color=STATE_COLORS["u"], lw=2.4)
-    _text(ax, _add(u1, (0.04, 0.0)), r"$u$", color=STATE_COLORS["u"], fontsize=14,
+    _text(ax, _add(u1, (0.04, 0.0)), r"$u$", color=STATE_COLORS["u"], fontsize=15,
           va="center")
     w0, w1 = body((0.45, 0.2)), body((0.45, 0.72))
     _arrow(ax, w0, w1, color=STATE_COLORS["w"], lw=2.4)
-    _text(ax, _add(w1, (0.06, 0.02)), r"$w$", color=STATE_COLORS["w"], fontsize=14,
+    _text(ax, _add(w1, (0.06, 0.02)), r"$w$", color=STATE_COLORS["w"], fontsize=15,
           ha="left", va="top")
     # Nose-up pitch turns the nose (+x) toward -z: counter-clockwise on the page.
     q0 = _polar((0.0, 0.0), 0.62, math.radians(192.0) + theta)
     q1 = _polar((0.0, 0.0), 0.62, math.radians(250.0) + theta)
     _arrow(ax, q0, q1, color=STATE_COLORS["q"], lw=2.0, rad=0.3)
     _text(ax, _polar((0.0, 0.0), 0.78, math.radians(228.0) + theta), r"$q$",
-          color=STATE_COLORS["q"], fontsize=14, ha="center", va="center")
+          color=STATE_COLORS["q"], fontsize=15, ha="center", va="center")
     _arc(ax, (0.0, 0.0), 1.6, 0.0, math.degrees(theta), color=STATE_COLORS["theta"], lw=2.0)
     _text(ax, _polar((0.0, 0.0), 1.66, theta / 2), r"$\theta$", color=STATE_COLORS["theta"],
-          fontsize=14, va="center")
+          fontsize=15, va="center")
     # Gravity, vertical in inertial axes.
     _arrow(ax, (-0.95, 0.65), (-0.95, 0.1), lw=1.5)
-    _text(ax, (-1.0, 0.45), r"$mg$", ha="right", va="center", fontsize=12)
+    _text(ax, (-1.0, 0.45), r"$mg$", ha="right", va="center", fontsize=13)
     ax.set_xlim(-1.2, 1.9)
     ax.set_ylim(-0.95, 0.75)
 
@@ -878,14 +878,14 @@ def _draw_section(ax, alpha_m, alpha_i):
     ax.plot(*zip(le, te), color=_INK, lw=5.5, solid_capstyle="round", zorder=3)
     ax.plot(*le, "o", mfc="white", mec=_INK, ms=7, zorder=4)
     ax.plot(*cp, "o", color=_INK, ms=4.5, zorder=5)
-    _text(ax, (-2.4, 3.95), r"forward stroke: $\dot\phi > 0$, $s = +1$", fontsize=12,
+    _text(ax, (-2.4, 3.95), r"forward stroke: $\dot\phi > 0$, $s = +1$", fontsize=13,
           fontweight="bold", va="top")
     _text(ax, (-2.4, 3.55), r"geometric pitch $\alpha_m$ (eq. 11)", va="top")
     ax.annotate("leading edge = pitch axis\n($\\hat{x}_0 = 0$)", le,
-                xytext=_add(le, (0.45, 0.75)), fontsize=10, ha="left", va="bottom",
+                xytext=_add(le, (0.45, 0.75)), fontsize=11, ha="left", va="bottom",
                 arrowprops=dict(arrowstyle="-", color=_GREY, lw=0.8))
     ax.annotate("centre of pressure,\n$\\hat{x}c$ behind the pitch axis", cp,
-                xytext=_add(cp, (0.55, -0.95)), fontsize=10, ha="left", va="top",
+                xytext=_add(cp, (0.55, -0.95)), fontsize=11, ha="left", va="top",
                 arrowprops=dict(arrowstyle="-", color=_GREY, lw=0.8))
     # Geometric pitch, measured at the trailing edge from the stroke plane.
     ax.plot([te[0], te[0] + 1.3], [te[1], te[1]], color=_GREY, lw=0.8, ls=":", zorder=1)
@@ -899,51 +899,51 @@ def _draw_section(ax, alpha_m, alpha_i):
     ax.plot([w_start[0] - 1.1, w_start[0]], [w_start[1], w_start[1]], color=_GREY, lw=0.8,
             ls=":")
     _arc(ax, w_start, 1.0, 180.0 - math.degrees(alpha_i), 180.0, color=_GREY)
-    _text(ax, _add(w_start, (0.0, -0.12)), "relative wind", color=_GREY, fontsize=10,
+    _text(ax, _add(w_start, (0.0, -0.12)), "relative wind", color=_GREY, fontsize=11,
           ha="right", va="top")
     _text(ax, _add(w_start, (-1.05, 0.0)), r"$\alpha_i$", color=_GREY, ha="right",
-          va="center", fontsize=12)
+          va="center", fontsize=13)
     # Lift normal to the relative wind (tilted forward by alpha_i), drag along it.
     lift = (math.sin(alpha_i) * lift_len, math.cos(alpha_i) * lift_len)
     drag = (-math.cos(alpha_i) * drag_len, math.sin(alpha_i) * drag_len)
     _arrow(ax, cp, _add(cp, lift), color=_LIFT, lw=2.4)
-    _text(ax, _add(cp, lift, 1.03), r"$l$, lift", color=_LIFT, fontsize=13, ha="left",
+    _text(ax, _add(cp, lift, 1.03), r"$l$, lift", color=_LIFT, fontsize=14, ha="left",
           va="bottom")
     _arrow(ax, cp, _add(cp, drag), color=_DRAG, lw=2.4)
-    _text(ax, _add(_add(cp, drag), (-0.05, -0.05)), r"$d$, drag", color=_DRAG, fontsize=13,
+    _text(ax, _add(_add(cp, drag), (-0.05, -0.05)), r"$d$, drag", color=_DRAG, fontsize=14,
           ha="right", va="top")
     # Body-axis components of l + d, tip to tail: -Z' (up) then X' (here backward).
     total = _add(lift, drag)
     top = _add(cp, (0.0, total[1]))
     _arrow(ax, cp, top, color=LOAD_COLORS["Z"], lw=2.4)
-    _text(ax, _add(cp, (-0.08, 0.62 * total[1])), r"$-Z'$", color=_Z_TEXT, fontsize=13,
+    _text(ax, _add(cp, (-0.08, 0.62 * total[1])), r"$-Z'$", color=_Z_TEXT, fontsize=14,
           ha="right", va="center")
     _arrow(ax, top, _add(top, (total[0], 0.0)), color=LOAD_COLORS["X"], lw=2.4)
-    _text(ax, _add(top, (0.5 * total[0], 0.08)), r"$X'$", color=_X_TEXT, fontsize=13,
+    _text(ax, _add(top, (0.5 * total[0], 0.08)), r"$X'$", color=_X_TEXT, fontsize=14,
           ha="center", va="bottom")
     _arrow(ax, cp, _add(cp, total), color=_GREY, lw=0.9, ls=(0, (3, 2)), mutation=9)
     # Section velocity: U along the stroke, w_eff down (eqs. 9, 12).
-    start = (-1.2, -1.75)
+    start = (-1.2, -2.05)
     u_len = 1.9
     _arrow(ax, start, _add(start, (u_len, 0.0)), color=STATE_COLORS["u"], lw=2.2)
-    _text(ax, _add(start, (u_len + 0.08, 0.0)), r"$U$", color=STATE_COLORS["u"], fontsize=13,
+    _text(ax, _add(start, (u_len + 0.08, 0.0)), r"$U$", color=STATE_COLORS["u"], fontsize=14,
           va="center")
     _arrow(ax, start, _add(start, (0.0, -u_len * math.tan(alpha_i))), color=STATE_COLORS["w"],
            lw=2.2)
     _text(ax, _add(start, (-0.08, -0.5 * u_len * math.tan(alpha_i))), r"$w_\mathrm{eff}$",
-          color=STATE_COLORS["w"], fontsize=13, ha="right", va="center")
-    _text(ax, _add(start, (0.0, 0.12)), "section velocity", color=_GREY, fontsize=10,
+          color=STATE_COLORS["w"], fontsize=14, ha="right", va="center")
+    _text(ax, _add(start, (0.0, 0.12)), "section velocity", color=_GREY, fontsize=11,
           va="bottom")
-    _text(ax, (-2.4, -2.55), r"$w_\mathrm{eff} = w - q\,(r\sin\phi + x_h)$,  "
-          r"$\alpha_i \approx w_\mathrm{eff}/|U|$,  $\alpha = \alpha_m + \alpha_i$", fontsize=10, va="top")
+    _text(ax, (-2.4, -2.75), r"$w_\mathrm{eff} = w - q\,(r\sin\phi + x_h)$,  "
+          r"$\alpha_i \approx w_\mathrm{eff}/|U|$,  $\alpha = \alpha_m + \alpha_i$", fontsize=11, va="top")
     # ---------------------------------------------------------- backward stroke (mirror image)
-    y0 = -4.9
+    y0 = -5.2
     c2 = 1.5
     le2 = (-0.9, y0)
     to_te2 = (math.cos(alpha_m), -math.sin(alpha_m))
     te2 = _add(le2, to_te2, c2)
     cp2 = _add(le2, to_te2, 0.25 * c2)
-    _text(ax, (-2.4, y0 + 1.75), r"backward stroke: $\dot\phi < 0$, $s = -1$", fontsize=12,
+    _text(ax, (-2.4, y0 + 1.75), r"backward stroke: $\dot\phi < 0$, $s = -1$", fontsize=13,
           fontweight="bold", va="top")
     _text(ax, (-2.4, y0 + 1.35), r"geometric pitch $\pi - \alpha_m$: the leading edge leads",
           va="top")
@@ -958,14 +958,14 @@ def _draw_section(ax, alpha_m, alpha_i):
     _arrow(ax, cp2, _add(cp2, (-lift[0] * scale, lift[1] * scale)), color=_LIFT, lw=2.2)
     _arrow(ax, cp2, _add(cp2, (-drag[0] * scale, drag[1] * scale)), color=_DRAG, lw=2.2)
     _text(ax, _add(cp2, (-lift[0] * scale - 0.05, lift[1] * scale)), r"$l$", color=_LIFT,
-          fontsize=13, ha="right", va="top")
+          fontsize=14, ha="right", va="top")
     _text(ax, _add(cp2, (-drag[0] * scale, drag[1] * scale + 0.05)), r"$d$", color=_DRAG,
-          fontsize=13, ha="left", va="bottom")
+          fontsize=14, ha="left", va="bottom")
     start2 = (1.2, y0 - 0.95)
     _arrow(ax, start2, _add(start2, (-1.3, 0.0)), color=STATE_COLORS["u"], lw=2.2)
-    _text(ax, _add(start2, (0.08, 0.0)), r"$U < 0$", color=STATE_COLORS["u"], fontsize=12,
+    _text(ax, _add(start2, (0.08, 0.0)), r"$U < 0$", color=STATE_COLORS["u"], fontsize=13,
           va="center")
     _text(ax, (-2.4, y0 - 1.5), "lift still up, drag now forward:\n"
-          r"$X'$ changes sign with the stroke, $Z'$ does not", fontsize=10, va="top")
+          r"$X'$ changes sign with the stroke, $Z'$ does not", fontsize=11, va="top")
     ax.set_xlim(-2.5, 3.9)
-    ax.set_ylim(-7.0, 4.0)
+    ax.set_ylim(-7.3, 4.0)
