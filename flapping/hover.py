@@ -43,6 +43,7 @@ __all__ = [
     "hover_stability",
     "perturbation_growth",
     "mode_response",
+    "force_budget",
     "SensitivityRow",
     "OPEN_CHOICES",
     "hover_sensitivity",
@@ -446,15 +447,17 @@ def hover_stability(
     rhs, jac = model.segment_functions()
     mon = monodromy(rhs, orbit.x0, orbit.period, jac=jac, breakpoints=model.breakpoints,
                     method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps)
-    values, vectors = np.linalg.eig(mon.matrix)
-    values = values.astype(complex)
-    order = np.argsort(-np.abs(values), kind="stable")
+    # Multipliers from the monodromy's product-QR iteration (accurate even when small); the
+    # eigenvectors from eig(M), matched to them by nearest eigenvalue.
+    values = np.asarray(mon.multipliers, dtype=complex)
+    eig_values, eig_vectors = np.linalg.eig(mon.matrix)
+    match = [int(np.argmin(np.abs(eig_values - mu))) for mu in values]
+    vectors = eig_vectors[:, match].astype(complex)
     averaged = _averaged_jacobian(orbit, n_average)
     avg_eig = np.linalg.eigvals(averaged).astype(complex)  # always complex: one dtype for all
     avg_eig = avg_eig[np.argsort(-avg_eig.real, kind="stable")]
-    return HoverStability(orbit, mon.matrix, values[order], np.log(values[order].astype(complex)) / orbit.period,
-                          vectors[:, order], float(mon.det), float(mon.liouville_det), averaged,
-                          avg_eig)
+    return HoverStability(orbit, mon.matrix, values, np.log(values) / orbit.period, vectors,
+                          float(mon.det), float(mon.liouville_det), averaged, avg_eig)
 
 
 def mode_response(
@@ -501,6 +504,45 @@ def mode_response(
                            period=orbit.period, t_out=t[1:], rtol=1e-12, atol=1e-12)
     delta = np.column_stack([v, np.einsum("kij,j->ik", var.stm, v)])
     return t, delta
+
+
+def force_budget(orbit: HoverOrbit, n_samples: int = 4096) -> dict[str, dict[str, float]]:
+    """Cycle means of every term of the linear model's equations (2)/(29) along the orbit.
+
+    On a periodic orbit each equation's terms average to zero (the mean of x' vanishes); the
+    budget shows which terms carry the weight, e.g. why the hover amplitude differs from the trim
+    of eq. (40), which balances the weight by Z0 alone.
+
+    Returns
+    -------
+    dict
+        ``{"u": {...}, "w": {...}, "q": {...}}``, each a dict of term name -> cycle mean
+        [m/s^2 for u and w, rad/s^2 for q], with the names of eq. (29) (``"X0/m"``, ``"Xu u"``,
+        ``"-q w"``, ``"-g sin(theta)"``, ...).
+
+    Raises
+    ------
+    ValueError
+        If the orbit's model is not the linear one (the budget is of eq. 29's terms).
+    """
+    model = orbit.model
+    if model.aerodynamics != "linear":
+        raise ValueError("force_budget needs an orbit of the linear model (aerodynamics='linear')")
+    rhs, _ = model.segment_functions()
+    t = np.linspace(0.0, orbit.period, n_samples, endpoint=False)
+    x = flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
+             period=orbit.period, t_eval=t, rtol=1e-12, atol=1e-12).x
+    u, w, q, th = x
+    d = np.array([model.derivatives(ti) for ti in t]).T
+    g, m, Iy = model.insect.gravity, model.insect.mass, model.insect.pitch_inertia
+    terms = {
+        "u": {"-q w": -q * w, "-g sin(theta)": -g * np.sin(th), "X0/m": d[0] / m,
+              "Xu u": d[3] * u, "Xw w": d[4] * w, "Xq q": d[5] * q},
+        "w": {"q u": q * u, "g cos(theta)": g * np.cos(th), "Z0/m": d[1] / m,
+              "Zu u": d[6] * u, "Zw w": d[7] * w, "Zq q": d[8] * q},
+        "q": {"M0/Iy": d[2] / Iy, "Mu u": d[9] * u, "Mw w": d[10] * w, "Mq q": d[11] * q},
+    }
+    return {eq: {k: float(np.mean(v)) for k, v in parts.items()} for eq, parts in terms.items()}
 
 
 def _averaged_jacobian(orbit: HoverOrbit, n_nodes: int) -> np.ndarray:

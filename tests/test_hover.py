@@ -177,3 +177,17 @@ def test_mode_response_grows_by_its_multiplier_each_period(stability):
     assert stability.averaged_eigenvalues.dtype == complex
     with pytest.raises(ValueError, match="n_periods"):
         mode_response(stability, n_periods=0)
+
+
+def test_force_budget_balances_on_the_orbit(orbit):
+    from flapping.hover import force_budget
+
+    budget = force_budget(orbit)
+    g = orbit.model.insect.gravity
+    # The mean of w' over a period vanishes: weight, lift and the body-motion terms balance
+    # (trapezoid rule on an integrand with kinks at reversal: error ~1e-6 relative).
+    assert abs(sum(budget["w"].values())) < 1e-5 * g
+    assert budget["w"]["g cos(theta)"] == pytest.approx(g, rel=1e-3)
+    # u and q: every term averages to zero by the half-period symmetry of the orbit.
+    for eq in ("u", "q"):
+        assert max(abs(v) for v in budget[eq].values()) < 1e-8, eq
