@@ -16,6 +16,9 @@ from flapping.morphology import Insect
 from flapping.stability_derivatives import stability_derivatives
 
 __all__ = [
+    "APPENDIX_MEAN_CHORD_MM",
+    "TEXT_FREQUENCY_HZ",
+    "TEXT_PERIOD_S",
     "TABLE1_GUESS",
     "TABLE2_STATE",
     "HOVER_AMPLITUDE_DEG",
@@ -24,6 +27,15 @@ __all__ = [
     "MonodromyConsistency",
     "check_monodromy_eq66",
 ]
+
+#: Appendix A prints the mean chord as 18.3 mm; S/R of its R and S is 18.26 mm [mm].
+APPENDIX_MEAN_CHORD_MM = 18.3
+
+#: Sec. III writes the flapping frequency as 26.5 Hz [Hz] ...
+TEXT_FREQUENCY_HZ = 26.5
+
+#: ... and the period as T = 0.0380 s, which is 1/26.3 Hz, the appendix's frequency [s].
+TEXT_PERIOD_S = 0.0380
 
 #: Table 1, the initial guess (u [m/s], w [m/s], q [rad/s], theta [rad], h [m/s]).
 TABLE1_GUESS = {"u": 0.1, "w": 0.1, "q": 0.1 * math.pi / 180, "theta": 0.1 * math.pi / 180, "h": 2.0}

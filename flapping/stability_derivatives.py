@@ -95,6 +95,21 @@ class StabilityDerivatives:
         """The twelve derivatives by name."""
         return {name: getattr(self, name) for name in NAMES}
 
+    def averaged_jacobian(self, gravity: float) -> np.ndarray:
+        """Jacobian of the first-order averaged system at the zero state, (u, w, q, theta).
+
+        The periodic coefficients of eq. (29) replaced by their means over the samples (a cycle
+        average on a uniform one-period grid); at trim the zero state is the averaged system's
+        equilibrium, and this 4x4 matrix its linearisation (gravity enters through -g theta).
+        """
+        m = self.cycle_mean()
+        return np.array([
+            [m["Xu"], m["Xw"], m["Xq"], -gravity],
+            [m["Zu"], m["Zw"], m["Zq"], 0.0],
+            [m["Mu"], m["Mw"], m["Mq"], 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+        ])
+
     def cycle_mean(self) -> dict[str, float]:
         """Means over the samples (a cycle average when ``t`` is a uniform grid over one period)."""
         return {name: float(np.mean(getattr(self, name))) for name in NAMES}
