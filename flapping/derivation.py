@@ -41,6 +41,8 @@ __all__ = [
     "stability_derivatives",
     "paper_derivatives",
     "compare_with_paper",
+    "vanishing_symmetry",
+    "evaluate",
     "generate_source",
 ]
 
@@ -356,6 +358,72 @@ def compare_with_paper() -> list[TermComparison]:
             rows.append(TermComparison(name, const, _tidy_coefficient(ea),
                                        _tidy_coefficient(eb), status))
     return rows
+
+
+def vanishing_symmetry(expr: sp.Expr) -> str:
+    """Which symmetry of the stroke makes every term of ``expr`` average to zero over a wingbeat.
+
+    phi(t) = Phi cos(2 pi f t) is even about t = 0 and odd under the half-period shift, so a term
+    odd under time reversal (phi_dot -> -phi_dot, phi fixed) or under the half-period shift
+    (phi -> -phi, phi_dot -> -phi_dot) has zero cycle mean. |phi_dot| is even under both.
+
+    Returns
+    -------
+    str
+        ``"time reversal"``, ``"half-period shift"``, both joined by ``" and "`` (different terms
+        vanishing for different reasons), or ``""`` if some term survives averaging.
+    """
+    S = symbols()
+    reasons = set()
+    for term in sp.Add.make_args(sp.expand(expr)):
+        reversed_t = term.subs(S.phidot, -S.phidot)
+        shifted = term.subs({S.phidot: -S.phidot, S.phi: -S.phi}, simultaneous=True)
+        if sp.simplify(reversed_t + term) == 0:
+            reasons.add("time reversal")
+        elif sp.simplify(shifted + term) == 0:
+            reasons.add("half-period shift")
+        else:
+            return ""
+    return " and ".join(sorted(reasons))
+
+
+def evaluate(expr: sp.Expr, insect, t, *, alpha_m: float | None = None,
+             amplitude: float | None = None):
+    """Evaluate an expression of the derivation's symbols for ``insect`` at times ``t``.
+
+    Any expression built from :func:`symbols` (a derivative of :func:`stability_derivatives`, a
+    printed one of :func:`paper_derivatives`, a term group of :func:`compare_with_paper`) is
+    turned into numbers: phi, phi_dot, |phi_dot| from the stroke (eq. 39), alpha_m from the trim
+    (eq. 40) unless given, K_mn, Krot_mn, K_nu, x_hat, x_h, mu1, f, m, I_y from the insect.
+
+    Returns
+    -------
+    numpy.ndarray
+        The values, broadcast to the shape of ``t``.
+    """
+    import numpy as np
+
+    from flapping.aerodynamics import trim_angle_of_attack
+    from flapping.kinematics import flapping_angle, flapping_rate
+    from flapping.stability_derivatives import aero_constants
+
+    S = symbols()
+    amplitude = insect.stroke_amplitude if amplitude is None else amplitude
+    alpha_m = trim_angle_of_attack(insect) if alpha_m is None else alpha_m
+    t = np.asarray(t, dtype=float)
+    phidot = flapping_rate(t, amplitude, insect.frequency)
+    c = aero_constants(insect)
+    values = {S.alpha_m: alpha_m, S.x_hat: c.x_hat, S.x_h: c.x_h, S.mu1: c.mu1, S.f: c.f,
+              S.m: c.m, S.Iy: c.Iy, S.Knu: c.Knu, S.rho: insect.air_density,
+              S.A: insect.lift_slope, S.x0_hat: insect.pitch_axis,
+              S.kappa: 0.75 - insect.pitch_axis}
+    values.update({S.K(m, n): v for (m, n), v in c.K.items()})
+    values.update({S.Krot(m, n): v for (m, n), v in c.Krot.items()})
+    expr = sp.sympify(expr).subs(values)
+    args = (S.phi, S.phidot, S.absphidot)
+    fn = sp.lambdify(args, expr, modules="numpy")
+    out = fn(flapping_angle(t, amplitude, insect.frequency), phidot, np.abs(phidot))
+    return np.broadcast_to(np.asarray(out, dtype=float), t.shape).copy()
 
 
 # --------------------------------------------------------------------------- code generation

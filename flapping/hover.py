@@ -44,6 +44,10 @@ __all__ = [
     "perturbation_growth",
     "mode_response",
     "force_budget",
+    "DEFAULT_PERTURBATION",
+    "simulate_perturbation",
+    "SpeedPitchCubic",
+    "speed_pitch_cubic",
     "SensitivityRow",
     "OPEN_CHOICES",
     "hover_sensitivity",
@@ -578,10 +582,7 @@ def perturbation_growth(
     model = orbit.model
     if aerodynamics is not None and aerodynamics != model.aerodynamics:
         raise ValueError("perturbation_growth uses the orbit's own model")
-    if direction is None:
-        direction = np.array([1.0, -0.7, 3.0, 0.2])
-    direction = np.asarray(direction, dtype=float)
-    direction = direction / np.linalg.norm(direction)
+    direction = _unit_direction(direction)
     rhs, _ = model.segment_functions()
     times = orbit.period * np.arange(n_cycles + 1)
     res = flow(rhs, (0.0, times[-1]), orbit.x0 + epsilon * direction,
@@ -655,6 +656,112 @@ def hover_sensitivity(
                                    stab.averaged_eigenvalues,
                                    orbit.mean_inertial_velocity["forward"], stab))
     return rows
+
+
+#: A generic perturbation direction in (u, w, q, theta) (not an eigenvector), before normalising.
+DEFAULT_PERTURBATION = (1.0, -0.7, 3.0, 0.2)
+
+
+def _unit_direction(direction) -> np.ndarray:
+    direction = np.asarray(DEFAULT_PERTURBATION if direction is None else direction, dtype=float)
+    if direction.shape != (4,) or not np.all(np.isfinite(direction)) or not np.any(direction):
+        raise ValueError(f"direction must be 4 finite numbers, not all zero; got {direction!r}")
+    return direction / np.linalg.norm(direction)
+
+
+def simulate_perturbation(
+    orbit: HoverOrbit,
+    epsilon: float,
+    *,
+    n_cycles: int = 30,
+    direction=None,
+    samples_per_cycle: int = 64,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The full nonlinear dynamics from x0 + epsilon * direction, beside the unperturbed orbit.
+
+    Returns
+    -------
+    t : ndarray, shape (m,)
+        Times over ``n_cycles`` periods [s].
+    x_perturbed, x_orbit : ndarray, shape (4, m)
+        The perturbed trajectory and the orbit integrated from x0 (which itself departs from the
+        orbit eventually, the orbit being unstable, from its round-off-level closure error).
+    """
+    if not (math.isfinite(epsilon) and epsilon > 0):
+        raise ValueError(f"epsilon must be a positive number; got {epsilon!r}")
+    if not (isinstance(n_cycles, int) and n_cycles >= 1):
+        raise ValueError(f"n_cycles must be an integer >= 1; got {n_cycles!r}")
+    model = orbit.model
+    rhs, _ = model.segment_functions()
+    t = np.linspace(0.0, n_cycles * orbit.period, samples_per_cycle * n_cycles + 1)
+    kw = dict(breakpoints=model.breakpoints, period=orbit.period, t_eval=t, rtol=1e-12,
+              atol=1e-14)
+    x_pert = flow(rhs, (0.0, t[-1]), orbit.x0 + epsilon * _unit_direction(direction), **kw).x
+    x_orb = flow(rhs, (0.0, t[-1]), orbit.x0, **kw).x
+    return t, x_pert, x_orb
+
+
+@dataclass(frozen=True)
+class SpeedPitchCubic:
+    """The averaged speed-pitch subsystem (u, q, theta) and its characteristic polynomial.
+
+    With the vertical speed decoupled (its averaged couplings vanish by symmetry at x_h = 0):
+    u' = Xu u + Xq q - g theta, q' = Mu u + Mq q, theta' = q, whose characteristic polynomial is
+
+        p(lambda) = lambda (lambda - Xu)(lambda - Mq) - Xq Mu lambda + g Mu.
+
+    Attributes
+    ----------
+    Xu, Xq, Mu, Mq, g : float
+        The entries of the averaged Jacobian used (g is the -J[0, 3] entry, g cos(theta) on the
+        orbit's mean).
+    coefficients : ndarray
+        Of p, highest power first.
+    roots : ndarray
+        Roots of p, sorted by real part (descending).
+    quasi_static_root : float
+        Positive root of lambda^2 - Xu lambda - g Mu / Mq = 0, the approximation in which the
+        pitch rate follows the speed at once (|Mq| large): a negative pitch stiffness.
+    routh_hurwitz : tuple of float
+        (a2 a1, a0) of p = lambda^3 + a2 lambda^2 + a1 lambda + a0; all roots in the left
+        half-plane iff a2, a1, a0 > 0 and a2 a1 > a0.
+    """
+
+    Xu: float
+    Xq: float
+    Mu: float
+    Mq: float
+    g: float
+    coefficients: np.ndarray
+    roots: np.ndarray
+    quasi_static_root: float
+    routh_hurwitz: tuple[float, float]
+
+
+def speed_pitch_cubic(averaged_jacobian: np.ndarray, *, flip_mu: bool = False) -> SpeedPitchCubic:
+    """Characteristic cubic of the averaged speed-pitch subsystem (see :class:`SpeedPitchCubic`).
+
+    Parameters
+    ----------
+    averaged_jacobian : ndarray, shape (4, 4)
+        E.g. :attr:`HoverStability.averaged_jacobian` or
+        :meth:`~flapping.stability_derivatives.StabilityDerivatives.averaged_jacobian`.
+    flip_mu : bool
+        Reverse the sign of Mu (a what-if: the speed-pitch coupling of wings above the CG).
+    """
+    J = np.asarray(averaged_jacobian, dtype=float)
+    if J.shape != (4, 4) or not np.all(np.isfinite(J)):
+        raise ValueError("averaged_jacobian must be a finite 4x4 array")
+    Xu, Xq, g = J[0, 0], J[0, 2], -J[0, 3]
+    Mu, Mq = (-1.0 if flip_mu else 1.0) * J[2, 0], J[2, 2]
+    coeffs = np.array([1.0, -(Xu + Mq), Xu * Mq - Xq * Mu, g * Mu])
+    roots = np.roots(coeffs).astype(complex)
+    roots = roots[np.argsort(-roots.real, kind="stable")]
+    stiffness = g * Mu / Mq
+    disc = Xu**2 + 4.0 * stiffness
+    qs = 0.5 * (Xu + math.sqrt(disc)) if disc >= 0 else float("nan")
+    return SpeedPitchCubic(float(Xu), float(Xq), float(Mu), float(Mq), float(g), coeffs, roots,
+                           qs, (float(coeffs[1] * coeffs[2]), float(coeffs[3])))
 
 
 def _state_guess(x0_guess) -> np.ndarray:

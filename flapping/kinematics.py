@@ -23,6 +23,7 @@ __all__ = [
     "stroke_sign",
     "segment_stroke_sign",
     "geometric_pitch",
+    "reversed_flow_fraction",
 ]
 
 #: Breakpoints of the half-strokes as fractions of the period (stroke reversal at 0 and 1/2).
@@ -64,3 +65,30 @@ def geometric_pitch(alpha_m: float, sign):
     """Geometric pitch of the wing, eq. (11): alpha_m on the forward stroke, pi - alpha_m backward."""
     sign = np.asarray(sign, dtype=float)
     return np.where(sign > 0, alpha_m, math.pi - alpha_m)
+
+
+def reversed_flow_fraction(radius: float, u: float, amplitude: float, frequency: float,
+                           n_samples: int = 200_000) -> float:
+    """Fraction of the wingbeat in which the section at ``radius`` moves against its stroke.
+
+    The chordwise velocity U = r phi_dot + u cos(phi) (eq. 9) has the sign of phi_dot except
+    where |r phi_dot| < |u cos(phi)|, near stroke reversal: there the linearisation's assumption
+    sign(U) = sign(phi_dot) fails. Uniform sampling of one period.
+
+    Parameters
+    ----------
+    radius : float
+        Radius of the section [m], >= 0.
+    u : float
+        Forward body speed [m/s].
+    amplitude, frequency : float
+        Stroke amplitude [rad] and flapping frequency [Hz].
+    n_samples : int
+        Samples per period.
+    """
+    if not radius >= 0.0:
+        raise ValueError(f"radius must be >= 0; got {radius!r}")
+    t = np.arange(n_samples) / (n_samples * frequency)
+    phi = flapping_angle(t, amplitude, frequency)
+    return float(np.mean(np.abs(radius * flapping_rate(t, amplitude, frequency))
+                         < np.abs(u * np.cos(phi))))

@@ -117,3 +117,26 @@ def test_derived_forces_have_the_symmetries_of_the_stroke():
     assert sympy.simplify(d["Z0"].subs(S.phidot, -S.phidot) - d["Z0"]) == 0
     # X0 reverses with the stroke (odd in phi_dot for fixed |phi_dot|).
     assert sympy.simplify(d["X0"].subs(S.phidot, -S.phidot) + d["X0"]) == 0
+
+
+def test_vanishing_symmetry_classifies_the_cycle_means():
+    d = derivation.stability_derivatives()
+    insect = flapping.hawkmoth()
+    t = np.linspace(0.0, insect.period, 2048, endpoint=False)
+    means = stability_derivatives(insect, t).cycle_mean()
+    for name, expr in d.items():
+        reason = derivation.vanishing_symmetry(expr.subs(derivation.symbols().x_h, 0))
+        scale = np.abs(derivation.evaluate(expr, insect, t)).max()
+        if reason:
+            assert abs(means[name]) < 1e-12 * max(scale, 1e-30), name
+        else:
+            assert abs(means[name]) > 1e-6 * scale, name
+
+
+def test_evaluate_reproduces_the_generated_code():
+    insect = flapping.hawkmoth(hinge_offset=1e-3)
+    t = np.linspace(0.01, 0.9, 7) * insect.period
+    numeric = stability_derivatives(insect, t).as_dict()
+    for name, expr in derivation.stability_derivatives().items():
+        np.testing.assert_allclose(derivation.evaluate(expr, insect, t), numeric[name],
+                                   rtol=1e-12, atol=1e-14 * np.abs(numeric[name]).max())

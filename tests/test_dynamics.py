@@ -75,3 +75,12 @@ def test_too_heavy_insect_cannot_trim():
     heavy = flapping.hawkmoth(mass=0.05)
     with pytest.raises(ValueError, match="weight"):
         LongitudinalDynamics(heavy)
+
+
+def test_reversed_flow_fraction_grows_with_speed_and_vanishes_at_rest():
+    from flapping.kinematics import reversed_flow_fraction
+
+    h = flapping.hawkmoth()
+    r = h.r2 * h.semi_span
+    fracs = [reversed_flow_fraction(r, u, h.stroke_amplitude, h.frequency) for u in (0.0, 0.1, 0.5)]
+    assert fracs[0] == 0.0 < fracs[1] < fracs[2] < 0.5

@@ -191,3 +191,26 @@ def test_force_budget_balances_on_the_orbit(orbit):
     # u and q: every term averages to zero by the half-period symmetry of the orbit.
     for eq in ("u", "q"):
         assert max(abs(v) for v in budget[eq].values()) < 1e-8, eq
+
+
+def test_speed_pitch_cubic_root_is_an_averaged_eigenvalue(stability):
+    from flapping.hover import speed_pitch_cubic
+
+    cubic = speed_pitch_cubic(stability.averaged_jacobian)
+    # With x_h = 0 the averaged w-equation decouples, so the cubic's roots are three of the four
+    # averaged eigenvalues.
+    for root in cubic.roots:
+        assert np.min(np.abs(stability.averaged_eigenvalues - root)) < 1e-9 * abs(root)
+    assert cubic.coefficients[-1] < 0  # g Mu < 0: a positive real root
+    flipped = speed_pitch_cubic(stability.averaged_jacobian, flip_mu=True)
+    assert flipped.coefficients[-1] == pytest.approx(-cubic.coefficients[-1])
+
+
+def test_simulated_perturbation_starts_on_the_orbit_plus_epsilon(orbit):
+    from flapping.hover import simulate_perturbation
+
+    t, xp, xo = simulate_perturbation(orbit, 1e-4, n_cycles=2, samples_per_cycle=8)
+    assert np.linalg.norm(xp[:, 0] - xo[:, 0]) == pytest.approx(1e-4)
+    np.testing.assert_allclose(xo[:, 8], orbit.x0, atol=1e-8)
+    with pytest.raises(ValueError, match="epsilon"):
+        simulate_perturbation(orbit, -1.0)
