@@ -35,6 +35,7 @@ __all__ = [
     "STATE_SCALES",
     "LOAD_COLORS",
     "LOAD_LABELS",
+    "SOURCE_COLORS",
     "MODEL_LINESTYLES",
     "MODEL_LABELS",
     "DERIVATIVE_LABELS",
@@ -76,9 +77,17 @@ STATE_SCALES: dict[str, float] = {"u": 1.0, "w": 1.0, "q": 1.0, "theta": 180.0 /
 
 #: One colour per aerodynamic load (body-axis force X, Z and pitching moment M).
 LOAD_COLORS: dict[str, str] = {
-    "X": "#E69F00",  # orange
+    "X": "#882255",  # wine (orange is kept for the paper's numbers, see SOURCE_COLORS)
     "Z": "#56B4E9",  # sky blue
     "M": "#332288",  # indigo
+}
+
+#: Where a number comes from, when ours and others' share a figure: ours, the paper's printed
+#: values, the first-order averaged system. Distinct from every state and load colour.
+SOURCE_COLORS: dict[str, str] = {
+    "ours": "0.15",        # dark grey
+    "paper": "#E69F00",    # orange
+    "averaged": "#44AA99",  # teal
 }
 
 #: Axis labels of the loads, SI.
