@@ -77,7 +77,7 @@ STATE_SCALES: dict[str, float] = {"u": 1.0, "w": 1.0, "q": 1.0, "theta": 180.0 /
 
 #: One colour per aerodynamic load (body-axis force X, Z and pitching moment M).
 LOAD_COLORS: dict[str, str] = {
-    "X": "#882255",  # wine (orange is kept for the paper's numbers, see SOURCE_COLORS)
+    "X": "#44AA99",  # teal (orange is kept for the paper's numbers, see SOURCE_COLORS)
     "Z": "#56B4E9",  # sky blue
     "M": "#332288",  # indigo
 }
@@ -87,7 +87,7 @@ LOAD_COLORS: dict[str, str] = {
 SOURCE_COLORS: dict[str, str] = {
     "ours": "0.15",        # dark grey
     "paper": "#E69F00",    # orange
-    "averaged": "#44AA99",  # teal
+    "averaged": "#882255",  # wine
 }
 
 #: Axis labels of the loads, SI.
