@@ -562,8 +562,8 @@ def plot_multipliers(mu, ax=None, *, label: str | None = None, color: str = "k",
     ax.set_xlim(-extent, extent)
     ax.set_ylim(-extent, extent)
     ax.set_aspect("equal")
-    ax.set_xlabel(r"Re $\mu$")
-    ax.set_ylabel(r"Im $\mu$")
+    ax.set_xlabel(r"Re $\mu$ [-]")
+    ax.set_ylabel(r"Im $\mu$ [-]")
     return ax
 
 
