@@ -19,7 +19,7 @@ solver returns one member of a family of climbing or sinking periodic orbits.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Sequence
 
 import numpy as np
@@ -50,6 +50,7 @@ __all__ = [
     "speed_pitch_cubic",
     "SensitivityRow",
     "OPEN_CHOICES",
+    "describe_changes",
     "hover_sensitivity",
 ]
 
@@ -192,15 +193,19 @@ class PerturbationGrowth:
     deviation : ndarray
         |x(kT) - x_orbit(0)| after k periods (Euclidean norm, SI units).
     growth_per_cycle : float
-        Fitted deviation ratio per period over the cycles where the growth is exponential.
+        Fitted deviation ratio per period over cycles ``fit_start`` ... n, where the growth is
+        exponential (the decaying modes have died out).
     predicted : float
         Modulus of the largest Floquet multiplier.
+    fit_start : int
+        First cycle of the fit (two thirds of the way through the simulation).
     """
 
     cycles: np.ndarray
     deviation: np.ndarray
     growth_per_cycle: float
     predicted: float
+    fit_start: int
 
 
 # =========================================================================== vector fields
@@ -592,21 +597,54 @@ def perturbation_growth(
     start = (2 * n_cycles) // 3  # after the transient of the decaying modes
     slope = np.polyfit(np.arange(start, n_cycles + 1), np.log(deviation[start:]), 1)[0]
     return PerturbationGrowth(np.arange(n_cycles + 1), deviation, float(np.exp(slope)),
-                              float(np.abs(stability.multipliers[0])))
+                              float(np.abs(stability.multipliers[0])), start)
 
 
 # =========================================================================== sensitivity
-#: Modelling choices the paper leaves open, as Insect field changes from the defaults.
-OPEN_CHOICES: dict[str, dict] = {
-    "defaults (AR = 2R^2/S, x_hat = 1/4, x0_hat = 0, x_h = 0)": {},
-    "AR = R^2/S in eq. (4)": {"aspect_ratio_convention": "single"},
-    "x_hat = 0.15": {"center_of_pressure": 0.15},
-    "x_hat = 0.35": {"center_of_pressure": 0.35},
-    "x0_hat = 0.25": {"pitch_axis": 0.25},
-    "x_h = +1 mm": {"hinge_offset": 1e-3},
-    "x_h = -1 mm": {"hinge_offset": -1e-3},
-    "no rotational damping (mu1 = mu2 = 0)": {"mu1": 0.0, "mu2": 0.0},
-}
+def describe_changes(changes: dict) -> str:
+    """A short label for a set of :class:`~flapping.morphology.Insect` field changes.
+
+    Built from the values themselves, so that a table of variants never repeats a number by hand:
+    ``{"hinge_offset": 1e-3}`` -> ``"x_h = +1 mm"``; ``{}`` -> the defaults of :class:`Insect`.
+    """
+    defaults = {f.name: f.default for f in fields(Insect) if f.init}
+    if not changes:
+        return (f"defaults (AR = 2R^2/S, x_hat = {defaults['center_of_pressure']:g}, "
+                f"x0_hat = {defaults['pitch_axis']:g}, x_h = {defaults['hinge_offset'] * 1e3:g} mm)"
+                if defaults["aspect_ratio_convention"] == "pair" else "defaults")
+    parts = []
+    for key, value in changes.items():
+        if key == "aspect_ratio_convention":
+            parts.append("AR = R^2/S in eq. (4)" if value == "single" else "AR = 2R^2/S in eq. (4)")
+        elif key == "center_of_pressure":
+            parts.append(f"x_hat = {value:g}")
+        elif key == "pitch_axis":
+            parts.append(f"x0_hat = {value:g}")
+        elif key == "hinge_offset":
+            parts.append(f"x_h = {value * 1e3:+g} mm")
+        elif key in ("mu1", "mu2") and set(changes) >= {"mu1", "mu2"} and not changes["mu1"] \
+                and not changes["mu2"]:
+            if key == "mu1":
+                parts.append("no rotational damping (mu1 = mu2 = 0)")
+        else:
+            parts.append(f"{key} = {value:g}" if isinstance(value, (int, float)) else f"{key} = {value}")
+    return ", ".join(parts)
+
+
+_OPEN_CHOICE_CHANGES: tuple[dict, ...] = (
+    {},
+    {"aspect_ratio_convention": "single"},
+    {"center_of_pressure": 0.15},
+    {"center_of_pressure": 0.35},
+    {"pitch_axis": 0.25},
+    {"hinge_offset": 1e-3},
+    {"hinge_offset": -1e-3},
+    {"mu1": 0.0, "mu2": 0.0},
+)
+
+#: Modelling choices the paper leaves open, as Insect field changes from the defaults, keyed by
+#: their :func:`describe_changes` label.
+OPEN_CHOICES: dict[str, dict] = {describe_changes(c): c for c in _OPEN_CHOICE_CHANGES}
 
 
 @dataclass(frozen=True)

@@ -19,6 +19,9 @@ __all__ = [
     "APPENDIX_MEAN_CHORD_MM",
     "TEXT_FREQUENCY_HZ",
     "TEXT_PERIOD_S",
+    "STEPS_PER_PERIOD",
+    "FIG6_PANEL4_TICKS",
+    "FIG6_Q_TICK_MAX",
     "TABLE1_GUESS",
     "TABLE2_STATE",
     "HOVER_AMPLITUDE_DEG",
@@ -36,6 +39,17 @@ TEXT_FREQUENCY_HZ = 26.5
 
 #: ... and the period as T = 0.0380 s, which is 1/26.3 Hz, the appendix's frequency [s].
 TEXT_PERIOD_S = 0.0380
+
+#: Integration steps per period of the paper's fixed-step scheme: "Botha chose the step size to be
+#: 2^-10. The same step size is used in this work." (Sec. III.A; also the shooting offset delta).
+STEPS_PER_PERIOD = 2**10
+
+#: Tick-label range of the fourth panel of the paper's Fig. 6 (labelled "h m", around Table 2's
+#: theta0), as printed.
+FIG6_PANEL4_TICKS = (6.332, 6.336)
+
+#: Largest tick label of the q panel of Fig. 6 (axis labelled "q (m/sec)"), as printed.
+FIG6_Q_TICK_MAX = 20.0
 
 #: Table 1, the initial guess (u [m/s], w [m/s], q [rad/s], theta [rad], h [m/s]).
 TABLE1_GUESS = {"u": 0.1, "w": 0.1, "q": 0.1 * math.pi / 180, "theta": 0.1 * math.pi / 180, "h": 2.0}
