@@ -56,50 +56,6 @@ def stability_derivatives(phi, phidot, absphidot, alpha_m, c):
     )
 
 
-def stability_derivatives_scalar(phi, phidot, absphidot, alpha_m, c):
-    """The same for one phase, in plain floats (fast inside ODE right-hand sides)."""
-    t0 = math.sin(alpha_m)
-    t1 = t0**2
-    t2 = math.cos(phi)
-    t3 = phidot*t2
-    t4 = 2*absphidot
-    t5 = math.sin(2*alpha_m)
-    t6 = c.K[2, 1]*t5
-    t7 = phidot*t6
-    t8 = math.sin(phi)
-    t9 = phidot*t5
-    t10 = 1/c.m
-    t11 = c.K[1, 1]*t10
-    t12 = t2**2
-    t13 = 4*absphidot
-    t14 = t12*t13
-    t15 = t11*t3*t5
-    t16 = c.K[1, 1]*c.x_h
-    t17 = t16*t2
-    t18 = math.sin(2*phi)
-    t19 = math.cos(alpha_m)
-    t20 = t19**2
-    t21 = t20*t4
-    t22 = c.K[2, 1]*t8
-    t23 = 1/c.Iy
-    t24 = c.K[1, 2]*c.x_hat
-    t25 = absphidot*t19
-    return (
-        -c.K[2, 1]*t1*t3*t4,  # X0
-        -phidot**2*t6,  # Z0
-        phidot*(-c.K[2, 2]*c.x_hat*t0*t2*t4 + c.K[3, 1]*t8*t9 + c.x_h*t7),  # M0
-        -t1*t11*t14,  # Xu
-        -t15,  # Xw
-        t10*t9*((1/2)*c.K[2, 1]*t18 + t17),  # Xq
-        -2*t15,  # Zu
-        -t11*t21,  # Zw
-        t10*(-c.Krot[1, 2]*t3 + t16*t21 + t21*t22),  # Zq
-        t23*(-t0*t14*t24 + 2*t17*t9 + t18*t7),  # Mu
-        2*t19*t23*(t16*t25 + t22*t25 - t24*t3),  # Mw
-        t23*(-c.Knu*c.mu1*c.f*t12 + 2*phidot*c.K[1, 2]*c.x_hat*c.x_h*t19*t2 + phidot*c.Krot[1, 2]*c.x_h*t2 + phidot*c.K[2, 2]*c.x_hat*t18*t19 + (1/2)*phidot*c.Krot[2, 2]*t18 - c.K[1, 1]*c.x_h**2*t21 - c.Krot[1, 3]*c.x_hat*t12*t25 - c.K[3, 1]*t21*t8**2 - c.x_h*t13*t20*t22),  # Mq
-    )
-
-
 def stability_derivatives_scalar_with_amplitude(phi, phidot, absphidot, alpha_m, c):
     """The twelve derivatives and then Phi * d/dPhi of each (24 floats), for one phase."""
     t0 = math.cos(phi)

@@ -52,6 +52,7 @@ import numpy as np
 from scipy import special
 
 from flapping.kinematics import stroke_sign as _kinematic_stroke_sign
+from flapping.kinematics import stroke_sign_scalar
 from flapping.morphology import Insect
 
 __all__ = [
@@ -465,7 +466,7 @@ class BladeElementModel:
                 raise ValueError(f"t and the state must be finite; got t={t!r}, "
                                  f"(u, w, q)=({u!r}, {w!r}, {q!r})")
             if s is None:
-                s = -1.0 if (t * self.insect.frequency) % 1.0 < 0.5 else 1.0
+                s = stroke_sign_scalar(t, self.insect.frequency)
             elif s != 1 and s != -1:
                 raise ValueError(f"stroke sign s must be +1 or -1; got {s!r}")
             return np.array(self._loads(float(t), float(u), float(w), float(q), float(s)))

@@ -81,7 +81,7 @@ class LongitudinalDynamics:
     _blade: BladeElementModel | None = field(init=False, repr=False, compare=False)
     # Last (t, amplitude) -> derivatives: rhs and jac are called at the same t by integrators of
     # the variational equations, and the derivatives are most of the cost of either.
-    _cache: list = field(init=False, repr=False, compare=False, default_factory=lambda: [None, None])
+    _cache: list = field(init=False, repr=False, compare=False, default_factory=lambda: [None])
 
     def __post_init__(self) -> None:
         if not isinstance(self.insect, Insect):
@@ -134,14 +134,15 @@ class LongitudinalDynamics:
     def _derivatives_with_amplitude(self, t: float, amplitude: float | None) -> tuple[float, ...]:
         amplitude = self.amplitude if amplitude is None else float(amplitude)
         key = (float(t), amplitude)
-        if self._cache[0] == key:
-            return self._cache[1]
+        cached = self._cache[0]  # (key, values), read and written as one object
+        if cached is not None and cached[0] == key:
+            return cached[1]
         omega = 2.0 * math.pi * self.insect.frequency
         phi = amplitude * math.cos(omega * t)
         phidot = -omega * amplitude * math.sin(omega * t)
         values = _gen.stability_derivatives_scalar_with_amplitude(
             phi, phidot, abs(phidot), self.alpha_m, self._constants)
-        self._cache[0], self._cache[1] = key, values
+        self._cache[0] = (key, values)
         return values
 
     def loads(self, t: float, x, stroke: float | None = None,
@@ -198,7 +199,8 @@ class LongitudinalDynamics:
             aero = np.array([[d[3], d[4], d[5]], [d[6], d[7], d[8]], [d[9], d[10], d[11]]])
         else:
             # The blade-element loads have no closed-form derivative (span quadrature of |U|
-            # and atan2); central differences with a step near eps**(1/3) are accurate to ~1e-10.
+            # and atan2); central differences, step 1e-6 (near eps**(1/3) of unit-size states),
+            # are accurate to ~1e-10.
             aero = np.empty((3, 3))
             scale = np.array([1.0 / c.m, 1.0 / c.m, 1.0 / c.Iy])
             for j in range(3):
@@ -251,9 +253,6 @@ class LongitudinalDynamics:
             jac.append(lambda t, x, _s=s: self.jac(t, x, _s))
         return rhs, jac
 
-    def trace_jacobian(self, t: float, x) -> float:
-        """trace of the Jacobian (for Liouville's formula): Xu + Zw + Mq for ``"linear"``."""
-        return float(np.trace(self.jac(t, x)))
 
 
 def _check_amplitude(amplitude) -> None:

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from flapping.errors import ConvergenceError
 from flapping.integrate import (
     _check_breakpoints,
     _check_method,
@@ -325,7 +326,8 @@ def monodromy(
         nfev += var.nfev
         njev += var.njev
         if not var.success:
-            raise ValueError(f"the orbit could not be integrated over [{a:.6g}, {b:.6g}]: {var.message}")
+            raise ConvergenceError(
+                f"the orbit could not be integrated over [{a:.6g}, {b:.6g}]: {var.message}")
         F = var.stm_end
         steps = round((b - a) / h_rk4)
         splittable = (b - a) > T * 2.0**-12 and (method != "RK4" or steps % 2 == 0)

@@ -216,6 +216,7 @@ def _hover_fields(model: LongitudinalDynamics):
         s = segment_stroke_sign(k)
 
         def f(t, y, p, _s=s):
+            _check_iterate_amplitude(p[0])
             out = np.empty(5)
             out[:4] = model.rhs(t, y, _s, p[0])
             u, w, th = y[0], y[1], y[3]
@@ -242,11 +243,28 @@ def _hover_fields(model: LongitudinalDynamics):
     return rhs, jac, pjac
 
 
+def _check_iterate_amplitude(amplitude: float) -> None:
+    """Stop the shooting when an iterate's stroke amplitude leaves (0, pi/2]."""
+    if not 0.0 < amplitude <= math.pi / 2:
+        raise ConvergenceError(
+            f"the shooting iteration stepped the stroke amplitude to {math.degrees(amplitude):.4g} "
+            "deg, outside (0, 90] deg: no hover orbit with wings that do not cross was found "
+            "from this guess")
+
+
+def _checked(result, what: str):
+    """Raise ConvergenceError if an integration did not reach its end."""
+    if not result.success:
+        raise ConvergenceError(f"{what}: the integration failed ({result.message})")
+    return result
+
+
 def _sample(model: LongitudinalDynamics, x0: np.ndarray, n_samples: int, method: str, **tol):
     rhs, _ = model.segment_functions()
     t = np.linspace(0.0, model.period, n_samples + 1)
-    res = flow(rhs, (0.0, model.period), x0, breakpoints=model.breakpoints, period=model.period,
-               method=method, t_eval=t if method != "RK4" else None, **tol)
+    res = _checked(flow(rhs, (0.0, model.period), x0, breakpoints=model.breakpoints,
+                        period=model.period, method=method,
+                        t_eval=t if method != "RK4" else None, **tol), "sampling the orbit")
     if method == "RK4":
         return res.t, res.x
     return t, res.x
@@ -311,6 +329,16 @@ def find_hover_orbit(
     model = LongitudinalDynamics(insect, alpha_m=alpha_m, aerodynamics=aerodynamics)
     amplitude = insect.stroke_amplitude if amplitude_guess is None else amplitude_guess
     model.with_amplitude(amplitude)  # validates the guess
+    # Eq. (40) solved for the amplitude at this alpha_m: the stroke a body at rest needs. If even
+    # that exceeds 90 deg, no hover orbit exists with wings that do not cross.
+    k21 = 0.5 * insect.air_density * insect.lift_slope * insect.span_integral(2, 1)
+    needed = math.sqrt(insect.weight / (2.0 * math.pi**2 * insect.frequency**2 * k21
+                                        * math.sin(2.0 * model.alpha_m)))
+    if needed > math.pi / 2:
+        raise ValueError(
+            f"{insect.name} cannot hover with alpha_m = {math.degrees(model.alpha_m):.4g} deg: "
+            f"eq. (40) needs a stroke amplitude of {math.degrees(needed):.4g} deg > 90 deg "
+            f"(mass {insect.mass!r} kg); raise alpha_m towards 45 deg or lower the mass")
     x0 = _state_guess(x0_guess)
     if n_samples < 2 or n_samples % 2:
         raise ValueError(f"n_samples must be an even integer >= 2; got {n_samples!r}")
@@ -332,7 +360,7 @@ def find_hover_orbit(
     hover_model = model.with_amplitude(phi)
     x0 = np.asarray(result.x0[:4], dtype=float)
     t, x = _sample(hover_model, x0, n_samples, method, rtol=rtol, atol=atol)
-    return HoverOrbit(hover_model, x0, phi, model.period, t, x, 0.0, result)
+    return HoverOrbit(hover_model, x0, phi, model.period, t, x, float(result.residual[4]), result)
 
 
 def forced_orbit(
@@ -363,8 +391,9 @@ def forced_orbit(
     x0 = np.asarray(result.x0, dtype=float)
     t, x = _sample(model, x0, n_samples, method, rtol=rtol, atol=atol)
     hrhs = _hover_fields(model)[0]
-    aug = flow(hrhs, (0.0, model.period), np.append(x0, 0.0), breakpoints=model.breakpoints,
-               period=model.period, method=method, rtol=rtol, atol=atol, args=([model.amplitude],))
+    aug = _checked(flow(hrhs, (0.0, model.period), np.append(x0, 0.0),
+                        breakpoints=model.breakpoints, period=model.period, method=method,
+                        rtol=rtol, atol=atol, args=([model.amplitude],)), "the altitude drift")
     return HoverOrbit(model, x0, float(model.amplitude), model.period, t, x,
                       float(aug.x[4, -1]), result)
 
@@ -422,9 +451,10 @@ def paper_hover_problem(
                                  atol=atol, tol=tol)
 
     # Jacobian of the one-period residual y(T) - y(0) in (y0, Phi) from the variational equations.
-    var = variational_flow(rhs, None, (0.0, model.period), result.x0,
-                           breakpoints=model.breakpoints, period=model.period, method=method,
-                           rtol=rtol, atol=atol, params=result.params)
+    var = _checked(variational_flow(rhs, None, (0.0, model.period), result.x0,
+                                    breakpoints=model.breakpoints, period=model.period,
+                                    method=method, rtol=rtol, atol=atol, params=result.params),
+                   "the paper problem's Jacobian")
     J = np.hstack([var.stm_end - np.eye(5), var.sensitivity[-1]])
     return result, np.linalg.svd(J, compute_uv=False)
 
@@ -499,7 +529,7 @@ def mode_response(
         raise ValueError(f"n_periods must be an integer >= 1; got {n_periods!r}")
     if not (isinstance(samples_per_period, int) and samples_per_period >= 2):
         raise ValueError(f"samples_per_period must be an integer >= 2; got {samples_per_period!r}")
-    if not 0 <= mode < stability.multipliers.size:
+    if not (isinstance(mode, int) and 0 <= mode < stability.multipliers.size):
         raise ValueError(f"mode must lie in [0, {stability.multipliers.size - 1}]; got {mode!r}")
     orbit = stability.orbit
     model = orbit.model
@@ -509,8 +539,9 @@ def mode_response(
         v = np.real(v)
     t = np.linspace(0.0, n_periods * orbit.period, samples_per_period * n_periods + 1)
     rhs, jac = model.segment_functions()
-    var = variational_flow(rhs, jac, (0.0, t[-1]), orbit.x0, breakpoints=model.breakpoints,
-                           period=orbit.period, t_out=t[1:], rtol=1e-12, atol=1e-12)
+    var = _checked(variational_flow(rhs, jac, (0.0, t[-1]), orbit.x0,
+                                    breakpoints=model.breakpoints, period=orbit.period,
+                                    t_out=t[1:], rtol=1e-12, atol=1e-12), "the mode's response")
     delta = np.column_stack([v, np.einsum("kij,j->ik", var.stm, v)])
     return t, delta
 
@@ -537,10 +568,12 @@ def force_budget(orbit: HoverOrbit, n_samples: int = 4096) -> dict[str, dict[str
     model = orbit.model
     if model.aerodynamics != "linear":
         raise ValueError("force_budget needs an orbit of the linear model (aerodynamics='linear')")
+    if not (isinstance(n_samples, int) and n_samples >= 2):
+        raise ValueError(f"n_samples must be an integer >= 2; got {n_samples!r}")
     rhs, _ = model.segment_functions()
     t = np.linspace(0.0, orbit.period, n_samples, endpoint=False)
-    x = flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
-             period=orbit.period, t_eval=t, rtol=1e-12, atol=1e-12).x
+    x = _checked(flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
+                      period=orbit.period, t_eval=t, rtol=1e-12, atol=1e-12), "the budget").x
     u, w, q, th = x
     d = np.array([model.derivatives(ti) for ti in t]).T
     g, m, Iy = model.insect.gravity, model.insect.mass, model.insect.pitch_inertia
@@ -563,8 +596,9 @@ def _averaged_jacobian(orbit: HoverOrbit, n_nodes: int) -> np.ndarray:
     for k in range(len(bounds) - 1):
         a, b = bounds[k] * orbit.period, bounds[k + 1] * orbit.period
         t_k = 0.5 * (b - a) * nodes + 0.5 * (a + b)
-        res = flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
-                   period=orbit.period, t_eval=np.sort(t_k), rtol=1e-12, atol=1e-12)
+        res = _checked(flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
+                            period=orbit.period, t_eval=np.sort(t_k), rtol=1e-12, atol=1e-12),
+                       "the averaged Jacobian")
         for t, x, wgt in zip(res.t, res.x.T, weights[np.argsort(t_k)]):
             total += 0.5 * (b - a) * wgt * jac[k](t, x)
     return total / orbit.period
@@ -576,7 +610,6 @@ def perturbation_growth(
     epsilon: float = 1e-6,
     n_cycles: int = 30,
     direction: np.ndarray | None = None,
-    aerodynamics: str | None = None,
 ) -> PerturbationGrowth:
     """Simulate the full nonlinear dynamics from the orbit plus a small perturbation.
 
@@ -585,14 +618,19 @@ def perturbation_growth(
     """
     orbit = stability.orbit
     model = orbit.model
-    if aerodynamics is not None and aerodynamics != model.aerodynamics:
-        raise ValueError("perturbation_growth uses the orbit's own model")
+    scale = float(np.abs(orbit.x).max())
+    if not (isinstance(epsilon, (int, float)) and 0.0 < epsilon <= 1e-3 * scale):
+        raise ValueError(
+            f"epsilon must lie in (0, 1e-3 max|x|] = (0, {1e-3 * scale:.3g}] so that the "
+            f"perturbation stays linear over the fit; got {epsilon!r}")
+    if not (isinstance(n_cycles, int) and n_cycles >= 3):
+        raise ValueError(f"n_cycles must be an integer >= 3; got {n_cycles!r}")
     direction = _unit_direction(direction)
     rhs, _ = model.segment_functions()
     times = orbit.period * np.arange(n_cycles + 1)
-    res = flow(rhs, (0.0, times[-1]), orbit.x0 + epsilon * direction,
-               breakpoints=model.breakpoints, period=orbit.period, t_eval=times,
-               rtol=1e-12, atol=1e-14)
+    res = _checked(flow(rhs, (0.0, times[-1]), orbit.x0 + epsilon * direction,
+                        breakpoints=model.breakpoints, period=orbit.period, t_eval=times,
+                        rtol=1e-12, atol=1e-14), "the perturbed simulation")
     deviation = np.linalg.norm(res.x - orbit.x0[:, None], axis=0)
     start = (2 * n_cycles) // 3  # after the transient of the decaying modes
     slope = np.polyfit(np.arange(start, n_cycles + 1), np.log(deviation[start:]), 1)[0]
@@ -734,8 +772,9 @@ def simulate_perturbation(
     t = np.linspace(0.0, n_cycles * orbit.period, samples_per_cycle * n_cycles + 1)
     kw = dict(breakpoints=model.breakpoints, period=orbit.period, t_eval=t, rtol=1e-12,
               atol=1e-14)
-    x_pert = flow(rhs, (0.0, t[-1]), orbit.x0 + epsilon * _unit_direction(direction), **kw).x
-    x_orb = flow(rhs, (0.0, t[-1]), orbit.x0, **kw).x
+    x_pert = _checked(flow(rhs, (0.0, t[-1]), orbit.x0 + epsilon * _unit_direction(direction),
+                           **kw), "the perturbed simulation").x
+    x_orb = _checked(flow(rhs, (0.0, t[-1]), orbit.x0, **kw), "the orbit's simulation").x
     return t, x_pert, x_orb
 
 

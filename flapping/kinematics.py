@@ -21,10 +21,13 @@ __all__ = [
     "flapping_angle",
     "flapping_rate",
     "stroke_sign",
+    "stroke_sign_scalar",
     "segment_stroke_sign",
     "geometric_pitch",
     "reversed_flow_fraction",
 ]
+
+_SNAP = 1e-9  # phases this close to a reversal are taken to be at it
 
 #: Breakpoints of the half-strokes as fractions of the period (stroke reversal at 0 and 1/2).
 HALF_STROKE_BREAKPOINTS: tuple[float, ...] = (0.5,)
@@ -52,8 +55,17 @@ def stroke_sign(t, frequency: float):
     # t * f rounds: snap phases within 1e-9 of a reversal onto it, so that k T and k T + T/2
     # consistently start their half-stroke.
     snapped = np.round(phase * 2.0) / 2.0
-    phase = np.where(np.abs(phase - snapped) < 1e-9, np.mod(snapped, 1.0), phase)
+    phase = np.where(np.abs(phase - snapped) < _SNAP, np.mod(snapped, 1.0), phase)
     return np.where(phase < 0.5, -1.0, 1.0)
+
+
+def stroke_sign_scalar(t: float, frequency: float) -> float:
+    """:func:`stroke_sign` for one float time, without NumPy (for ODE right-hand sides)."""
+    phase = (t * frequency) % 1.0
+    snapped = round(phase * 2.0) / 2.0
+    if abs(phase - snapped) < _SNAP:
+        phase = snapped % 1.0
+    return -1.0 if phase < 0.5 else 1.0
 
 
 def segment_stroke_sign(segment: int) -> float:

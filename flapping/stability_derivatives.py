@@ -58,10 +58,20 @@ def aero_constants(insect: Insect) -> AeroConstants:
     kappa = 0.75 - insect.pitch_axis
     I = {(m, n): insect.span_integral(m, n) for m in range(4) for n in range(1, 5)
          if (m + 1 + n * (insect.beta_p - 1.0)) > 0}
+    if (0, 4) in I:
+        knu = math.pi / 16.0 * rho * I[(0, 4)]
+    elif insect.mu1 == 0.0 and insect.mu2 == 0.0:
+        knu = 0.0  # no rotational damping: its diverging span integral is never needed
+    else:
+        raise ValueError(
+            f"the rotational damping needs I_04 = 2 int c^4 dr, which diverges for this planform "
+            f"(r1={insect.r1!r}, r2={insect.r2!r}: beta shape p={insect.beta_p:.4g} <= 3/4); "
+            "choose r1, r2 with p > 3/4 or set mu1 = mu2 = 0"
+        )
     return AeroConstants(
         K={k: 0.5 * rho * A * v for k, v in I.items()},
         Krot={k: rho * math.pi * kappa * v for k, v in I.items()},
-        Knu=math.pi / 16.0 * rho * I[(0, 4)],
+        Knu=knu,
         x_hat=insect.center_of_pressure,
         x_h=insect.hinge_offset,
         mu1=insect.mu1,
@@ -145,6 +155,9 @@ def stability_derivatives(
         raise ValueError(f"amplitude must lie in (0, pi/2] rad; got {amplitude!r}")
     if alpha_m is None:
         alpha_m = trim_angle_of_attack(insect, insect.stroke_amplitude)
+    elif not (isinstance(alpha_m, (int, float)) and math.isfinite(alpha_m)
+              and 0.0 < alpha_m < math.pi / 2):
+        raise ValueError(f"alpha_m must be a number in (0, pi/2) rad; got {alpha_m!r}")
     t = np.asarray(t, dtype=float)
     if not np.all(np.isfinite(t)):
         raise ValueError("t must be finite")

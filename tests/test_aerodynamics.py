@@ -420,3 +420,18 @@ def test_divergent_planform_is_rejected():
     with pytest.raises(ValueError, match="diverges"):
         BladeElementModel(insect, 0.3)
     BladeElementModel(insect.with_(mu1=0.0, mu2=0.0, center_of_pressure=0.0), 0.3)
+
+
+def test_scalar_and_array_loads_agree_at_stroke_reversal():
+    # The scalar fast path and the array path must pick the same half-stroke at reversal times,
+    # where t * f rounds either side of the half-integer.
+    import flapping
+    from flapping.aerodynamics import BladeElementModel, trim_angle_of_attack
+
+    insect = flapping.hawkmoth()
+    model = BladeElementModel(insect, trim_angle_of_attack(insect), variant="exact")
+    for k in range(-50, 50):
+        for t in (k / insect.frequency, (k + 0.5) / insect.frequency):
+            scalar = model.loads(float(t), 0.3, 0.1, 0.5)
+            array = model.loads(np.array(t), 0.3, 0.1, 0.5)
+            np.testing.assert_array_equal(scalar, np.asarray(array).reshape(3))

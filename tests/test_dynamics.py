@@ -84,3 +84,24 @@ def test_reversed_flow_fraction_grows_with_speed_and_vanishes_at_rest():
     r = h.r2 * h.semi_span
     fracs = [reversed_flow_fraction(r, u, h.stroke_amplitude, h.frequency) for u in (0.0, 0.1, 0.5)]
     assert fracs[0] == 0.0 < fracs[1] < fracs[2] < 0.5
+
+
+def test_root_singular_planform_needs_no_damping_integral_without_damping():
+    # p < 3/4 makes I_04 (rotational damping) diverge: allowed without damping, refused with it.
+    r1, r2 = 0.3, 0.4  # beta shape p ~ 0.6
+    light = flapping.hawkmoth(r1=r1, r2=r2, mu1=0.0, mu2=0.0)
+    assert flapping.morphology.beta_shape_parameters(r1, r2)[0] < 0.75
+    from flapping.stability_derivatives import aero_constants
+
+    assert aero_constants(light).Knu == 0.0
+    with pytest.raises(ValueError, match="mu1 = mu2 = 0"):
+        aero_constants(flapping.hawkmoth(r1=r1, r2=r2))
+
+
+def test_stability_derivatives_reject_bad_alpha_m():
+    from flapping.stability_derivatives import stability_derivatives
+
+    h = flapping.hawkmoth()
+    for bad in (float("nan"), -3.0, 2.0):
+        with pytest.raises(ValueError, match="alpha_m"):
+            stability_derivatives(h, [0.0], alpha_m=bad)

@@ -38,9 +38,15 @@ def stability(orbit):
 def test_orbit_closes(orbit):
     assert orbit.shooting.success
     assert orbit.residual_norm < 1e-10
-    # Independent check: integrate the found initial state over one period.
-    x = orbit.x
-    np.testing.assert_allclose(x[:, -1], x[:, 0], atol=1e-9 * np.abs(x).max())
+    # Re-integrate the found initial state with another integrator (RK45 at 1e-12, so its own
+    # error is ~1e-11 of max|x|): the orbit closes to that accuracy, not only in the solver's own
+    # discretisation.
+    from flapping.integrate import flow
+
+    rhs, _ = orbit.model.segment_functions()
+    res = flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=orbit.model.breakpoints,
+               period=orbit.period, method="RK45", rtol=1e-12, atol=1e-13)
+    np.testing.assert_allclose(res.x[:, -1], orbit.x0, atol=1e-9 * np.abs(orbit.x).max())
 
 
 def test_orbit_hovers_mean_vertical_velocity_vanishes(orbit):
@@ -60,17 +66,18 @@ def test_mean_vertical_aerodynamic_force_equals_weight(orbit, insect):
     assert np.mean(vertical) == pytest.approx(-insect.weight, rel=1e-4)
 
 
-def test_hover_amplitude_is_a_proper_stroke(orbit):
-    assert 0.0 < orbit.amplitude <= math.pi / 2
-
-
 def test_half_period_symmetry_of_the_symmetric_stroke(orbit):
-    # With x_h = 0 the equations are invariant under t -> t + T/2, (u, w, q, theta) -> S(...).
+    # With x_h = 0 the equations are invariant under t -> t + T/2, (u, w, q, theta) -> S(...),
+    # and the orbit is unique, so it has the symmetry to the integration accuracy (the samples
+    # come from DOP853 dense output at rtol 1e-11: ~1e-10 of max|x|; 1e-7 leaves a margin).
     assert orbit.half_period_symmetry_error < 1e-7
-    assert np.allclose(np.diag(HALF_PERIOD_SYMMETRY), [-1, 1, -1, -1])
+    shifted = np.roll(orbit.x[:, :-1], -(orbit.x.shape[1] - 1) // 2, axis=1)
+    assert np.abs(shifted - HALF_PERIOD_SYMMETRY @ orbit.x[:, :-1]).max() < 1e-7 * np.abs(orbit.x).max()
 
 
 def test_liouville(stability):
+    # det M from the multipliers' product against exp(int trace J): both from integrations at
+    # rtol 1e-12 over one period, so they agree to ~1e-11; 1e-9 is the issue's requirement.
     assert stability.liouville_error < 1e-9
 
 
@@ -150,6 +157,9 @@ def test_cli_bad_arguments_exit_nonzero_with_one_line(args):
 def test_blade_element_hover_orbit_closes_and_hovers(insect):
     orbit = find_hover_orbit(insect, aerodynamics="small-angle")
     assert orbit.residual_norm < 1e-10
+    # Mean climb from 512 trapezoid samples of the orbit: exact for the zero-mean symmetric
+    # parts, ~1e-10 from the residual; the symmetry error as in the linear case, with the
+    # blade-element Jacobian by differences (~1e-8 relative) loosening it to 1e-6.
     assert abs(orbit.mean_inertial_velocity["climb"]) < 1e-8
     assert orbit.half_period_symmetry_error < 1e-6
 
@@ -214,3 +224,35 @@ def test_simulated_perturbation_starts_on_the_orbit_plus_epsilon(orbit):
     np.testing.assert_allclose(xo[:, 8], orbit.x0, atol=1e-8)
     with pytest.raises(ValueError, match="epsilon"):
         simulate_perturbation(orbit, -1.0)
+
+
+def test_z_drift_of_the_hover_orbit_is_its_residual(orbit):
+    assert abs(orbit.z_drift) <= orbit.residual_norm
+
+
+def test_hover_needing_a_stroke_beyond_90_degrees_is_refused_at_once(insect):
+    # With alpha_m = 5 deg eq. (40) needs more than 90 deg of stroke: a clear ValueError, not a
+    # long iteration ending in a vague residual.
+    with pytest.raises(ValueError, match="90 deg"):
+        find_hover_orbit(insect, alpha_m=math.radians(5.0))
+
+
+def test_iterates_beyond_90_degrees_raise_convergence_error(insect):
+    # Just heavy enough that the trim at this alpha_m needs ~88 deg, so the hover orbit (which
+    # needs a few degrees more than the trim) lies beyond 90 deg: the iteration must stop with
+    # ConvergenceError naming the amplitude, whichever model.
+    from flapping.aerodynamics import trim_angle_of_attack
+
+    alpha_m = trim_angle_of_attack(insect)
+    heavy = insect.with_(mass=insect.mass * (math.radians(88.0) / insect.stroke_amplitude) ** 2)
+    with pytest.raises(ConvergenceError, match="deg"):
+        find_hover_orbit(heavy, alpha_m=alpha_m, aerodynamics="small-angle")
+
+
+def test_perturbation_growth_validates_its_arguments(stability):
+    with pytest.raises(ValueError, match="epsilon"):
+        perturbation_growth(stability, epsilon=0.0)
+    with pytest.raises(ValueError, match="epsilon"):
+        perturbation_growth(stability, epsilon=10.0)
+    with pytest.raises(ValueError, match="n_cycles"):
+        perturbation_growth(stability, epsilon=1e-8, n_cycles=0)
