@@ -52,7 +52,7 @@ import numpy as np
 from scipy import special
 
 from flapping.kinematics import stroke_sign as _kinematic_stroke_sign
-from flapping.kinematics import stroke_sign_scalar
+from flapping.kinematics import check_amplitude, stroke_sign_scalar
 from flapping.morphology import Insect
 
 __all__ = [
@@ -673,12 +673,4 @@ def _alpha_m(alpha_m) -> float:
 
 
 def _amplitude(insect: Insect, amplitude) -> float:
-    if amplitude is None:
-        return float(insect.stroke_amplitude)
-    try:
-        value = float(amplitude)
-    except (TypeError, ValueError):
-        raise ValueError(f"amplitude must be a real number; got {amplitude!r}") from None
-    if not (math.isfinite(value) and 0.0 < value <= 0.5 * math.pi):
-        raise ValueError(f"amplitude must lie in (0, pi/2] rad; got {amplitude!r}")
-    return value
+    return check_amplitude(insect.stroke_amplitude if amplitude is None else amplitude)

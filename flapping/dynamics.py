@@ -33,7 +33,8 @@ import numpy as np
 
 from flapping import _derivatives_generated as _gen
 from flapping.aerodynamics import BladeElementModel, trim_angle_of_attack
-from flapping.kinematics import HALF_STROKE_BREAKPOINTS, segment_stroke_sign, stroke_sign
+from flapping.kinematics import (HALF_STROKE_BREAKPOINTS, check_amplitude, segment_stroke_sign,
+                                 stroke_sign)
 from flapping.morphology import Insect
 from flapping.stability_derivatives import AeroConstants, aero_constants
 
@@ -87,7 +88,7 @@ class LongitudinalDynamics:
         if not isinstance(self.insect, Insect):
             raise ValueError(f"insect must be an Insect; got {type(self.insect).__name__}")
         amplitude = self.insect.stroke_amplitude if self.amplitude is None else self.amplitude
-        _check_amplitude(amplitude)
+        check_amplitude(amplitude)
         object.__setattr__(self, "amplitude", float(amplitude))
         if self.alpha_m is None:
             object.__setattr__(self, "alpha_m",
@@ -252,16 +253,3 @@ class LongitudinalDynamics:
             rhs.append(lambda t, x, _s=s: self.rhs(t, x, _s))
             jac.append(lambda t, x, _s=s: self.jac(t, x, _s))
         return rhs, jac
-
-
-
-def _check_amplitude(amplitude) -> None:
-    try:
-        value = float(amplitude)
-    except (TypeError, ValueError):
-        raise ValueError(f"amplitude must be a real number; got {amplitude!r}") from None
-    if not (math.isfinite(value) and 0.0 < value <= math.pi / 2):
-        raise ValueError(
-            "amplitude must lie in (0, pi/2] rad (0 to 90 degrees: a larger stroke makes the "
-            f"wings cross); got {amplitude!r}"
-        )

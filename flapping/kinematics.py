@@ -25,12 +25,32 @@ __all__ = [
     "segment_stroke_sign",
     "geometric_pitch",
     "reversed_flow_fraction",
+    "check_amplitude",
 ]
 
 _SNAP = 1e-9  # phases this close to a reversal are taken to be at it
 
 #: Breakpoints of the half-strokes as fractions of the period (stroke reversal at 0 and 1/2).
 HALF_STROKE_BREAKPOINTS: tuple[float, ...] = (0.5,)
+
+
+def check_amplitude(amplitude, name: str = "amplitude") -> float:
+    """Validate a stroke amplitude: a real number in (0, pi/2] rad; return it as a float.
+
+    Raises
+    ------
+    ValueError
+        Naming ``name`` and the range: beyond 90 deg the two wings would cross.
+    """
+    try:
+        value = float(amplitude)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number; got {amplitude!r}") from None
+    if not (math.isfinite(value) and 0.0 < value <= math.pi / 2):
+        raise ValueError(
+            f"{name} must lie in (0, pi/2] rad (0 to 90 degrees: a larger stroke makes the wings "
+            f"cross); got {amplitude!r}")
+    return value
 
 
 def flapping_angle(t, amplitude: float, frequency: float):

@@ -15,7 +15,7 @@ import numpy as np
 
 from flapping import _derivatives_generated as _gen
 from flapping.aerodynamics import trim_angle_of_attack
-from flapping.kinematics import flapping_angle, flapping_rate
+from flapping.kinematics import check_amplitude, flapping_angle, flapping_rate
 from flapping.morphology import Insect
 
 __all__ = ["NAMES", "AeroConstants", "aero_constants", "StabilityDerivatives", "stability_derivatives"]
@@ -150,9 +150,7 @@ def stability_derivatives(
     -------
     StabilityDerivatives
     """
-    amplitude = insect.stroke_amplitude if amplitude is None else float(amplitude)
-    if not (math.isfinite(amplitude) and 0.0 < amplitude <= math.pi / 2):
-        raise ValueError(f"amplitude must lie in (0, pi/2] rad; got {amplitude!r}")
+    amplitude = check_amplitude(insect.stroke_amplitude if amplitude is None else amplitude)
     if alpha_m is None:
         alpha_m = trim_angle_of_attack(insect, insect.stroke_amplitude)
     elif not (isinstance(alpha_m, (int, float)) and math.isfinite(alpha_m)
