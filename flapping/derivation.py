@@ -361,30 +361,35 @@ def compare_with_paper() -> list[TermComparison]:
 
 
 def vanishing_symmetry(expr: sp.Expr) -> str:
-    """Which symmetry of the stroke makes every term of ``expr`` average to zero over a wingbeat.
+    """Which symmetry of the stroke makes ``expr`` average to zero over a wingbeat.
 
-    phi(t) = Phi cos(2 pi f t) is even about t = 0 and odd under the half-period shift, so a term
-    odd under time reversal (phi_dot -> -phi_dot, phi fixed) or under the half-period shift
-    (phi -> -phi, phi_dot -> -phi_dot) has zero cycle mean. |phi_dot| is even under both.
+    phi(t) = Phi cos(2 pi f t) is even about t = 0 and odd under the half-period shift, so an
+    expression odd under time reversal (phi_dot -> -phi_dot, phi fixed) or under the half-period
+    shift (phi -> -phi, phi_dot -> -phi_dot) has zero cycle mean. |phi_dot| is even under both.
 
     Returns
     -------
     str
-        ``"time reversal"``, ``"half-period shift"``, both joined by ``" and "`` (different terms
-        vanishing for different reasons), or ``""`` if some term survives averaging.
+        The symmetries under which the whole expression is odd (``"time reversal"``,
+        ``"half-period shift"``, or both joined by ``" and "``); failing that,
+        ``"term by term"`` if each term is odd under one of them; ``""`` if some term survives
+        averaging.
     """
     S = symbols()
-    reasons = set()
-    for term in sp.Add.make_args(sp.expand(expr)):
-        reversed_t = term.subs(S.phidot, -S.phidot)
-        shifted = term.subs({S.phidot: -S.phidot, S.phi: -S.phi}, simultaneous=True)
-        if sp.simplify(reversed_t + term) == 0:
-            reasons.add("time reversal")
-        elif sp.simplify(shifted + term) == 0:
-            reasons.add("half-period shift")
-        else:
-            return ""
-    return " and ".join(sorted(reasons))
+    maps = {
+        "time reversal": {S.phidot: -S.phidot},
+        "half-period shift": {S.phidot: -S.phidot, S.phi: -S.phi},
+    }
+
+    def odd(e, name):
+        return sp.simplify(e.subs(maps[name], simultaneous=True) + e) == 0
+
+    whole = [name for name in maps if odd(expr, name)]
+    if whole:
+        return " and ".join(sorted(whole))
+    if all(any(odd(term, name) for name in maps) for term in sp.Add.make_args(sp.expand(expr))):
+        return "term by term"
+    return ""
 
 
 def evaluate(expr: sp.Expr, insect, t, *, alpha_m: float | None = None,

@@ -14,6 +14,7 @@ from flapping.dynamics import LongitudinalDynamics
 from flapping.stability_derivatives import aero_constants, stability_derivatives
 
 sympy = pytest.importorskip("sympy")
+sp_sin = sympy.sin
 from flapping import derivation  # noqa: E402  (needs sympy)
 
 GENERATED = Path(flapping.__file__).with_name("_derivatives_generated.py")
@@ -140,3 +141,16 @@ def test_evaluate_reproduces_the_generated_code():
     for name, expr in derivation.stability_derivatives().items():
         np.testing.assert_allclose(derivation.evaluate(expr, insect, t), numeric[name],
                                    rtol=1e-12, atol=1e-14 * np.abs(numeric[name]).max())
+
+
+def test_vanishing_symmetry_names_the_symmetry_of_the_whole_expression():
+    S = derivation.symbols()
+    d = {k: v.subs(S.x_h, 0) for k, v in derivation.stability_derivatives().items()}
+    assert derivation.vanishing_symmetry(d["Xq"]) == "time reversal"
+    assert derivation.vanishing_symmetry(d["Zq"]) == "half-period shift"
+    assert derivation.vanishing_symmetry(d["X0"]) == "half-period shift and time reversal"
+    assert derivation.vanishing_symmetry(d["Zw"]) == ""
+    # A sum of a term odd only under time reversal and one odd only under the shift vanishes on
+    # average, but under neither symmetry as a whole.
+    mixed = S.phidot * sp_sin(S.phi) + sp_sin(S.phi) * S.absphidot
+    assert derivation.vanishing_symmetry(mixed) == "term by term"
