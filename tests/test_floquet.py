@@ -17,7 +17,8 @@ from flapping.floquet import (
     trivial_multiplier,
 )
 from flapping.integrate import flow
-from flapping.shooting import find_periodic_orbit, lorenz, lorenz_jac, rossler, rossler_jac
+from flapping.shooting import find_periodic_orbit
+from flapping.testproblems import lorenz, lorenz_jac, rossler, rossler_jac
 
 SIGMA, BETA = 10.0, 8.0 / 3.0
 

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from flapping.integrate import flow, variational_flow
-from flapping.shooting import lorenz, lorenz_jac
+from flapping.testproblems import lorenz, lorenz_jac
 
 # Viswanath's orbit AB of the Lorenz system (a convenient, bounded, chaotic test trajectory).
 X_AB = np.array([-13.763610682134, -19.578751942452, 27.0])

@@ -11,8 +11,8 @@ from hypothesis import strategies as st
 
 from flapping.errors import ConvergenceError
 from flapping.floquet import monodromy, nontrivial_multipliers
-from flapping.shooting import (
-    find_periodic_orbit,
+from flapping.shooting import find_periodic_orbit
+from flapping.testproblems import (
     forced_oscillator,
     forced_oscillator_jac,
     forced_oscillator_orbit,

@@ -1,0 +1,89 @@
+"""Dynamical systems with known periodic orbits, for validating :mod:`flapping.shooting` and
+:mod:`flapping.floquet` (and for users who want to check their own tools the same way).
+
+* :func:`lorenz` (Lorenz 1963): orbit AB, period 1.5586522107162 (Viswanath 2003).
+* :func:`rossler` (Roessler 1976): period-1 orbit at a = b = 0.2, c = 5.7, T = 5.881088455554846
+  (ChaosBook); Dednam & Botha's case a = 0.15, b = 0.2, c = 3.5.
+* :func:`forced_oscillator`: a damped, harmonically forced linear oscillator whose periodic
+  solution and Floquet multipliers are known in closed form (:func:`forced_oscillator_orbit`).
+
+Each vector field follows the ``fun(t, x, *args)`` convention of :func:`scipy.integrate.solve_ivp`
+and has its analytic Jacobian beside it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = [
+    "lorenz",
+    "lorenz_jac",
+    "rossler",
+    "rossler_jac",
+    "forced_oscillator",
+    "forced_oscillator_jac",
+    "forced_oscillator_orbit",
+]
+
+
+def lorenz(t: float, x, sigma: float = 10.0, rho: float = 28.0, beta: float = 8.0 / 3.0) -> np.ndarray:
+    """Lorenz (1963) vector field; trace of its Jacobian is ``-(sigma + 1 + beta)``."""
+    return np.array([sigma * (x[1] - x[0]), x[0] * (rho - x[2]) - x[1], x[0] * x[1] - beta * x[2]])
+
+
+def lorenz_jac(t: float, x, sigma: float = 10.0, rho: float = 28.0, beta: float = 8.0 / 3.0) -> np.ndarray:
+    """Jacobian of :func:`lorenz`."""
+    return np.array([[-sigma, sigma, 0.0], [rho - x[2], -1.0, -x[0]], [x[1], x[0], -beta]])
+
+
+def rossler(t: float, x, a: float = 0.2, b: float = 0.2, c: float = 5.7) -> np.ndarray:
+    """Roessler (1976) vector field."""
+    return np.array([-x[1] - x[2], x[0] + a * x[1], b + x[2] * (x[0] - c)])
+
+
+def rossler_jac(t: float, x, a: float = 0.2, b: float = 0.2, c: float = 5.7) -> np.ndarray:
+    """Jacobian of :func:`rossler`."""
+    return np.array([[0.0, -1.0, -1.0], [1.0, a, 0.0], [x[2], 0.0, x[0] - c]])
+
+
+def _scalar(value) -> float:
+    # Free parameters arrive as 1-element arrays; fixed ones as numbers.
+    return float(np.asarray(value, dtype=float).reshape(-1)[0])
+
+
+def forced_oscillator(t: float, x, zeta: float, omega0: float, omega: float, amplitude) -> np.ndarray:
+    """Damped linear oscillator under harmonic forcing, ``y'' + 2 zeta w0 y' + w0^2 y = A cos(W t)``.
+
+    State ``x = (y, y')``. ``amplitude`` may be a number or a 1-element array (a free parameter).
+    """
+    a = _scalar(amplitude)
+    return np.array([x[1], a * math.cos(omega * t) - 2.0 * zeta * omega0 * x[1] - omega0**2 * x[0]])
+
+
+def forced_oscillator_jac(t: float, x, zeta: float, omega0: float, omega: float, amplitude) -> np.ndarray:
+    """Jacobian of :func:`forced_oscillator` (constant)."""
+    return np.array([[0.0, 1.0], [-omega0**2, -2.0 * zeta * omega0]])
+
+
+def forced_oscillator_orbit(zeta: float, omega0: float, omega: float, amplitude: float):
+    """Closed forms for :func:`forced_oscillator`: periodic state at t = 0 and Floquet multipliers.
+
+    The periodic solution is ``y(t) = Re(A H e^{i W t})``, ``H = 1 / (w0^2 - W^2 + 2 i zeta w0 W)``;
+    the multipliers are ``exp(lambda T)`` for the roots ``lambda`` of ``s^2 + 2 zeta w0 s + w0^2``
+    and ``T = 2 pi / W``.
+
+    Returns
+    -------
+    x0 : ndarray, shape (2,)
+        ``(y(0), y'(0))`` on the periodic solution.
+    multipliers : ndarray, shape (2,), complex
+        Sorted by modulus, then argument (descending).
+    """
+    H = 1.0 / (omega0**2 - omega**2 + 2j * zeta * omega0 * omega)
+    x0 = np.array([(amplitude * H).real, (1j * omega * amplitude * H).real])
+    lam = np.roots([1.0, 2.0 * zeta * omega0, omega0**2]).astype(complex)
+    mu = np.exp(lam * 2.0 * math.pi / omega)
+    order = np.lexsort((-np.angle(mu), -np.abs(mu)))
+    return x0, mu[order]
