@@ -148,10 +148,24 @@ class LongitudinalDynamics:
 
     def loads(self, t: float, x, stroke: float | None = None,
               amplitude: float | None = None) -> np.ndarray:
-        """Aerodynamic loads (X, Z, M) [N, N, N m] at time t and state x (both wings).
+        """Aerodynamic loads of both wings at time t and state x.
 
-        ``stroke`` (+1 forward, -1 backward) overrides the half-stroke found from t; it matters
-        only for the blade-element models at stroke reversal.
+        Parameters
+        ----------
+        t : float
+            Time [s].
+        x : array_like
+            State (u, w, q[, theta]) [m/s, m/s, rad/s, rad]; theta does not enter the loads.
+        stroke : {+1, -1}, optional
+            Overrides the half-stroke found from t; matters only for the blade-element models at
+            stroke reversal.
+        amplitude : float, optional
+            Stroke amplitude [rad]; default the model's.
+
+        Returns
+        -------
+        numpy.ndarray
+            (X, Z, M) [N, N, N m] in body axes (eq. 29 for ``"linear"``, eqs. 13-23 otherwise).
         """
         u, w, q = float(x[0]), float(x[1]), float(x[2])
         if self.aerodynamics == "linear":
@@ -170,7 +184,23 @@ class LongitudinalDynamics:
     # ---------------------------------------------------------------- vector field
     def rhs(self, t: float, x, stroke: float | None = None,
             amplitude: float | None = None) -> np.ndarray:
-        """dx/dt of eq. (2) with the chosen aerodynamic loads (eq. 29 for ``"linear"``)."""
+        """Right-hand side dx/dt of eq. (2) with the model's loads (eq. 29 for ``"linear"``).
+
+        Parameters
+        ----------
+        t : float
+            Time [s].
+        x : array_like, shape (4,)
+            State (u, w, q, theta) [m/s, m/s, rad/s, rad].
+        stroke : {+1, -1}, optional
+            Half-stroke override (see :meth:`loads`).
+        amplitude : float, optional
+            Stroke amplitude [rad]; default the model's.
+
+        Returns
+        -------
+        numpy.ndarray, shape (4,)
+        """
         u, w, q, theta = float(x[0]), float(x[1]), float(x[2]), float(x[3])
         g, c = self.insect.gravity, self._constants
         if self.aerodynamics == "linear":
@@ -191,8 +221,19 @@ class LongitudinalDynamics:
 
     def jac(self, t: float, x, stroke: float | None = None,
             amplitude: float | None = None) -> np.ndarray:
-        """Jacobian d(dx/dt)/dx (eqs. 44-47): analytic for ``"linear"``, central differences of the
-        blade-element loads otherwise."""
+        """Jacobian d(dx/dt)/dx of :meth:`rhs` (eqs. 44-47).
+
+        Analytic for ``"linear"``; for the blade-element models, central differences of the loads.
+
+        Parameters
+        ----------
+        t, x, stroke, amplitude
+            As for :meth:`rhs`.
+
+        Returns
+        -------
+        numpy.ndarray, shape (4, 4)
+        """
         u, w, q, theta = float(x[0]), float(x[1]), float(x[2]), float(x[3])
         g, c = self.insect.gravity, self._constants
         if self.aerodynamics == "linear":

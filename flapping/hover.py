@@ -379,7 +379,27 @@ def forced_orbit(
     """The periodic orbit at a *prescribed* stroke amplitude (periodicity of the states only).
 
     Such an orbit exists for a range of amplitudes; it climbs or sinks unless Phi is the hover
-    amplitude. Its ``z_drift`` is the net descent per period [m].
+    amplitude.
+
+    Parameters
+    ----------
+    insect : Insect
+    amplitude : float, optional
+        Stroke amplitude Phi [rad] in (0, pi/2]; default ``insect.stroke_amplitude``.
+    aerodynamics, alpha_m, x0_guess, method, rtol, atol, tol, n_samples
+        As for :func:`find_hover_orbit`.
+
+    Returns
+    -------
+    HoverOrbit
+        With ``z_drift`` the net descent per period [m] (positive: sinking).
+
+    Raises
+    ------
+    ValueError
+        For bad arguments.
+    ConvergenceError
+        If the shooting does not converge.
     """
     model = LongitudinalDynamics(insect, amplitude=amplitude, alpha_m=alpha_m,
                                  aerodynamics=aerodynamics)
@@ -720,6 +740,25 @@ def hover_sensitivity(
     Each variant is re-trimmed (eq. 40) and its hover orbit found from the default guess. With
     x_h != 0 the half-period symmetry is lost, and the hover orbit (which fixes only the vertical
     drift) may drift horizontally: its mean forward velocity is reported.
+
+    Parameters
+    ----------
+    insect : Insect
+        The base insect.
+    variations : dict, optional
+        Label -> dict of :class:`Insect` field changes.
+    aerodynamics : {"linear", "small-angle", "exact"}
+        Loads model.
+
+    Returns
+    -------
+    list of SensitivityRow
+        One row per variation, in order, each carrying its orbit and stability.
+
+    Raises
+    ------
+    ValueError, ConvergenceError
+        As :func:`find_hover_orbit` for any variant.
     """
     variations = OPEN_CHOICES if variations is None else variations
     rows = []

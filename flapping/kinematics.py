@@ -53,19 +53,64 @@ def check_amplitude(amplitude, name: str = "amplitude") -> float:
     return value
 
 
-def flapping_angle(t, amplitude: float, frequency: float):
-    """phi(t) = Phi cos(2 pi f t) [rad], eq. (39)."""
+def flapping_angle(t: np.ndarray | float, amplitude: float, frequency: float) -> np.ndarray:
+    """Flapping angle phi(t) = Phi cos(2 pi f t), eq. (39).
+
+    Parameters
+    ----------
+    t : array_like
+        Time [s].
+    amplitude : float
+        Stroke amplitude Phi [rad].
+    frequency : float
+        Flapping frequency f [Hz].
+
+    Returns
+    -------
+    numpy.ndarray
+        phi [rad], the shape of ``t`` (positive forward).
+    """
     return amplitude * np.cos(2.0 * math.pi * frequency * np.asarray(t, dtype=float))
 
 
-def flapping_rate(t, amplitude: float, frequency: float):
-    """phi_dot(t) = -2 pi f Phi sin(2 pi f t) [rad/s]."""
+def flapping_rate(t: np.ndarray | float, amplitude: float, frequency: float) -> np.ndarray:
+    """Flapping rate phi_dot(t) = -2 pi f Phi sin(2 pi f t), the derivative of eq. (39).
+
+    Parameters
+    ----------
+    t : array_like
+        Time [s].
+    amplitude : float
+        Stroke amplitude Phi [rad].
+    frequency : float
+        Flapping frequency f [Hz].
+
+    Returns
+    -------
+    numpy.ndarray
+        phi_dot [rad/s], the shape of ``t``.
+    """
     omega = 2.0 * math.pi * frequency
     return -omega * amplitude * np.sin(omega * np.asarray(t, dtype=float))
 
 
-def stroke_sign(t, frequency: float):
+def stroke_sign(t: np.ndarray | float, frequency: float) -> np.ndarray:
     """Sign of phi_dot: -1 on the backward half-stroke [0, T/2), +1 on the forward [T/2, T).
+
+    Parameters
+    ----------
+    t : array_like
+        Time [s].
+    frequency : float
+        Flapping frequency f [Hz].
+
+    Returns
+    -------
+    numpy.ndarray
+        -1.0 or +1.0, the shape of ``t``.
+
+    Notes
+    -----
 
     Decided from the phase, not from the sign of a computed sine, so that it is exact away from
     reversal. At reversal itself the value is the one of the half-stroke that *starts* there;
@@ -89,12 +134,36 @@ def stroke_sign_scalar(t: float, frequency: float) -> float:
 
 
 def segment_stroke_sign(segment: int) -> float:
-    """Stroke sign on half-stroke segment ``segment`` (0: backward, -1; 1: forward, +1)."""
+    """Stroke sign on half-stroke segment ``segment`` of a period split at reversal.
+
+    Parameters
+    ----------
+    segment : int
+        Segment index (0: the backward stroke, 1: the forward stroke; taken modulo 2).
+
+    Returns
+    -------
+    float
+        -1.0 for the backward stroke, +1.0 for the forward one.
+    """
     return -1.0 if segment % 2 == 0 else 1.0
 
 
-def geometric_pitch(alpha_m: float, sign):
-    """Geometric pitch of the wing, eq. (11): alpha_m on the forward stroke, pi - alpha_m backward."""
+def geometric_pitch(alpha_m: float, sign: np.ndarray | float) -> np.ndarray:
+    """Geometric pitch of the wing, eq. (11): alpha_m on the forward stroke, pi - alpha_m backward.
+
+    Parameters
+    ----------
+    alpha_m : float
+        Mean geometric angle of attack [rad].
+    sign : array_like
+        Stroke sign (+1 forward, -1 backward), e.g. from :func:`stroke_sign`.
+
+    Returns
+    -------
+    numpy.ndarray
+        alpha_g [rad].
+    """
     sign = np.asarray(sign, dtype=float)
     return np.where(sign > 0, alpha_m, math.pi - alpha_m)
 

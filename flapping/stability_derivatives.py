@@ -53,7 +53,25 @@ class AeroConstants:
 
 
 def aero_constants(insect: Insect) -> AeroConstants:
-    """The K_mn, Krot_mn and K_nu of ``insect`` from its closed-form span integrals I_mn."""
+    """The constants K_mn, Krot_mn and K_nu of the linearised loads (after eq. 29).
+
+    Parameters
+    ----------
+    insect : Insect
+        Morphology; the span integrals I_mn come from its closed form (beta functions).
+
+    Returns
+    -------
+    AeroConstants
+        K[(m, n)] = rho A I_mn / 2 and Krot[(m, n)] = rho pi (3/4 - x0_hat) I_mn for m = 0..3,
+        n = 1..4 where I_mn converges; K_nu = (pi/16) rho I_04; and the insect's x_hat, x_h,
+        mu1, f, m, I_y.
+
+    Raises
+    ------
+    ValueError
+        If the rotational damping is on (mu1 or mu2 > 0) but I_04 diverges for this planform.
+    """
     rho, A = insect.air_density, insect.lift_slope
     kappa = 0.75 - insect.pitch_axis
     I = {(m, n): insect.span_integral(m, n) for m in range(4) for n in range(1, 5)
@@ -83,7 +101,19 @@ def aero_constants(insect: Insect) -> AeroConstants:
 
 @dataclass(frozen=True)
 class StabilityDerivatives:
-    """Stability derivatives sampled at times ``t`` (arrays of the same shape as ``t``)."""
+    """Stability derivatives sampled at times ``t`` (result of :func:`stability_derivatives`).
+
+    Attributes
+    ----------
+    t : ndarray
+        Times [s].
+    alpha_m, amplitude : float
+        Mean geometric angle of attack and stroke amplitude [rad] they were evaluated at.
+    X0, Z0, M0 : ndarray
+        Zero-state loads [N, N, N m], the shape of ``t``.
+    Xu, Xw, Xq, Zu, Zw, Zq, Mu, Mw, Mq : ndarray
+        Derivatives normalised as in eq. (29) (forces per unit mass, moment per unit I_y).
+    """
 
     t: np.ndarray
     alpha_m: float
