@@ -231,6 +231,23 @@ def _check_span(t_span) -> tuple[float, float]:
     return t0, t1
 
 
+def _check_integration(t_span, x0, method, rtol, atol, rk4_steps, period, breakpoints):
+    """The argument checks shared by :func:`flow` and :func:`variational_flow`.
+
+    Returns ``(t0, t1, x0, method, period, breakpoints, h)`` with ``h`` the RK4 step (or None).
+    """
+    t0, t1 = _check_span(t_span)
+    x0 = _check_state(x0)
+    method = _check_method(method)
+    _check_tolerances(rtol, atol)
+    rk4_steps = _check_rk4_steps(rk4_steps)
+    if period is not None:
+        period = _check_period(period)
+    breakpoints = _check_breakpoints(breakpoints)
+    h = _check_grid(t0, t1, period, breakpoints, method, rk4_steps)
+    return t0, t1, x0, method, period, breakpoints, h
+
+
 def _segment_callables(fun, n_segments: int, name: str) -> tuple[Callable, ...]:
     """One callable per segment of the period: a callable is repeated, a sequence is checked."""
     if callable(fun):
@@ -502,15 +519,8 @@ def flow(
         For a bad argument (message names it and the accepted range), a wrong-shaped ``fun``
         output, or RK4 breakpoints off the step grid.
     """
-    t0, t1 = _check_span(t_span)
-    x0 = _check_state(x0)
-    method = _check_method(method)
-    _check_tolerances(rtol, atol)
-    rk4_steps = _check_rk4_steps(rk4_steps)
-    if period is not None:
-        period = _check_period(period)
-    breakpoints = _check_breakpoints(breakpoints)
-    h = _check_grid(t0, t1, period, breakpoints, method, rk4_steps)
+    t0, t1, x0, method, period, breakpoints, h = _check_integration(
+        t_span, x0, method, rtol, atol, rk4_steps, period, breakpoints)
     counter = _Counter()
     funs = tuple(
         _Counted(f, tuple(args), x0.shape, counter, "fun")
@@ -691,15 +701,8 @@ def variational_flow(
     ValueError
         For a bad argument, or ``fun``/``jac`` returning the wrong shape.
     """
-    t0, t1 = _check_span(t_span)
-    x0 = _check_state(x0)
-    method = _check_method(method)
-    _check_tolerances(rtol, atol)
-    rk4_steps = _check_rk4_steps(rk4_steps)
-    if period is not None:
-        period = _check_period(period)
-    breakpoints = _check_breakpoints(breakpoints)
-    h = _check_grid(t0, t1, period, breakpoints, method, rk4_steps)
+    t0, t1, x0, method, period, breakpoints, h = _check_integration(
+        t_span, x0, method, rtol, atol, rk4_steps, period, breakpoints)
     n = x0.size
     n_seg = len(breakpoints) + 1
     funs = _segment_callables(fun, n_seg, "fun")
