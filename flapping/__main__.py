@@ -42,7 +42,8 @@ def _complex_list(values) -> list[dict[str, float]]:
 
 def hover_report(insect_name: str, aerodynamics: str) -> dict:
     """The hover orbit and its stability as a JSON-ready dict (SI units, theta in rad)."""
-    from flapping.hover import find_hover_orbit, hover_stability
+    from flapping.hover import find_hover_orbit
+    from flapping.stability import hover_stability
 
     insect = PRESETS[insect_name]()
     orbit = find_hover_orbit(insect, aerodynamics=aerodynamics)

@@ -15,7 +15,7 @@ have closed forms in beta functions (:meth:`Insect.span_integral`).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np

@@ -1,7 +1,5 @@
 """Equations of motion: Jacobian, validation, and consistency between the aerodynamic models."""
 
-import math
-
 import numpy as np
 import pytest
 

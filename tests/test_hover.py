@@ -10,14 +10,8 @@ import pytest
 
 import flapping
 from flapping.errors import ConvergenceError
-from flapping.hover import (
-    HALF_PERIOD_SYMMETRY,
-    find_hover_orbit,
-    forced_orbit,
-    hover_stability,
-    paper_hover_problem,
-    perturbation_growth,
-)
+from flapping.hover import HALF_PERIOD_SYMMETRY, find_hover_orbit, forced_orbit, paper_hover_problem
+from flapping.stability import hover_stability, perturbation_growth
 
 
 @pytest.fixture(scope="module")
@@ -167,7 +161,7 @@ def test_blade_element_hover_orbit_closes_and_hovers(insect):
 def test_hinge_offset_sign_mirrors_the_orbit(insect):
     # Reflecting the body fore-aft (x_h -> -x_h) must give the same amplitude and multipliers,
     # and the opposite horizontal drift.
-    from flapping.hover import hover_sensitivity
+    from flapping.stability import hover_sensitivity
 
     ahead, behind = hover_sensitivity(insect, {"+": {"hinge_offset": 1e-3},
                                                "-": {"hinge_offset": -1e-3}})
@@ -178,7 +172,7 @@ def test_hinge_offset_sign_mirrors_the_orbit(insect):
 
 
 def test_mode_response_grows_by_its_multiplier_each_period(stability):
-    from flapping.hover import mode_response
+    from flapping.stability import mode_response
 
     t, delta = mode_response(stability, n_periods=2, samples_per_period=8)
     mu = stability.multipliers[0].real
@@ -204,7 +198,7 @@ def test_force_budget_balances_on_the_orbit(orbit):
 
 
 def test_speed_pitch_cubic_root_is_an_averaged_eigenvalue(stability):
-    from flapping.hover import speed_pitch_cubic
+    from flapping.stability import speed_pitch_cubic
 
     cubic = speed_pitch_cubic(stability.averaged_jacobian)
     # With x_h = 0 the averaged w-equation decouples, so the cubic's roots are three of the four
@@ -217,7 +211,7 @@ def test_speed_pitch_cubic_root_is_an_averaged_eigenvalue(stability):
 
 
 def test_simulated_perturbation_starts_on_the_orbit_plus_epsilon(orbit):
-    from flapping.hover import simulate_perturbation
+    from flapping.stability import simulate_perturbation
 
     t, xp, xo = simulate_perturbation(orbit, 1e-4, n_cycles=2, samples_per_cycle=8)
     assert np.linalg.norm(xp[:, 0] - xo[:, 0]) == pytest.approx(1e-4)
