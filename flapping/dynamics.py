@@ -83,6 +83,9 @@ class LongitudinalDynamics:
     # Last (t, amplitude) -> derivatives: rhs and jac are called at the same t by integrators of
     # the variational equations, and the derivatives are most of the cost of either.
     _cache: list = field(init=False, repr=False, compare=False, default_factory=lambda: [None])
+    # Blade-element models at other amplitudes (shooting with Phi free evaluates a few of them
+    # over and over; building one costs ~25 load evaluations). Bounded: oldest dropped first.
+    _blades: dict = field(init=False, repr=False, compare=False, default_factory=dict)
 
     def __post_init__(self) -> None:
         if not isinstance(self.insect, Insect):
@@ -176,10 +179,22 @@ class LongitudinalDynamics:
                 d[1] + c.m * (d[6] * u + d[7] * w + d[8] * q),
                 d[2] + c.Iy * (d[9] * u + d[10] * w + d[11] * q),
             ])
-        blade = self._blade if amplitude is None or amplitude == self.amplitude else \
-            BladeElementModel(self.insect, self.alpha_m, amplitude, self.aerodynamics, self.n_nodes)
+        blade = self._blade_at(amplitude)
         s = float(stroke_sign(t, self.insect.frequency)) if stroke is None else stroke
         return np.asarray(blade.loads(t, u, w, q, s), dtype=float)
+
+    def _blade_at(self, amplitude: float | None) -> BladeElementModel:
+        if amplitude is None or amplitude == self.amplitude:
+            return self._blade
+        amplitude = float(amplitude)
+        blade = self._blades.get(amplitude)
+        if blade is None:
+            if len(self._blades) >= 8:
+                del self._blades[next(iter(self._blades))]
+            blade = BladeElementModel(self.insect, self.alpha_m, amplitude, self.aerodynamics,
+                                      self.n_nodes)
+            self._blades[amplitude] = blade
+        return blade
 
     # ---------------------------------------------------------------- vector field
     def rhs(self, t: float, x, stroke: float | None = None,
@@ -203,14 +218,6 @@ class LongitudinalDynamics:
         """
         u, w, q, theta = float(x[0]), float(x[1]), float(x[2]), float(x[3])
         g, c = self.insect.gravity, self._constants
-        if self.aerodynamics == "linear":
-            d = self.derivatives(t, amplitude)
-            return np.array([
-                -q * w - g * math.sin(theta) + d[0] / c.m + d[3] * u + d[4] * w + d[5] * q,
-                q * u + g * math.cos(theta) + d[1] / c.m + d[6] * u + d[7] * w + d[8] * q,
-                d[2] / c.Iy + d[9] * u + d[10] * w + d[11] * q,
-                q,
-            ])
         X, Z, M = self.loads(t, x, stroke, amplitude)
         return np.array([
             -q * w - g * math.sin(theta) + X / c.m,
