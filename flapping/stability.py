@@ -158,17 +158,18 @@ def hover_stability(
 def _averaged_jacobian(orbit: HoverOrbit, n_nodes: int) -> np.ndarray:
     model = orbit.model
     rhs, jac = model.segment_functions()
-    nodes, weights = np.polynomial.legendre.leggauss(n_nodes)
-    bounds = (0.0,) + tuple(model.breakpoints) + (1.0,)
+    nodes, weights = np.polynomial.legendre.leggauss(n_nodes)  # ascending nodes
+    bounds = np.array((0.0,) + tuple(model.breakpoints) + (1.0,)) * orbit.period
+    half = 0.5 * np.diff(bounds)
+    # Gauss-Legendre nodes of every segment, in time order: one integration of the orbit.
+    t_all = np.concatenate([h * nodes + a + h for a, h in zip(bounds[:-1], half)])
+    res = _checked(flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
+                        period=orbit.period, t_eval=t_all, rtol=1e-12, atol=1e-12),
+                   "the averaged Jacobian")
     total = np.zeros((4, 4))
-    for k in range(len(bounds) - 1):
-        a, b = bounds[k] * orbit.period, bounds[k + 1] * orbit.period
-        t_k = 0.5 * (b - a) * nodes + 0.5 * (a + b)
-        res = _checked(flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
-                            period=orbit.period, t_eval=np.sort(t_k), rtol=1e-12, atol=1e-12),
-                       "the averaged Jacobian")
-        for t, x, wgt in zip(res.t, res.x.T, weights[np.argsort(t_k)]):
-            total += 0.5 * (b - a) * wgt * jac[k](t, x)
+    for i, (t, x) in enumerate(zip(res.t, res.x.T)):
+        k = i // n_nodes
+        total += half[k] * weights[i % n_nodes] * jac[k](t, x)
     return total / orbit.period
 
 
