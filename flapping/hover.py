@@ -169,14 +169,14 @@ def _checked(result, what: str):
 
 
 def _sample(model: LongitudinalDynamics, x0: np.ndarray, n_samples: int, method: str, **tol):
-    rhs, _ = model.segment_functions()
+    """One period from x0 with the descent z alongside: (t, x (4 rows), z(T) - z(0))."""
+    rhs = _hover_fields(model)[0]
     t = np.linspace(0.0, model.period, n_samples + 1)
-    res = _checked(flow(rhs, (0.0, model.period), x0, breakpoints=model.breakpoints,
-                        period=model.period, method=method,
-                        t_eval=t if method != "RK4" else None, **tol), "sampling the orbit")
-    if method == "RK4":
-        return res.t, res.x
-    return t, res.x
+    res = _checked(flow(rhs, (0.0, model.period), np.append(x0, 0.0),
+                        breakpoints=model.breakpoints, period=model.period, method=method,
+                        t_eval=t if method != "RK4" else None, args=([model.amplitude],), **tol),
+                   "sampling the orbit")
+    return (res.t if method == "RK4" else t), res.x[:4], float(res.x[4, -1])
 
 
 # =========================================================================== hover
@@ -268,7 +268,7 @@ def find_hover_orbit(
             iterations=result.iterations, result=result)
     hover_model = model.with_amplitude(phi)
     x0 = np.asarray(result.x0[:4], dtype=float)
-    t, x = _sample(hover_model, x0, n_samples, method, rtol=rtol, atol=atol)
+    t, x, _ = _sample(hover_model, x0, n_samples, method, rtol=rtol, atol=atol)
     return HoverOrbit(hover_model, x0, phi, model.period, t, x, float(result.residual[4]), result)
 
 
@@ -318,13 +318,8 @@ def forced_orbit(
                                  breakpoints=model.breakpoints, method=method, rtol=rtol,
                                  atol=atol, tol=tol)
     x0 = np.asarray(result.x0, dtype=float)
-    t, x = _sample(model, x0, n_samples, method, rtol=rtol, atol=atol)
-    hrhs = _hover_fields(model)[0]
-    aug = _checked(flow(hrhs, (0.0, model.period), np.append(x0, 0.0),
-                        breakpoints=model.breakpoints, period=model.period, method=method,
-                        rtol=rtol, atol=atol, args=([model.amplitude],)), "the altitude drift")
-    return HoverOrbit(model, x0, float(model.amplitude), model.period, t, x,
-                      float(aug.x[4, -1]), result)
+    t, x, z_drift = _sample(model, x0, n_samples, method, rtol=rtol, atol=atol)
+    return HoverOrbit(model, x0, float(model.amplitude), model.period, t, x, z_drift, result)
 
 
 def paper_hover_problem(
