@@ -172,16 +172,19 @@ class LongitudinalDynamics:
         """
         u, w, q = float(x[0]), float(x[1]), float(x[2])
         if self.aerodynamics == "linear":
-            d = self.derivatives(t, amplitude)
             c = self._constants
-            return np.array([
-                d[0] + c.m * (d[3] * u + d[4] * w + d[5] * q),
-                d[1] + c.m * (d[6] * u + d[7] * w + d[8] * q),
-                d[2] + c.Iy * (d[9] * u + d[10] * w + d[11] * q),
-            ])
+            ax, az, aq = self._eq29_accelerations(self.derivatives(t, amplitude), u, w, q)
+            return np.array([c.m * ax, c.m * az, c.Iy * aq])
         blade = self._blade_at(amplitude)
         s = float(stroke_sign(t, self.insect.frequency)) if stroke is None else stroke
         return np.asarray(blade.loads(t, u, w, q, s), dtype=float)
+
+    def _eq29_accelerations(self, d, u: float, w: float, q: float) -> tuple[float, float, float]:
+        """Loads of eq. (29) per unit mass / pitch inertia: X0/m + Xu u + Xw w + Xq q, etc."""
+        c = self._constants
+        return (d[0] / c.m + d[3] * u + d[4] * w + d[5] * q,
+                d[1] / c.m + d[6] * u + d[7] * w + d[8] * q,
+                d[2] / c.Iy + d[9] * u + d[10] * w + d[11] * q)
 
     def _blade_at(self, amplitude: float | None) -> BladeElementModel:
         if amplitude is None or amplitude == self.amplitude:
@@ -277,14 +280,9 @@ class LongitudinalDynamics:
         amplitude = self.amplitude if amplitude is None else float(amplitude)
         if self.aerodynamics == "linear":
             u, w, q = float(x[0]), float(x[1]), float(x[2])
-            d = self.amplitude_derivatives(t, amplitude)
-            c = self._constants
-            return np.array([
-                [d[0] / c.m + d[3] * u + d[4] * w + d[5] * q],
-                [d[1] / c.m + d[6] * u + d[7] * w + d[8] * q],
-                [d[2] / c.Iy + d[9] * u + d[10] * w + d[11] * q],
-                [0.0],
-            ])
+            # eq. (29) is linear in the derivatives, so d/dPhi applies it to their d/dPhi.
+            acc = self._eq29_accelerations(self.amplitude_derivatives(t, amplitude), u, w, q)
+            return np.array([[acc[0]], [acc[1]], [acc[2]], [0.0]])
         h = 1e-7 * amplitude
         return ((self.rhs(t, x, stroke, amplitude + h) - self.rhs(t, x, stroke, amplitude - h))
                 / (2.0 * h))[:, None]
