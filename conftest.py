@@ -75,7 +75,9 @@ class MystChapter(IPyNbFile):
         self.compare_outputs = False  # lax: outputs are never compared (none are stored)
         self._read_from = ipynb
         try:
-            yield from super().collect()
+            for item in super().collect():
+                item.add_marker(pytest.mark.book)  # `-m "not book"` runs the unit tests alone
+                yield item
         finally:
             self._read_from = None
 
@@ -104,7 +106,9 @@ class TocFile(pytest.File):
     def collect(self):
         for name in book_chapters():
             if not (BOOK / f"{name}.md").exists():
-                yield MissingChapter.from_parent(self, name=name)
+                item = MissingChapter.from_parent(self, name=name)
+                item.add_marker(pytest.mark.book)
+                yield item
 
 
 def _notebook_dir(config) -> Path:

@@ -21,7 +21,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
 import flapping
-from flapping.dynamics import LongitudinalDynamics
+from flapping.model.dynamics import LongitudinalDynamics
 from flapping.hover import find_hover_orbit
 from flapping.stability import hover_stability
 

@@ -23,9 +23,9 @@ import argparse
 import math
 import time
 
-from flapping.floquet import monodromy
-from flapping.shooting import find_periodic_orbit
-from flapping.testproblems import rossler, rossler_jac
+from flapping.periodic.floquet import monodromy
+from flapping.periodic.shooting import find_periodic_orbit
+from flapping.periodic.testproblems import rossler, rossler_jac
 
 T_CHAOSBOOK = 5.881088455554846
 GUESS = [0.0, -8.2, 0.03]

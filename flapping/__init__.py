@@ -1,19 +1,35 @@
 """flapping: stability of hovering flapping-wing insects and MAVs.
 
 Reproduces and extends Elsadek, El-Bayoumi & Taha, "Stability Analysis of Longitudinal Dynamics of
-Hovering Flapping MAVs/Insects". The modules follow the method, and data flows one way:
+Hovering Flapping MAVs/Insects". Layers, each importing only the ones before it:
 
-``morphology`` -> ``kinematics`` -> ``aerodynamics`` -> ``derivation`` (SymPy, generates the
-code of) ``stability_derivatives`` -> ``dynamics`` -> ``integrate`` / ``shooting`` / ``floquet``
-(general tools, validated on ``testproblems``) -> ``hover`` (the orbit) -> ``stability``; the
-paper's printed numbers are in ``paper``, the book's figures in ``plotting``.
+- :mod:`flapping.model`: the insect (morphology -> kinematics -> aerodynamics -> derivation /
+  derivatives -> dynamics);
+- :mod:`flapping.periodic`: periodic orbits, flows and Floquet multipliers of any ``f(t, x)``
+  (imports nothing of the insect: reusable on its own);
+- :mod:`flapping.hover` and :mod:`flapping.stability`: the application joining the two (the hover
+  orbit and its stability);
+- :mod:`flapping.book`: the book's figures, tables and the paper's printed numbers (not
+  re-exported).
 
-Importing the package does no work beyond definitions (the SymPy derivation lives in
-:mod:`flapping.derivation` and runs only when called).
+Importing the package does no work beyond definitions.
 """
 
 from flapping.errors import ConvergenceError
-from flapping.morphology import Insect, hawkmoth
+from flapping.hover import HoverOrbit, find_hover_orbit
+from flapping.model.morphology import Insect, hawkmoth
+from flapping.periodic.floquet import monodromy
+from flapping.periodic.shooting import find_periodic_orbit
+from flapping.stability import hover_stability
 
-__all__ = ["ConvergenceError", "Insect", "hawkmoth"]
+__all__ = [
+    "ConvergenceError",
+    "HoverOrbit",
+    "Insect",
+    "find_hover_orbit",
+    "find_periodic_orbit",
+    "hawkmoth",
+    "hover_stability",
+    "monodromy",
+]
 __version__ = "0.1.0"

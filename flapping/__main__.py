@@ -12,9 +12,9 @@ import math
 import sys
 from typing import Sequence
 
-from flapping.dynamics import AERODYNAMIC_MODELS, STATE_NAMES
+from flapping.model.dynamics import AERODYNAMIC_MODELS, STATE_NAMES
 from flapping.errors import ConvergenceError
-from flapping.morphology import hawkmoth
+from flapping.model.morphology import hawkmoth
 
 PRESETS = {"hawkmoth": hawkmoth}
 

@@ -27,12 +27,12 @@ from typing import Sequence
 
 import numpy as np
 
-from flapping.dynamics import STATE_NAMES, LongitudinalDynamics
+from flapping.model.dynamics import STATE_NAMES, LongitudinalDynamics
 from flapping.errors import ConvergenceError
-from flapping.integrate import flow, variational_flow
-from flapping.kinematics import segment_stroke_sign
-from flapping.morphology import Insect
-from flapping.shooting import PeriodicOrbit, find_periodic_orbit
+from flapping.periodic.integrate import flow, variational_flow
+from flapping.model.kinematics import segment_stroke_sign
+from flapping.model.morphology import Insect
+from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
 
 __all__ = [
     "HALF_PERIOD_SYMMETRY",
@@ -204,7 +204,7 @@ def find_hover_orbit(
     ----------
     insect : Insect
     aerodynamics : {"linear", "small-angle", "exact"}
-        Loads model (:class:`~flapping.dynamics.LongitudinalDynamics`); ``"linear"`` is eq. (29).
+        Loads model (:class:`~flapping.model.dynamics.LongitudinalDynamics`); ``"linear"`` is eq. (29).
     alpha_m : float, optional
         Mean geometric angle of attack [rad]; default the trim of eq. (40).
     amplitude_guess : float, optional
@@ -218,7 +218,7 @@ def find_hover_orbit(
         system's step sequence then varies enough between iterates to hold the residual at the
         integration-noise floor ~1e-10).
     method, rtol, atol, tol
-        Passed to :func:`flapping.shooting.find_periodic_orbit` (``tol``: largest accepted
+        Passed to :func:`flapping.periodic.shooting.find_periodic_orbit` (``tol``: largest accepted
         residual norm).
     n_samples : int
         Samples of the orbit over one period in the result (even).

@@ -14,10 +14,10 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from flapping.floquet import monodromy
+from flapping.periodic.floquet import monodromy
 from flapping.hover import HoverOrbit, _checked, find_hover_orbit
-from flapping.integrate import flow, variational_flow
-from flapping.morphology import Insect
+from flapping.periodic.integrate import flow, variational_flow
+from flapping.model.morphology import Insect
 
 __all__ = [
     "HoverStability",
@@ -342,7 +342,7 @@ def speed_pitch_cubic(averaged_jacobian: np.ndarray, *, flip_mu: bool = False) -
     ----------
     averaged_jacobian : ndarray, shape (4, 4)
         E.g. :attr:`HoverStability.averaged_jacobian` or
-        :meth:`~flapping.stability_derivatives.StabilityDerivatives.averaged_jacobian`.
+        :meth:`~flapping.model.derivatives.StabilityDerivatives.averaged_jacobian`.
     flip_mu : bool
         Reverse the sign of Mu (a what-if: the speed-pitch coupling of wings above the CG).
     """
@@ -362,7 +362,7 @@ def speed_pitch_cubic(averaged_jacobian: np.ndarray, *, flip_mu: bool = False) -
 
 
 def describe_changes(changes: dict) -> str:
-    """A short label for a set of :class:`~flapping.morphology.Insect` field changes.
+    """A short label for a set of :class:`~flapping.model.morphology.Insect` field changes.
 
     Built from the values themselves, so that a table of variants never repeats a number by hand:
     ``{"hinge_offset": 1e-3}`` -> ``"x_h = +1 mm"``; ``{}`` -> the defaults of :class:`Insect`.

@@ -35,7 +35,7 @@ def test_orbit_closes(orbit):
     # Re-integrate the found initial state with another integrator (RK45 at 1e-12, so its own
     # error is ~1e-11 of max|x|): the orbit closes to that accuracy, not only in the solver's own
     # discretisation.
-    from flapping.integrate import flow
+    from flapping.periodic.integrate import flow
 
     rhs, _ = orbit.model.segment_functions()
     res = flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=orbit.model.breakpoints,
@@ -235,7 +235,7 @@ def test_iterates_beyond_90_degrees_raise_convergence_error(insect):
     # Just heavy enough that the trim at this alpha_m needs ~88 deg, so the hover orbit (which
     # needs a few degrees more than the trim) lies beyond 90 deg: the iteration must stop with
     # ConvergenceError naming the amplitude, whichever model.
-    from flapping.aerodynamics import trim_angle_of_attack
+    from flapping.model.aerodynamics import trim_angle_of_attack
 
     alpha_m = trim_angle_of_attack(insect)
     heavy = insect.with_(mass=insect.mass * (math.radians(88.0) / insect.stroke_amplitude) ** 2)

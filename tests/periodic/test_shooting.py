@@ -1,4 +1,4 @@
-"""Optimized shooting (flapping.shooting), validated against literature and closed forms."""
+"""Optimized shooting (flapping.periodic.shooting), validated against literature and closed forms."""
 
 from __future__ import annotations
 
@@ -10,9 +10,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from flapping.errors import ConvergenceError
-from flapping.floquet import monodromy, nontrivial_multipliers
-from flapping.shooting import find_periodic_orbit
-from flapping.testproblems import (
+from flapping.periodic.floquet import monodromy, nontrivial_multipliers
+from flapping.periodic.shooting import find_periodic_orbit
+from flapping.periodic.testproblems import (
     forced_oscillator,
     forced_oscillator_jac,
     forced_oscillator_orbit,

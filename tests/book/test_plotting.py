@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import flapping
-from flapping import plotting
+from flapping.book import plotting
 
 matplotlib = pytest.importorskip("matplotlib")
 matplotlib.use("Agg")
@@ -24,7 +24,7 @@ def _close_figures():
 
 def test_importing_plotting_does_not_import_matplotlib():
     # matplotlib is not a dependency of the package: the module must import without it.
-    code = "import sys, flapping, flapping.plotting; print('matplotlib' in sys.modules)"
+    code = "import sys, flapping, flapping.book.plotting; print('matplotlib' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
 

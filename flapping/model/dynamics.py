@@ -12,7 +12,7 @@ The aerodynamic loads (X, Z, M) come from one of three models:
 
 ``"linear"``
     the paper's eq. (29): X = X0(t) + m (Xu u + Xw w + Xq q), etc., with the stability derivatives
-    derived in :mod:`flapping.derivation` (first order in the states);
+    derived in :mod:`flapping.model.derivation` (first order in the states);
 ``"small-angle"``
     the blade-element loads of eqs. (13)-(23), nonlinear in the states (small induced angle);
 ``"exact"``
@@ -20,7 +20,7 @@ The aerodynamic loads (X, Z, M) come from one of three models:
 
 The right-hand side is smooth within each half-stroke only (the wing pitch flips at reversal,
 eq. 11), so :meth:`LongitudinalDynamics.segment_functions` returns one callable per half-stroke for
-integrators that restart at :data:`~flapping.kinematics.HALF_STROKE_BREAKPOINTS`.
+integrators that restart at :data:`~flapping.model.kinematics.HALF_STROKE_BREAKPOINTS`.
 """
 
 from __future__ import annotations
@@ -31,12 +31,12 @@ from typing import Callable, Literal
 
 import numpy as np
 
-from flapping import _derivatives_generated as _gen
-from flapping.aerodynamics import BladeElementModel, trim_angle_of_attack
-from flapping.kinematics import (HALF_STROKE_BREAKPOINTS, check_amplitude, segment_stroke_sign,
+from flapping.model import _derivatives_generated as _gen
+from flapping.model.aerodynamics import BladeElementModel, trim_angle_of_attack
+from flapping.model.kinematics import (HALF_STROKE_BREAKPOINTS, check_amplitude, segment_stroke_sign,
                                  stroke_sign)
-from flapping.morphology import Insect
-from flapping.stability_derivatives import AeroConstants, aero_constants
+from flapping.model.morphology import Insect
+from flapping.model.derivatives import AeroConstants, aero_constants
 
 __all__ = ["STATE_NAMES", "AERODYNAMIC_MODELS", "LongitudinalDynamics"]
 

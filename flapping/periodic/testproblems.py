@@ -1,5 +1,5 @@
-"""Dynamical systems with known periodic orbits, for validating :mod:`flapping.shooting` and
-:mod:`flapping.floquet` (and for users who want to check their own tools the same way).
+"""Dynamical systems with known periodic orbits, for validating :mod:`flapping.periodic.shooting` and
+:mod:`flapping.periodic.floquet` (and for users who want to check their own tools the same way).
 
 * :func:`lorenz` (Lorenz 1963): orbit AB, period 1.5586522107162 (Viswanath 2003).
 * :func:`rossler` (Roessler 1976): period-1 orbit at a = b = 0.2, c = 5.7, T = 5.881088455554846

@@ -1,4 +1,4 @@
-"""Segment-aware integration (flapping.integrate): each test states one property that must hold."""
+"""Segment-aware integration (flapping.periodic.integrate): each test states one property that must hold."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from flapping.integrate import flow, variational_flow
-from flapping.testproblems import lorenz, lorenz_jac
+from flapping.periodic.integrate import flow, variational_flow
+from flapping.periodic.testproblems import lorenz, lorenz_jac
 
 # Viswanath's orbit AB of the Lorenz system (a convenient, bounded, chaotic test trajectory).
 X_AB = np.array([-13.763610682134, -19.578751942452, 27.0])

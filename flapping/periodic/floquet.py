@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from flapping.errors import ConvergenceError
-from flapping.integrate import (
+from flapping.periodic.integrate import (
     _check_breakpoints,
     _check_method,
     _check_period,
@@ -263,7 +263,7 @@ def monodromy(
     ----------
     fun : callable or sequence of callables
         Right-hand side ``fun(t, x, *args)`` (one per segment with breakpoints, see
-        :mod:`flapping.integrate`). Parameters found by shooting go at the end of ``args``.
+        :mod:`flapping.periodic.integrate`). Parameters found by shooting go at the end of ``args``.
     x0 : array_like, shape (n,)
         A point of the orbit at ``t = 0``.
     period : float
@@ -272,7 +272,7 @@ def monodromy(
         Analytic ``df/dx(t, x, *args)``; default central finite differences of ``fun`` at every
         evaluation (relative error ~ eps**(2/3) in the variational equations).
     breakpoints, method, rtol, atol, rk4_steps
-        As in :func:`flapping.integrate.flow`.
+        As in :func:`flapping.periodic.integrate.flow`.
     n_sub : int, optional
         Initial number of equal sub-intervals of the period, each integrated from ``Phi = I``
         (see the module notes); with RK4, ``rk4_steps`` must be a multiple of it.

@@ -2,7 +2,7 @@
 
 Matplotlib is optional for the package (it is in ``environment.txt`` for the book, not in the
 package's dependencies): it is imported inside the functions, so ``import flapping`` and
-``import flapping.plotting`` never import it. The style constants below are plain data.
+``import flapping.book.plotting`` never import it. The style constants below are plain data.
 
 Conventions used across the book
 --------------------------------
@@ -10,10 +10,10 @@ Conventions used across the book
   load likewise (:data:`LOAD_COLORS`). A stability derivative takes the colour of the state it
   multiplies (X_w, Z_w, M_w are all "w"-coloured) and the constant terms X0, Z0, M0 the colour of
   their load (:func:`derivative_color`).
-* **Line style = model.** The aerodynamic models of :mod:`flapping.dynamics` are told apart by line
+* **Line style = model.** The aerodynamic models of :mod:`flapping.model.dynamics` are told apart by line
   style (:data:`MODEL_LINESTYLES`), never by colour.
 * **Time in cycles.** Functions that take times accept ``period`` and then plot t/T; the backward
-  half-strokes (phase in [0, 1/2), :mod:`flapping.kinematics`) can be shaded with
+  half-strokes (phase in [0, 1/2), :mod:`flapping.model.kinematics`) can be shaded with
   :func:`shade_half_strokes`.
 * Display units: theta in degrees (:data:`STATE_SCALES`); everything else SI.
 
@@ -93,7 +93,7 @@ SOURCE_COLORS: dict[str, str] = {
 #: Axis labels of the loads, SI.
 LOAD_LABELS: dict[str, str] = {"X": r"$X$ [N]", "Z": r"$Z$ [N]", "M": r"$M$ [N m]"}
 
-#: Line style of each aerodynamic model (see :data:`flapping.dynamics.AERODYNAMIC_MODELS`).
+#: Line style of each aerodynamic model (see :data:`flapping.model.dynamics.AERODYNAMIC_MODELS`).
 MODEL_LINESTYLES: dict[str, str] = {"linear": ":", "small-angle": "-", "exact": "--"}
 
 #: Legend text of each aerodynamic model.
@@ -248,7 +248,7 @@ def plot_loads(t, loads, *, period: float | None = None, axes=None, model: str |
     t : array_like, shape (n,)
         Times [s].
     loads : array_like, shape (3, n)
-        (X, Z, M) [N, N, N m], e.g. from :meth:`flapping.aerodynamics.BladeElementModel.loads`.
+        (X, Z, M) [N, N, N m], e.g. from :meth:`flapping.model.aerodynamics.BladeElementModel.loads`.
     period : float, optional
         Flapping period T [s]: time in cycles, backward half-strokes shaded.
     axes : sequence of 3 Axes, optional
@@ -679,12 +679,12 @@ def draw_insect_model(insect=None, *, alpha_m: float | None = None, theta_deg: f
     -------
     matplotlib.figure.Figure
     """
-    from flapping.morphology import hawkmoth
+    from flapping.model.morphology import hawkmoth
 
     if insect is None:
         insect = hawkmoth()
     if alpha_m is None:
-        from flapping.aerodynamics import trim_angle_of_attack
+        from flapping.model.aerodynamics import trim_angle_of_attack
 
         alpha_m = trim_angle_of_attack(insect)
     plt = _pyplot()

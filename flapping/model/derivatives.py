@@ -1,7 +1,7 @@
 """Numeric time-periodic stability derivatives X0(t) ... Mq(t) of eq. (29).
 
-The formulas are the ones derived symbolically in :mod:`flapping.derivation`, used through the
-generated module ``flapping._derivatives_generated`` (plain NumPy / math code, no SymPy at run
+The formulas are the ones derived symbolically in :mod:`flapping.model.derivation`, used through the
+generated module ``flapping.model._derivatives_generated`` (plain NumPy / math code, no SymPy at run
 time). Normalisation as in eq. (29): X0, Z0 [N], M0 [N m]; Xu, Xw, Zu, Zw [1/s]; Xq, Zq [m/(s rad)];
 Mu, Mw [1/(m s)]; Mq [1/s] -- forces divided by the mass, moments by the pitch inertia.
 """
@@ -13,10 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from flapping import _derivatives_generated as _gen
-from flapping.aerodynamics import trim_angle_of_attack
-from flapping.kinematics import check_amplitude, flapping_angle, flapping_rate
-from flapping.morphology import Insect
+from flapping.model import _derivatives_generated as _gen
+from flapping.model.aerodynamics import trim_angle_of_attack
+from flapping.model.kinematics import check_amplitude, flapping_angle, flapping_rate
+from flapping.model.morphology import Insect
 
 __all__ = ["NAMES", "AeroConstants", "aero_constants", "StabilityDerivatives", "stability_derivatives"]
 

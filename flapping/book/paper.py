@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from flapping.morphology import Insect
-from flapping.stability_derivatives import stability_derivatives
+from flapping.model.morphology import Insect
+from flapping.model.derivatives import stability_derivatives
 
 __all__ = [
     "APPENDIX_MEAN_CHORD_MM",

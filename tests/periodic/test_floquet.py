@@ -1,4 +1,4 @@
-"""Floquet analysis (flapping.floquet): Liouville, the trivial multiplier, independent methods."""
+"""Floquet analysis (flapping.periodic.floquet): Liouville, the trivial multiplier, independent methods."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 import pytest
 
-from flapping.floquet import (
+from flapping.periodic.floquet import (
     FloquetAccuracyWarning,
     floquet_exponents,
     floquet_multipliers,
@@ -16,9 +16,9 @@ from flapping.floquet import (
     nontrivial_multipliers,
     trivial_multiplier,
 )
-from flapping.integrate import flow
-from flapping.shooting import find_periodic_orbit
-from flapping.testproblems import lorenz, lorenz_jac, rossler, rossler_jac
+from flapping.periodic.integrate import flow
+from flapping.periodic.shooting import find_periodic_orbit
+from flapping.periodic.testproblems import lorenz, lorenz_jac, rossler, rossler_jac
 
 SIGMA, BETA = 10.0, 8.0 / 3.0
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import flapping
-from flapping.dynamics import LongitudinalDynamics
+from flapping.model.dynamics import LongitudinalDynamics
 
 
 @pytest.fixture(scope="module")
@@ -76,7 +76,7 @@ def test_too_heavy_insect_cannot_trim():
 
 
 def test_reversed_flow_fraction_grows_with_speed_and_vanishes_at_rest():
-    from flapping.kinematics import reversed_flow_fraction
+    from flapping.model.kinematics import reversed_flow_fraction
 
     h = flapping.hawkmoth()
     r = h.r2 * h.semi_span
@@ -88,8 +88,8 @@ def test_root_singular_planform_needs_no_damping_integral_without_damping():
     # p < 3/4 makes I_04 (rotational damping) diverge: allowed without damping, refused with it.
     r1, r2 = 0.3, 0.4  # beta shape p ~ 0.6
     light = flapping.hawkmoth(r1=r1, r2=r2, mu1=0.0, mu2=0.0)
-    assert flapping.morphology.beta_shape_parameters(r1, r2)[0] < 0.75
-    from flapping.stability_derivatives import aero_constants
+    assert flapping.model.morphology.beta_shape_parameters(r1, r2)[0] < 0.75
+    from flapping.model.derivatives import aero_constants
 
     assert aero_constants(light).Knu == 0.0
     with pytest.raises(ValueError, match="mu1 = mu2 = 0"):
@@ -97,7 +97,7 @@ def test_root_singular_planform_needs_no_damping_integral_without_damping():
 
 
 def test_stability_derivatives_reject_bad_alpha_m():
-    from flapping.stability_derivatives import stability_derivatives
+    from flapping.model.derivatives import stability_derivatives
 
     h = flapping.hawkmoth()
     for bad in (float("nan"), -3.0, 2.0):

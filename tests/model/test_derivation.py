@@ -9,15 +9,15 @@ import numpy as np
 import pytest
 
 import flapping
-from flapping.aerodynamics import BladeElementModel, trim_angle_of_attack
-from flapping.dynamics import LongitudinalDynamics
-from flapping.stability_derivatives import aero_constants, stability_derivatives
+from flapping.model.aerodynamics import BladeElementModel, trim_angle_of_attack
+from flapping.model.dynamics import LongitudinalDynamics
+from flapping.model.derivatives import aero_constants, stability_derivatives
 
 sympy = pytest.importorskip("sympy")
 sp_sin = sympy.sin
-from flapping import derivation  # noqa: E402  (needs sympy)
+from flapping.model import derivation  # noqa: E402  (needs sympy)
 
-GENERATED = Path(flapping.__file__).with_name("_derivatives_generated.py")
+GENERATED = Path(flapping.__file__).parent / "model" / "_derivatives_generated.py"
 
 
 def test_generated_code_is_what_the_derivation_produces():
@@ -27,7 +27,7 @@ def test_generated_code_is_what_the_derivation_produces():
 
 
 def test_importing_flapping_does_not_run_the_derivation():
-    code = "import sys, flapping, flapping.dynamics; print('sympy' in sys.modules)"
+    code = "import sys, flapping, flapping.model.dynamics; print('sympy' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
 

@@ -1,4 +1,4 @@
-"""Tests of the nonlinear blade-element model (flapping.aerodynamics), paper Sec. II, eqs. (3)-(23).
+"""Tests of the nonlinear blade-element model (flapping.model.aerodynamics), paper Sec. II, eqs. (3)-(23).
 
 Each test states one property that must hold; tolerances are set by the method's accuracy.
 """
@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate
 
-from flapping.aerodynamics import (
+from flapping.model.aerodynamics import (
     VARIANTS,
     BladeElementModel,
     section_loads,
@@ -21,8 +21,8 @@ from flapping.aerodynamics import (
     trim_angle_of_attack,
     wing_loads,
 )
-from flapping.kinematics import flapping_angle, flapping_rate, stroke_sign
-from flapping.morphology import hawkmoth
+from flapping.model.kinematics import flapping_angle, flapping_rate, stroke_sign
+from flapping.model.morphology import hawkmoth
 
 # Roundoff of a sum of O(100) terms of mixed sign, relative to the largest load: the accuracy of a
 # quadrature that is exact for the integrand.
@@ -426,7 +426,7 @@ def test_scalar_and_array_loads_agree_at_stroke_reversal():
     # The scalar fast path and the array path must pick the same half-stroke at reversal times,
     # where t * f rounds either side of the half-integer.
     import flapping
-    from flapping.aerodynamics import BladeElementModel, trim_angle_of_attack
+    from flapping.model.aerodynamics import BladeElementModel, trim_angle_of_attack
 
     insect = flapping.hawkmoth()
     model = BladeElementModel(insect, trim_angle_of_attack(insect), variant="exact")

@@ -1,4 +1,4 @@
-"""Tests of the insect morphology (flapping.morphology): beta chord distribution, span integrals
+"""Tests of the insect morphology (flapping.model.morphology): beta chord distribution, span integrals
 I_mn (paper, after eq. 29), the lift slope of eq. (4), and input validation.
 """
 
@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate
 
-from flapping.morphology import Insect, beta_shape_parameters, hawkmoth, lev_lift_slope
+from flapping.model.morphology import Insect, beta_shape_parameters, hawkmoth, lev_lift_slope
 
 
 @pytest.fixture(scope="module")

@@ -17,7 +17,7 @@ integration, step ``2**-10`` of a period):
   integration tolerance, instead of one extra shooting integration per unknown;
 * adaptive high-order integration (DOP853, ``rtol=1e-11``) instead of RK4 at ``2**-10``, which
   limits the period to about eight digits (see the validation chapter);
-* segment-aware integration (:mod:`flapping.integrate`): right-hand sides that jump at a
+* segment-aware integration (:mod:`flapping.periodic.integrate`): right-hand sides that jump at a
   breakpoint (stroke reversal) are integrated one smooth segment at a time.
 
 The paper's method is available as ``jacobian="finite-difference", method="RK4"``.
@@ -33,7 +33,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from flapping.errors import ConvergenceError
-from flapping.integrate import (
+from flapping.periodic.integrate import (
     _check_breakpoints,
     _check_method,
     _check_period,
@@ -182,7 +182,7 @@ def find_periodic_orbit(
     fun : callable or sequence of callables
         Right-hand side ``fun(t, x, *args)``, or ``fun(t, x, *args, p)`` with ``free_params``; a
         sequence gives one callable per segment of the period (``len(breakpoints) + 1``), each
-        smooth on its closed segment (see :mod:`flapping.integrate`).
+        smooth on its closed segment (see :mod:`flapping.periodic.integrate`).
     x0 : array_like, shape (n,)
         Initial guess of a state on the orbit; components in ``fixed`` are kept.
     period : float

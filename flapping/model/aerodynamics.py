@@ -51,9 +51,9 @@ from typing import Literal
 import numpy as np
 from scipy import special
 
-from flapping.kinematics import stroke_sign as _kinematic_stroke_sign
-from flapping.kinematics import check_amplitude, stroke_sign_scalar
-from flapping.morphology import Insect
+from flapping.model.kinematics import stroke_sign as _kinematic_stroke_sign
+from flapping.model.kinematics import check_amplitude, stroke_sign_scalar
+from flapping.model.morphology import Insect
 
 __all__ = [
     "VARIANTS",
@@ -446,7 +446,7 @@ class BladeElementModel:
             Body state (broadcasts with t): [m/s], [m/s], [rad/s].
         s : float or array_like, optional
             Stroke sign +1/-1 overriding ``sign(phi_dot(t))`` (e.g. exactly at stroke reversal,
-            or per half-stroke segment). Default :func:`flapping.kinematics.stroke_sign`.
+            or per half-stroke segment). Default :func:`flapping.model.kinematics.stroke_sign`.
 
         Returns
         -------

@@ -1,0 +1,158 @@
+"""Argument validation at the public boundary, in one place.
+
+Every public function of :mod:`flapping` checks its arguments once, through these helpers, so that
+a bad input gets the same kind of message everywhere: the argument's name, the accepted range,
+and the value received. Internal functions trust their inputs.
+
+Conventions
+-----------
+- Numbers are converted to Python ``float`` (float64) on entry, whatever their type (``int``,
+  ``np.float32``, ``np.int64``, 0-d arrays); ``bool``, strings, complex numbers and ``None`` are
+  refused, because ``True`` silently meaning 1 kg is a bug, not a convenience.
+- Arrays are converted to float64 copies; non-finite entries are refused.
+- Errors are :class:`ValueError` (a wrong type is also a ValueError: the value is what is wrong).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from collections.abc import Iterable, Sequence
+from typing import Any, TypeVar
+
+import numpy as np
+
+__all__ = [
+    "real", "positive", "nonnegative", "integer", "choice", "vector", "matrix",
+    "finite_output",
+]
+
+T = TypeVar("T")
+
+
+def _fmt(bound: float) -> str:
+    return {math.pi / 2: "pi/2", math.pi: "pi", -math.pi / 2: "-pi/2"}.get(bound, f"{bound:g}")
+
+
+def _range_text(low: float | None, high: float | None, low_open: bool, high_open: bool) -> str:
+    if low is None and high is None:
+        return "a finite real number"
+    left = "(-inf" if low is None else ("(" if low_open else "[") + _fmt(low)
+    right = "inf)" if high is None else _fmt(high) + (")" if high_open else "]")
+    return f"a real number in {left}, {right}"
+
+
+def real(
+    name: str,
+    value: Any,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    high_open: bool = False,
+    unit: str = "",
+) -> float:
+    """``value`` as a finite float64 in the given interval, or a ValueError naming ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, as the user wrote it.
+    value : object
+        A real number (Python or NumPy scalar, or a 0-d array).
+    low, high : float, optional
+        Bounds of the accepted interval (``None``: unbounded).
+    low_open, high_open : bool
+        Whether the bound itself is excluded.
+    unit : str
+        Unit for the message (e.g. ``"rad"``).
+    """
+    expected = _range_text(low, high, low_open, high_open) + (f" {unit}" if unit else "")
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise ValueError(f"`{name}` must be {expected}; got {value!r} ({type(value).__name__})")
+    x = float(value)
+    ok = math.isfinite(x)
+    if ok and low is not None:
+        ok = x > low if low_open else x >= low
+    if ok and high is not None:
+        ok = x < high if high_open else x <= high
+    if not ok:
+        raise ValueError(f"`{name}` must be {expected}; got {value!r}")
+    return x
+
+
+def positive(name: str, value: Any, *, unit: str = "") -> float:
+    """``value`` as a float > 0 (see :func:`real`)."""
+    return real(name, value, low=0.0, low_open=True, unit=unit)
+
+
+def nonnegative(name: str, value: Any, *, unit: str = "") -> float:
+    """``value`` as a float >= 0 (see :func:`real`)."""
+    return real(name, value, low=0.0, unit=unit)
+
+
+def integer(name: str, value: Any, *, low: int | None = None, high: int | None = None) -> int:
+    """``value`` as a Python int in [low, high]; integral floats such as ``4.0`` are refused."""
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    lo = "-inf" if low is None else str(low)
+    hi = "inf" if high is None else str(high)
+    expected = f"an integer in [{lo}, {hi}]"
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise ValueError(f"`{name}` must be {expected}; got {value!r} ({type(value).__name__})")
+    n = int(value)
+    if (low is not None and n < low) or (high is not None and n > high):
+        raise ValueError(f"`{name}` must be {expected}; got {value!r}")
+    return n
+
+
+def choice(name: str, value: T, options: Iterable[T]) -> T:
+    """``value`` if it is one of ``options``, else a ValueError listing them."""
+    options = tuple(options)
+    try:
+        ok = value in options
+    except TypeError:  # unhashable or incomparable
+        ok = False
+    if not ok:
+        raise ValueError(f"`{name}` must be one of {options}; got {value!r}")
+    return value
+
+
+def vector(name: str, value: Any, *, size: int | None = None) -> np.ndarray:
+    """A non-empty, finite, 1-D float64 copy of ``value`` (of length ``size`` if given)."""
+    try:
+        x = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"`{name}` must be a 1-D array of real numbers; got {value!r}") from None
+    if x.ndim != 1 or x.size == 0 or (size is not None and x.size != size):
+        shape = "a non-empty 1-D array" if size is None else f"an array of shape ({size},)"
+        raise ValueError(f"`{name}` must be {shape}; got shape {x.shape}")
+    if not np.all(np.isfinite(x)):
+        raise ValueError(f"`{name}` must be finite; got {x}")
+    return x
+
+
+def matrix(name: str, value: Any, *, square: bool = False) -> np.ndarray:
+    """A finite 2-D float64 (or complex128, if complex) copy of ``value``."""
+    x = np.array(value)
+    x = x.astype(complex if np.iscomplexobj(x) else float)
+    if x.ndim != 2 or (square and x.shape[0] != x.shape[1]):
+        what = "a square 2-D array" if square else "a 2-D array"
+        raise ValueError(f"`{name}` must be {what}; got shape {x.shape}")
+    if not np.all(np.isfinite(x)):
+        raise ValueError(f"`{name}` must be finite")
+    return x
+
+
+def finite_output(name: str, value: np.ndarray, t: float, x: Sequence[float] | np.ndarray) -> None:
+    """Raise ValueError if a user callable returned NaN or infinity.
+
+    Solvers fed NaN never converge (``solve_ivp`` shrinks its step forever), so every integration
+    checks what ``fun`` and ``jac`` return and names which one failed, where.
+    """
+    if not np.all(np.isfinite(value)):
+        raise ValueError(
+            f"`{name}` returned a non-finite value at t = {t!r}, x = {np.asarray(x)!r}: "
+            f"{np.asarray(value)!r}")
