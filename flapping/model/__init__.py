@@ -1,13 +1,19 @@
 """The insect model: everything about the flapping insect, nothing about solvers.
 
-Data flows one way through the modules:
-``morphology`` (:class:`Insect`) -> ``kinematics`` (stroke angle, rate, sign) -> ``aerodynamics``
-(blade-element loads, nonlinear in the body states; the trim of eq. 40) -> ``derivation`` (SymPy:
-the stability derivatives, generated into ``_derivatives_generated``) -> ``derivatives`` (the
-time-periodic stability derivatives X0..Mq(t)) -> ``dynamics`` (eq. 2/29 as ``rhs(t, x)`` and
-``jac(t, x)``).
+Modules, each importing only the ones before it:
+``kinematics`` (stroke angle, rate and sign of eq. 39; the accepted ranges of the stroke amplitude
+and of alpha_m) -> ``morphology`` (:class:`Insect`) -> ``aerodynamics`` (blade-element loads,
+nonlinear in the body states; the trim of eq. 40; the K constants of the linearised loads) ->
+``derivation`` (SymPy, at derive time only: the stability derivatives, generated into
+``_derivatives_generated``) -> ``derivatives`` (the time-periodic stability derivatives
+X0..Mq(t), from the generated code) -> ``dynamics`` (eq. 2/29 as ``rhs(t, x)`` and ``jac(t, x)``).
 
-SI units and radians throughout; degrees and millimetres only at the edges (tables, CLI).
+Conventions: SI units and radians throughout; degrees and millimetres only at the edges (tables,
+CLI). Public functions and constructors check their arguments once, through
+:mod:`flapping._validation` (one accepted range per quantity, messages naming the argument and
+the range), and convert numbers to float64 on entry (bools and strings refused); the functions
+that run inside integrations (``rhs``, ``jac``, the kinematic formulas) trust their inputs.
+Finite differences go through :mod:`flapping._numdiff`.
 """
 
 from flapping.model.morphology import Insect, hawkmoth

@@ -11,19 +11,21 @@ geometric pitch is alpha_g = alpha_m on the forward stroke (s = sign(phi_dot) = 
 pi - alpha_m on the backward stroke (eq. 11). Loads per unit span:
 
 * leading-edge-vortex lift, C_L = A sin(2 alpha) (eq. 3), drag C_D = 2 A sin(alpha)**2 (eq. 6);
-* rotational lift rho |V| Gamma with Gamma = pi c**2 (3/4 - x0_hat) Omega (eq. 5);
+* rotational lift rho ``|V|`` Gamma with Gamma = pi c**2 (3/4 - x0_hat) Omega (eq. 5);
 * a pitching moment about the centre of gravity from these forces acting at the centre of pressure,
   x_hat c behind the pitch line along the chord, plus Berman & Wang's rotational damping torque
-  tau = -(pi/16) rho c**4 (mu1 f + mu2 |Omega|) Omega (eqs. 20-23).
+  tau = -(pi/16) rho c**4 (mu1 f + mu2 ``|Omega|``) Omega (eqs. 20-23).
 
 Two variants:
 
 ``"small-angle"``
-    The paper's eqs. (13)-(19): first order in the induced angle alpha_i = w_eff/|U|, |V| ~ |U|.
+    The paper's eqs. (13)-(19): first order in the induced angle alpha_i = w_eff/``|U|``, ``|V|`` ~
+    ``|U|``.
 ``"exact"``
-    The exact inflow angle psi = atan2(-w_eff, U) and speed |V| = sqrt(U**2 + w_eff**2).
+    The exact inflow angle psi = atan2(-w_eff, U) and speed ``|V|`` = sqrt(U**2 + w_eff**2).
 
-Both agree to first order in w_eff/|U|, and differ at second order (tested), on either stroke and
+Both agree to first order in w_eff/``|U|``, and differ at second order (tested), on either stroke
+and
 also where U opposes the stroke (s != sign(U), near reversal with u != 0). Neither is linearised
 in (u, w, q): the linearised model of eq. (29) lives elsewhere and is checked against finite
 differences of these loads.
@@ -36,23 +38,33 @@ c(r) = c_bar/B(p, q) r_hat**(p-1) (1 - r_hat)**(q-1) is singular at the root whe
 power is therefore integrated by Gauss-Jacobi quadrature whose weight is exactly
 r_hat**(n(p-1)) (1 - r_hat)**(n(q-1)): polynomial g_n are integrated exactly, and the singularity
 costs nothing (:func:`span_quadrature`). The small-angle g_n are polynomials in r except for the
-kink of |U| where U changes sign, which is handled in closed form, so that variant is integrated
+kink of ``|U|`` where U changes sign, which is handled in closed form, so that variant is integrated
 exactly at every state; the exact variant converges geometrically with the number of nodes
 (:class:`BladeElementModel`).
+
+Linearised loads
+----------------
+The constants of the linearised loads of eq. (29), K_mn = rho A I_mn / 2 and their kin
+(:func:`aero_constants`), live here too: they are the same aerodynamics, integrated over the span
+in closed form, and both :mod:`flapping.model.derivation` and :mod:`flapping.model.derivatives`
+use them.
 """
 
 from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import special
 
+import flapping._validation as _validation
+from flapping.model.kinematics import check_alpha_m, check_amplitude, stroke_sign_scalar
 from flapping.model.kinematics import stroke_sign as _kinematic_stroke_sign
-from flapping.model.kinematics import check_amplitude, stroke_sign_scalar
 from flapping.model.morphology import Insect
 
 __all__ = [
@@ -60,6 +72,8 @@ __all__ = [
     "SpanQuadrature",
     "span_quadrature",
     "trim_angle_of_attack",
+    "AeroConstants",
+    "aero_constants",
     "section_loads",
     "BladeElementModel",
     "wing_loads",
@@ -68,7 +82,7 @@ __all__ = [
 Variant = Literal["small-angle", "exact"]
 
 #: The aerodynamic model variants: the paper's small induced angle, or exact inflow.
-VARIANTS: tuple[str, ...] = ("small-angle", "exact")
+VARIANTS: tuple[Variant, ...] = ("small-angle", "exact")
 
 #: Scalar types of the fast path of :meth:`BladeElementModel.loads` (NumPy float64 is a float).
 _REAL = (float, int)
@@ -98,20 +112,27 @@ class SpanQuadrature:
     """
 
     n_nodes: int
-    nodes: tuple
-    weights: tuple
+    nodes: tuple[np.ndarray | None, ...]
+    weights: tuple[np.ndarray | None, ...]
 
-    def integrate(self, n: int, values) -> float:
-        """``2 int_0^R c**n g dr`` from ``values = g(nodes[n])``."""
-        if self.weights[n] is None:
+    def integrate(self, n: int, values: np.ndarray | Sequence[float]) -> float:
+        """``2 int_0^R c**n g dr`` from ``values = g(nodes[n])``.
+
+        Raises
+        ------
+        ValueError
+            If the integral diverges for this chord distribution (no rule for power n).
+        """
+        weights = self.weights[n]
+        if weights is None:
             raise ValueError(f"2 int_0^R c(r)**{n} g(r) dr diverges for this chord distribution")
-        return float(self.weights[n] @ np.asarray(values, dtype=float))
+        return float(weights @ np.asarray(values, dtype=float))
 
 
 def span_quadrature(insect: Insect, n_nodes: int = 32) -> SpanQuadrature:
     """Gauss-Jacobi span quadrature adapted to the insect's beta chord distribution.
 
-    With r = R r_hat, r_hat = (1 + x)/2 and a_n = n(p - 1), b_n = n(q - 1),
+    With r = R r_hat, r_hat = (1 + x)/2 and a_n = n(p - 1), b_n = n(q - 1)::
 
         2 int_0^R c**n g dr = 2 R (c_bar/B(p,q))**n 2**-(a_n+b_n+1)
                               int_-1^1 (1 - x)**b_n (1 + x)**a_n g dx,
@@ -135,7 +156,8 @@ def span_quadrature(insect: Insect, n_nodes: int = 32) -> SpanQuadrature:
     ValueError
         If n_nodes is not an integer >= 2.
     """
-    n_nodes = _node_count(n_nodes)
+    _validation.instance("insect", insect, Insect)
+    n_nodes = _validation.integer("n_nodes", n_nodes, low=2)
     return _span_quadrature_cached(
         float(insect.semi_span), float(insect.mean_chord),
         float(insect.beta_p), float(insect.beta_q), n_nodes,
@@ -146,7 +168,8 @@ def span_quadrature(insect: Insect, n_nodes: int = 32) -> SpanQuadrature:
 def _span_quadrature_cached(R: float, c_bar: float, p: float, q: float,
                             n_nodes: int) -> SpanQuadrature:
     log_scale = math.log(c_bar) - special.betaln(p, q)
-    nodes, weights = [], []
+    nodes: list[np.ndarray | None] = []
+    weights: list[np.ndarray | None] = []
     for n in range(_MAX_CHORD_POWER + 1):
         a, b = n * (p - 1.0), n * (q - 1.0)
         if a <= -1.0 or b <= -1.0:
@@ -163,6 +186,69 @@ def _span_quadrature_cached(R: float, c_bar: float, p: float, q: float,
 def _frozen(array: np.ndarray) -> np.ndarray:
     array.setflags(write=False)
     return array
+
+
+def _check_convergent(insect: Insect, quad: SpanQuadrature) -> None:
+    """Raise if a span integral the loads need diverges (root singularity of c(r)**n)."""
+    needed = [1, 2]
+    if insect.center_of_pressure != 0.0:
+        needed.append(3)
+    if insect.mu1 != 0.0 or insect.mu2 != 0.0:
+        needed.append(4)
+    for n in needed:
+        if quad.weights[n] is None:
+            raise ValueError(
+                f"the span integral of c(r)**{n} diverges for {insect.name} (beta shape "
+                f"p={insect.beta_p:.4g}: root exponent {n}(p-1) <= -1); the loads are infinite"
+            )
+
+
+def _stations(quad: SpanQuadrature) -> tuple[np.ndarray, np.ndarray]:
+    """Span stations of the c, c^2, c^3 rules side by side, and their weight matrix.
+
+    Column j of the weight matrix holds the rule of chord power j + 1 (j < 3) on its own
+    stations, zero elsewhere; columns 3..5 the same times r (for the r sin(phi) moment arms).
+    """
+    rules = [(n, quad.nodes[n], quad.weights[n]) for n in (1, 2, 3)]
+    present = [(n, x, w) for n, x, w in rules if x is not None and w is not None]
+    r = np.concatenate([x for _, x, _ in present])
+    weights = np.zeros((r.size, 6))
+    for k, (n, x, w) in enumerate(present):
+        rows = slice(k * quad.n_nodes, (k + 1) * quad.n_nodes)
+        weights[rows, n - 1] = w
+        weights[rows, n + 2] = w * x
+    return r, weights
+
+
+def _partial_span_moments(insect: Insect) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Beta parameters (a, b) and totals I_mn of the incomplete span moments of the sign correction.
+
+    2 int_0^x r^m c^n dr = I_mn betainc(m + n(p-1) + 1, n(q-1) + 1, x/R), for the (m, n) of
+    :func:`_add_sign_correction`.
+    """
+    moments = ((0, 1), (1, 1), (2, 1), (3, 1), (0, 2), (1, 2), (2, 2))
+    p, q = insect.beta_p, insect.beta_q
+    return (
+        _frozen(np.array([m + n * (p - 1.0) + 1.0 for m, n in moments])),
+        _frozen(np.array([n * (q - 1.0) + 1.0 for m, n in moments])),
+        _frozen(np.array([insect.span_integral(m, n) for m, n in moments])),
+    )
+
+
+def _load_constants(insect: Insect, alpha_m: float, i04: float) -> tuple[float, ...]:
+    """The constants of :meth:`BladeElementModel._loads`, in the order it unpacks them."""
+    am = alpha_m
+    return (
+        2.0 * math.pi * insect.frequency,
+        math.sin(2.0 * am), math.cos(2.0 * am), math.sin(am) ** 2, math.cos(am) ** 2,
+        insect.air_density * insect.lift_slope,                 # rho A
+        insect.air_density * math.pi * (0.75 - insect.pitch_axis),  # rho Gamma/(c^2 Omega)
+        insect.hinge_offset,
+        insect.center_of_pressure * math.sin(am),       # z_cp / c
+        insect.center_of_pressure * math.cos(am),       # |chordwise x_cp offset| / c
+        -(math.pi / 16.0) * insect.air_density * i04,   # damping torque / (...) both wings
+        insect.mu1 * insect.frequency, insect.mu2,
+    )
 
 
 # =========================================================================== trim
@@ -197,6 +283,7 @@ def trim_angle_of_attack(insect: Insect, amplitude: float | None = None) -> floa
         If amplitude is outside (0, pi/2], or if the weight exceeds the largest mean lift the
         wings can make at this amplitude (sin(2 alpha_m) would exceed 1).
     """
+    _validation.instance("insect", insect, Insect)
     amplitude = _amplitude(insect, amplitude)
     k21 = 0.5 * insect.air_density * insect.lift_slope * insect.span_integral(2, 1)
     max_mean_lift = 2.0 * math.pi**2 * insect.frequency**2 * amplitude**2 * k21
@@ -210,6 +297,83 @@ def trim_angle_of_attack(insect: Insect, amplitude: float | None = None) -> floa
     return 0.5 * math.asin(ratio)
 
 
+# =========================================================================== linearised loads
+@dataclass(frozen=True)
+class AeroConstants:
+    """The constants of the linearised loads (after eq. 29), SI units.
+
+    Attributes
+    ----------
+    K : dict
+        K[(m, n)] = rho A I_mn / 2.
+    Krot : dict
+        Krot[(m, n)] = rho pi (3/4 - x0_hat) I_mn.
+    Knu : float
+        (pi/16) rho I_04.
+    x_hat, x_h, mu1, f, m, Iy : float
+        Centre of pressure (fraction of chord), hinge offset [m], damping coefficient, flapping
+        frequency [Hz], mass [kg], pitch inertia [kg m^2].
+    """
+
+    K: dict[tuple[int, int], float]
+    Krot: dict[tuple[int, int], float]
+    Knu: float
+    x_hat: float
+    x_h: float
+    mu1: float
+    f: float
+    m: float
+    Iy: float
+
+
+def aero_constants(insect: Insect) -> AeroConstants:
+    """The constants K_mn, Krot_mn and K_nu of the linearised loads (after eq. 29).
+
+    Parameters
+    ----------
+    insect : Insect
+        Morphology; the span integrals I_mn come from its closed form (beta functions).
+
+    Returns
+    -------
+    AeroConstants
+        K[(m, n)] = rho A I_mn / 2 and Krot[(m, n)] = rho pi (3/4 - x0_hat) I_mn for m = 0..3,
+        n = 1..4 where I_mn converges; K_nu = (pi/16) rho I_04; and the insect's x_hat, x_h,
+        mu1, f, m, I_y.
+
+    Raises
+    ------
+    ValueError
+        If the rotational damping is on (mu1 or mu2 > 0) but I_04 diverges for this planform.
+    """
+    _validation.instance("insect", insect, Insect)
+    rho, A = insect.air_density, insect.lift_slope
+    kappa = 0.75 - insect.pitch_axis
+    I = {(m, n): insect.span_integral(m, n) for m in range(4) for n in range(1, 5)
+         if (m + 1 + n * (insect.beta_p - 1.0)) > 0}
+    if (0, 4) in I:
+        knu = math.pi / 16.0 * rho * I[(0, 4)]
+    elif insect.mu1 == 0.0 and insect.mu2 == 0.0:
+        knu = 0.0  # no rotational damping: its diverging span integral is never needed
+    else:
+        raise ValueError(
+            f"the rotational damping needs I_04 = 2 int c^4 dr, which diverges for this planform "
+            f"(r1={insect.r1!r}, r2={insect.r2!r}: beta shape p={insect.beta_p:.4g} <= 3/4); "
+            "choose r1, r2 with p > 3/4 or set mu1 = mu2 = 0"
+        )
+    return AeroConstants(
+        K={k: 0.5 * rho * A * v for k, v in I.items()},
+        Krot={k: rho * math.pi * kappa * v for k, v in I.items()},
+        Knu=knu,
+        x_hat=insect.center_of_pressure,
+        x_h=insect.hinge_offset,
+        mu1=insect.mu1,
+        f=insect.frequency,
+        m=insect.mass,
+        Iy=insect.pitch_inertia,
+    )
+
+
 # =========================================================================== section loads
 def _lev_coefficients(U, w_eff, sin_2ag, cos_2am, sin_am2, cos_am2, variant, sign_u=None):
     """Leading-edge-vortex force coefficients of a section, per unit span, chord and rho A.
@@ -217,7 +381,7 @@ def _lev_coefficients(U, w_eff, sin_2ag, cos_2am, sin_am2, cos_am2, variant, sig
     Returns (a, b) with F_xi = rho A c a and F_z = rho A c b for the LEV lift and drag of one
     section (the rotational lift, c**2 terms, is added by the callers: rho Gamma (w_eff, -U)).
     Inputs broadcast; nothing is validated. In the small-angle variant, ``sign_u`` (+1 or -1)
-    replaces |U| by sign_u * U, which makes the coefficients polynomial in r (the span
+    replaces ``|U|`` by sign_u * U, which makes the coefficients polynomial in r (the span
     integration then adds the correction where sign(U) differs).
     """
     if variant == "small-angle":
@@ -249,8 +413,11 @@ def _lev_coefficients(U, w_eff, sin_2ag, cos_2am, sin_am2, cos_am2, variant, sig
     return a, b
 
 
-def section_loads(r, chord, phi, phi_dot, s, u, w, q, alpha_m, insect: Insect,
-                  variant: Variant = "small-angle"):
+def section_loads(
+    r: ArrayLike, chord: ArrayLike, phi: ArrayLike, phi_dot: ArrayLike, s: ArrayLike,
+    u: ArrayLike, w: ArrayLike, q: ArrayLike, alpha_m: float, insect: Insect,
+    variant: str = "small-angle",
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Aerodynamic loads per unit span on one wing section, eqs. (9)-(23), nonlinear in (u, w, q).
 
     Parameters
@@ -266,7 +433,7 @@ def section_loads(r, chord, phi, phi_dot, s, u, w, q, alpha_m, insect: Insect,
     u, w, q : float or array_like
         Body velocities [m/s] (x forward, z down) and pitch rate [rad/s] (nose-up positive).
     alpha_m : float
-        Mid-stroke angle of attack [rad].
+        Mid-stroke angle of attack [rad], in (0, pi/2).
     insect : Insect
         Air density, lift slope A, x0_hat, x_hat, x_h, mu1, mu2, frequency.
     variant : {"small-angle", "exact"}
@@ -281,24 +448,31 @@ def section_loads(r, chord, phi, phi_dot, s, u, w, q, alpha_m, insect: Insect,
     Raises
     ------
     ValueError
-        If variant is unknown or an input is not finite.
+        If variant is unknown, an input is not finite, s is not +1 or -1, or alpha_m is outside
+        (0, pi/2).
 
     Notes
     -----
     F_x = F_xi cos(phi). The centre of pressure is at x_cp = x_h + r sin(phi)
     - x_hat c cos(alpha_g) cos(phi), z_cp = x_hat c sin(alpha_g), and
-    M = z_cp F_x - x_cp F_z + tau cos(phi), tau = -(pi/16) rho c**4 (mu1 f + mu2 |Omega|) Omega
+    M = z_cp F_x - x_cp F_z + tau cos(phi), tau = -(pi/16) rho c**4 (mu1 f + mu2 ``|Omega|``) Omega
     with Omega = q cos(phi) (eqs. 20-23).
     """
-    variant = _variant(variant)
-    arrays = [np.asarray(v, dtype=float) for v in (r, chord, phi, phi_dot, s, u, w, q)]
-    for name, value in zip(("r", "chord", "phi", "phi_dot", "s", "u", "w", "q"), arrays):
-        if not np.all(np.isfinite(value)):
-            raise ValueError(f"{name} must be finite")
-    r, c, phi, phi_dot, s, u, w, q = arrays
-    if not np.all((s == 1.0) | (s == -1.0)):
-        raise ValueError(f"stroke sign s must be +1 or -1; got {s!r}")
-    alpha_m = _alpha_m(alpha_m)
+    variant = _validation.choice("variant", variant, VARIANTS)
+    names = ("r", "chord", "phi", "phi_dot", "s", "u", "w", "q")
+    values = (r, chord, phi, phi_dot, s, u, w, q)
+    ra, ca, phia, phi_dota, sa, ua, wa, qa = (
+        _validation.array(n, v) for n, v in zip(names, values, strict=True))
+    _stroke_signs(sa)
+    _validation.instance("insect", insect, Insect)
+    return _section_loads(ra, ca, phia, phi_dota, sa, ua, wa, qa, check_alpha_m(alpha_m),
+                          insect, variant)
+
+
+def _section_loads(r: np.ndarray, c: np.ndarray, phi: np.ndarray, phi_dot: np.ndarray,
+                   s: np.ndarray, u: np.ndarray, w: np.ndarray, q: np.ndarray, alpha_m: float,
+                   insect: Insect, variant: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`section_loads` for validated inputs."""
     rho = insect.air_density
     cphi, sphi = np.cos(phi), np.sin(phi)
     U = r * phi_dot + u * cphi
@@ -322,11 +496,12 @@ def section_loads(r, chord, phi, phi_dot, s, u, w, q, alpha_m, insect: Insect,
     tau = -(math.pi / 16.0) * rho * c**4 * (
         insect.mu1 * insect.frequency + insect.mu2 * np.abs(omega)) * omega
     moment = z_cp * f_x - x_cp * f_z + tau * cphi
-    return tuple(np.broadcast_arrays(f_x, f_z, moment))
+    f_x, f_z, moment = np.broadcast_arrays(f_x, f_z, moment)
+    return f_x, f_z, moment
 
 
 # =========================================================================== wing loads
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class BladeElementModel:
     """Blade-element loads of both wings for one insect, trim and variant, for ODE right-hand sides.
 
@@ -335,24 +510,30 @@ class BladeElementModel:
     ``3 n_nodes`` span stations (about 15-30 microseconds).
 
     Span integration is exact (to rounding) for the small-angle variant at any state: its section
-    loads are polynomials in r times powers of the chord, except for |U|, which has a kink at the
-    station r* = -u cos(phi)/phi_dot where U changes sign. The loads are integrated with |U|
+    loads are polynomials in r times powers of the chord, except for ``|U|``, which has a kink at
+    the
+    station r* = -u cos(phi)/phi_dot where U changes sign. The loads are integrated with ``|U|``
     replaced by sigma U (sigma the sign of U on most of the span; polynomial, so Gauss-Jacobi is
     exact), and the difference, non-zero only between the root or tip and r*, is added in closed
     form with incomplete beta functions. The exact variant's integrand sqrt(U**2 + w_eff**2) is
-    smooth but varies on the scale |w_eff/phi_dot| about r*; its quadrature converges
+    smooth but varies on the scale ``|w_eff/phi_dot|`` about r*; its quadrature converges
     geometrically in n_nodes, slowly when w_eff is small near r* (tested).
 
     Parameters
     ----------
     insect : Insect
     alpha_m : float
-        Mid-stroke angle of attack [rad], in [0, pi/2] (e.g. :func:`trim_angle_of_attack`).
+        Mid-stroke angle of attack [rad], in (0, pi/2) (e.g. :func:`trim_angle_of_attack`).
     amplitude : float, optional
         Stroke amplitude Phi [rad] in (0, pi/2]; default ``insect.stroke_amplitude``.
     variant : {"small-angle", "exact"}
     n_nodes : int
         Gauss-Jacobi nodes per chord power, >= 2 (default 32).
+
+    Attributes
+    ----------
+    insect, alpha_m, amplitude, variant, n_nodes
+        The arguments, validated (alpha_m and amplitude as floats).
 
     Raises
     ------
@@ -363,79 +544,47 @@ class BladeElementModel:
 
     insect: Insect
     alpha_m: float
-    amplitude: float | None = None
-    variant: Variant = "small-angle"
-    n_nodes: int = 32
-    _partial_moments: tuple = field(init=False, repr=False, compare=False)
+    amplitude: float
+    variant: str
+    n_nodes: int
+    _partial_moments: tuple[np.ndarray, np.ndarray, np.ndarray] = field(
+        init=False, repr=False, compare=False)
     _r: np.ndarray = field(init=False, repr=False, compare=False)
     _weights: np.ndarray = field(init=False, repr=False, compare=False)
     _weight_sums: np.ndarray = field(init=False, repr=False, compare=False)
     _weight_moments: np.ndarray = field(init=False, repr=False, compare=False)
-    _consts: tuple = field(init=False, repr=False, compare=False)
+    _consts: tuple[float, ...] = field(init=False, repr=False, compare=False)
 
-    def __post_init__(self) -> None:
-        insect = self.insect
-        if not isinstance(insect, Insect):
-            raise ValueError(f"insect must be an Insect; got {type(insect).__name__}")
-        object.__setattr__(self, "variant", _variant(self.variant))
-        object.__setattr__(self, "n_nodes", _node_count(self.n_nodes))
-        object.__setattr__(self, "alpha_m", _alpha_m(self.alpha_m))
-        object.__setattr__(self, "amplitude", _amplitude(insect, self.amplitude))
-        quad = span_quadrature(insect, self.n_nodes)
-        needed = [1, 2]
-        if insect.center_of_pressure != 0.0:
-            needed.append(3)
-        if insect.mu1 != 0.0 or insect.mu2 != 0.0:
-            needed.append(4)
-        for n in needed:
-            if quad.weights[n] is None:
-                raise ValueError(
-                    f"the span integral of c(r)**{n} diverges for {insect.name} (beta shape "
-                    f"p={insect.beta_p:.4g}: root exponent {n}(p-1) <= -1); the loads are infinite"
-                )
-        # Stations of the c, c^2, c^3 rules side by side. Column j of the weight matrix holds the
-        # rule of chord power j + 1 (j < 3) on its own stations, zero elsewhere; columns 3..5 the
-        # same times r (for the r sin(phi) moment arms).
-        powers = [n for n in (1, 2, 3) if quad.weights[n] is not None]
-        r = np.concatenate([quad.nodes[n] for n in powers])
-        weights = np.zeros((r.size, 6))
-        for k, n in enumerate(powers):
-            rows = slice(k * self.n_nodes, (k + 1) * self.n_nodes)
-            weights[rows, n - 1] = quad.weights[n]
-            weights[rows, n + 2] = quad.weights[n] * quad.nodes[n]
+    def __init__(self, insect: Insect, alpha_m: float, amplitude: float | None = None,
+                 variant: str = "small-angle", n_nodes: int = 32) -> None:
+        _validation.instance("insect", insect, Insect)
+        n_nodes = _validation.integer("n_nodes", n_nodes, low=2)
+        alpha_m = check_alpha_m(alpha_m)
+        values = dict(
+            insect=insect, alpha_m=alpha_m, amplitude=_amplitude(insect, amplitude),
+            variant=_validation.choice("variant", variant, VARIANTS), n_nodes=n_nodes)
+        quad = span_quadrature(insect, n_nodes)
+        _check_convergent(insect, quad)
+        r, weights = _stations(quad)
         i04 = float(quad.weights[4].sum()) if quad.weights[4] is not None else 0.0
-        # I_mn over part of the span, for the sign correction of the small-angle variant:
-        # 2 int_0^x r^m c^n dr = I_mn betainc(m + n(p-1) + 1, n(q-1) + 1, x/R).
-        moments = ((0, 1), (1, 1), (2, 1), (3, 1), (0, 2), (1, 2), (2, 2))
-        p, q = insect.beta_p, insect.beta_q
-        object.__setattr__(self, "_partial_moments", (
-            _frozen(np.array([m + n * (p - 1.0) + 1.0 for m, n in moments])),
-            _frozen(np.array([n * (q - 1.0) + 1.0 for m, n in moments])),
-            _frozen(np.array([insect.span_integral(m, n) for m, n in moments])),
-        ))
-        object.__setattr__(self, "_r", _frozen(r))
-        object.__setattr__(self, "_weights", _frozen(weights))
-        object.__setattr__(self, "_weight_sums", _frozen(weights.sum(axis=0)))
-        object.__setattr__(self, "_weight_moments", _frozen(r @ weights))
-        am = self.alpha_m
-        object.__setattr__(self, "_consts", (
-            2.0 * math.pi * insect.frequency,
-            math.sin(2.0 * am), math.cos(2.0 * am), math.sin(am) ** 2, math.cos(am) ** 2,
-            insect.air_density * insect.lift_slope,                 # rho A
-            insect.air_density * math.pi * (0.75 - insect.pitch_axis),  # rho Gamma/(c^2 Omega)
-            insect.hinge_offset,
-            insect.center_of_pressure * math.sin(am),       # z_cp / c
-            insect.center_of_pressure * math.cos(am),       # |chordwise x_cp offset| / c
-            -(math.pi / 16.0) * insect.air_density * i04,   # damping torque / (...) both wings
-            insect.mu1 * insect.frequency, insect.mu2,
-        ))
+        values.update(
+            _partial_moments=_partial_span_moments(insect),
+            _r=_frozen(r),
+            _weights=_frozen(weights),
+            _weight_sums=_frozen(weights.sum(axis=0)),
+            _weight_moments=_frozen(r @ weights),
+            _consts=_load_constants(insect, alpha_m, i04),
+        )
+        for name, value in values.items():
+            object.__setattr__(self, name, value)
 
     @property
     def period(self) -> float:
         """Flapping period T [s]."""
         return self.insect.period
 
-    def loads(self, t, u, w, q, s=None) -> np.ndarray:
+    def loads(self, t: ArrayLike, u: ArrayLike, w: ArrayLike, q: ArrayLike,
+              s: ArrayLike | None = None) -> np.ndarray:
         """Total aerodynamic force and moment of both wings, (X, Z, M), eqs. (17)-(23) integrated.
 
         Parameters
@@ -461,35 +610,34 @@ class BladeElementModel:
         """
         if (isinstance(t, _REAL) and isinstance(u, _REAL) and isinstance(w, _REAL)
                 and isinstance(q, _REAL) and (s is None or isinstance(s, _REAL))):
+            # The fast path of ODE right-hand sides: the same checks as below, inline (a call
+            # into the validation module per evaluation would cost more than the loads).
             if not (math.isfinite(t) and math.isfinite(u) and math.isfinite(w)
                     and math.isfinite(q)):
-                raise ValueError(f"t and the state must be finite; got t={t!r}, "
-                                 f"(u, w, q)=({u!r}, {w!r}, {q!r})")
+                for name, value in (("t", t), ("u", u), ("w", w), ("q", q)):
+                    _validation.real(name, value)
             if s is None:
                 s = stroke_sign_scalar(t, self.insect.frequency)
             elif s != 1 and s != -1:
-                raise ValueError(f"stroke sign s must be +1 or -1; got {s!r}")
+                _stroke_signs(s)
             return np.array(self._loads(float(t), float(u), float(w), float(q), float(s)))
         # Arrays (or NumPy scalars): validate, broadcast, and evaluate point by point.
-        t, u, w, q = (np.asarray(v, dtype=float) for v in (t, u, w, q))
-        for name, value in (("t", t), ("u", u), ("w", w), ("q", q)):
-            if not np.all(np.isfinite(value)):
-                raise ValueError(f"{name} must be finite")
+        ta, ua, wa, qa = (_validation.array(n, v) for n, v in zip("tuwq", (t, u, w, q),
+                                                                   strict=True))
         if s is None:
-            s = _kinematic_stroke_sign(t, self.insect.frequency)
+            sa = _kinematic_stroke_sign(ta, self.insect.frequency)
         else:
-            s = np.asarray(s, dtype=float)
-            if not np.all((s == 1.0) | (s == -1.0)):
-                raise ValueError("stroke sign s must be +1 or -1")
-        t, u, w, q, s = np.broadcast_arrays(t, u, w, q, s)
-        out = np.empty((3,) + t.shape)
-        for index in np.ndindex(t.shape):
+            sa = _stroke_signs(_validation.array("s", s))
+        ta, ua, wa, qa, sa = np.broadcast_arrays(ta, ua, wa, qa, sa)
+        out = np.empty((3,) + ta.shape)
+        for index in np.ndindex(ta.shape):
             out[(slice(None),) + index] = self._loads(
-                float(t[index]), float(u[index]), float(w[index]), float(q[index]),
-                float(s[index]))
+                float(ta[index]), float(ua[index]), float(wa[index]), float(qa[index]),
+                float(sa[index]))
         return out
 
-    def _loads(self, t: float, u: float, w: float, q: float, s: float) -> tuple:
+    def _loads(self, t: float, u: float, w: float, q: float,
+               s: float) -> tuple[float, float, float]:
         """(X, Z, M) for trusted scalar inputs."""
         (omega_f, sin_2am, cos_2am, sin_am2, cos_am2, rho_a, rho_k, x_h, zh, xc, damping,
          mu1f, mu2) = self._consts
@@ -516,7 +664,7 @@ class BladeElementModel:
         # Span integrals: columns are the c, c^2, c^3 rules, then the same times r.
         A1 = (a1 @ W).tolist()
         B1 = (b1 @ W).tolist()
-        if piece is not None:
+        if piece is not None and sigma is not None:
             _add_sign_correction(A1, B1, self._partial_moments, self.insect.semi_span, piece,
                                  sigma, phi_dot, u_c, w_0, q_s, sin_2ag, sin_am2, cos_am2)
         # Rotational lift rho Gamma (w_eff, -U) with Gamma = c^2 k: linear in r, so integrated with
@@ -543,7 +691,8 @@ class BladeElementModel:
         return x_force, z_force, moment
 
 
-def _sign_split(phi_dot: float, u_c: float, s: float, R: float):
+def _sign_split(phi_dot: float, u_c: float, s: float,
+                R: float) -> tuple[float, tuple[float, bool] | None]:
     """Where U = phi_dot r + u_c changes sign on [0, R]: (sigma, piece).
 
     sigma is the sign of U on the larger part of the span; piece = (x, root) describes the
@@ -563,12 +712,16 @@ def _sign_split(phi_dot: float, u_c: float, s: float, R: float):
     return root_sign, (x, False)
 
 
-def _add_sign_correction(A1, B1, partial_moments, R, piece, sigma, phi_dot, u_c, w_0, q_s,
-                         sin_2ag, sin_am2, cos_am2) -> None:
+def _add_sign_correction(A1: list[float], B1: list[float],
+                         partial_moments: tuple[np.ndarray, np.ndarray, np.ndarray], R: float,
+                         piece: tuple[float, bool], sigma: float, phi_dot: float, u_c: float,
+                         w_0: float, q_s: float, sin_2ag: float, sin_am2: float,
+                         cos_am2: float) -> None:
     """Add to the span integrals A1, B1 (lists, in place; per rho A) of the small-angle LEV
-    coefficients computed with |U| := sigma U the correction on ``piece``, where |U| = -sigma U.
+    coefficients computed with ``|U|`` := sigma U the correction on ``piece``, where ``|U|`` =
+    -sigma U.
 
-    There |U| - sigma U = -2 sigma U, so the coefficients of :func:`_lev_coefficients` change by
+    There ``|U|`` - sigma U = -2 sigma U, so the coefficients of :func:`_lev_coefficients` change by
     Delta a = 2 sigma (sin^2(alpha_m) U^2 + sin(2 alpha_g) U w_eff / 2) and
     Delta b = 2 sigma (sin(2 alpha_g) U^2 / 2 + cos^2(alpha_m) U w_eff), quadratics in r whose
     integrals against c and c^2 over the piece are incomplete span moments (incomplete beta
@@ -593,13 +746,14 @@ def _add_sign_correction(A1, B1, partial_moments, R, piece, sigma, phi_dot, u_c,
 
 
 @functools.lru_cache(maxsize=32)
-def _cached_model(insect: Insect, alpha_m: float, amplitude: float | None, variant: str,
+def _cached_model(insect: Insect, alpha_m: float, amplitude: float, variant: str,
                   n_nodes: int) -> BladeElementModel:
     return BladeElementModel(insect, alpha_m, amplitude, variant, n_nodes)
 
 
-def wing_loads(t, state, insect: Insect, alpha_m: float, *, amplitude: float | None = None,
-               variant: Variant = "small-angle", stroke_sign=None, n_nodes: int = 32) -> np.ndarray:
+def wing_loads(t: ArrayLike, state: Sequence[Any], insect: Insect, alpha_m: float, *,
+               amplitude: float | None = None, variant: str = "small-angle",
+               stroke_sign: ArrayLike | None = None, n_nodes: int = 32) -> np.ndarray:
     """Aerodynamic force and pitching moment of both wings, (X, Z, M), nonlinear in the state.
 
     A thin wrapper around :meth:`BladeElementModel.loads` (models are memoised per argument set;
@@ -614,9 +768,9 @@ def wing_loads(t, state, insect: Insect, alpha_m: float, *, amplitude: float | N
         (u, w, q) or (u, w, q, theta) [m/s, m/s, rad/s, rad]; theta does not enter the loads.
     insect : Insect
     alpha_m : float
-        Mid-stroke angle of attack [rad] (e.g. :func:`trim_angle_of_attack`).
+        Mid-stroke angle of attack [rad] in (0, pi/2) (e.g. :func:`trim_angle_of_attack`).
     amplitude : float, optional
-        Stroke amplitude Phi [rad]; default ``insect.stroke_amplitude``.
+        Stroke amplitude Phi [rad] in (0, pi/2]; default ``insect.stroke_amplitude``.
     variant : {"small-angle", "exact"}
     stroke_sign : float, optional
         +1/-1, overrides the stroke sign from t (for evaluation at reversal / per segment).
@@ -631,46 +785,34 @@ def wing_loads(t, state, insect: Insect, alpha_m: float, *, amplitude: float | N
     Raises
     ------
     ValueError
-        Unknown variant, n_nodes < 2, non-finite time or state, a state of wrong length, or a
-        stroke sign other than +1/-1.
+        Unknown variant, n_nodes < 2, alpha_m or amplitude out of range, non-finite time or
+        state, a state of wrong length, or a stroke sign other than +1/-1.
     """
     if len(state) not in (3, 4):
-        raise ValueError(f"state must be (u, w, q) or (u, w, q, theta); got length {len(state)}")
-    if len(state) == 4 and not np.all(np.isfinite(state[3])):
-        raise ValueError(f"theta must be finite; got {state[3]!r}")
+        raise ValueError(
+            f"`state` must be (u, w, q) or (u, w, q, theta); got length {len(state)}")
+    if len(state) == 4:
+        _validation.array("theta", state[3])
     # NumPy scalars other than float64 (a float subclass) take the fast scalar path as floats.
-    u, w, q = (float(v) if isinstance(v, np.floating) else v for v in state[:3])
-    if isinstance(t, np.floating):
+    u, w, q = (float(v) if isinstance(v, (np.floating, np.integer)) else v for v in state[:3])
+    if isinstance(t, (np.floating, np.integer)):
         t = float(t)
-    try:
-        model = _cached_model(insect, alpha_m, amplitude, variant, n_nodes)
-    except TypeError:  # unhashable argument (e.g. an array): build it afresh
-        model = BladeElementModel(insect, alpha_m, amplitude, variant, n_nodes)
+    # Validated before the cache, so that the cache is keyed on floats (True == 1.0 as a key).
+    _validation.instance("insect", insect, Insect)
+    model = _cached_model(insect, check_alpha_m(alpha_m), _amplitude(insect, amplitude),
+                          _validation.choice("variant", variant, VARIANTS),
+                          _validation.integer("n_nodes", n_nodes, low=2))
     return model.loads(t, u, w, q, stroke_sign)
 
 
 # =========================================================================== validation helpers
-def _variant(variant) -> str:
-    if variant not in VARIANTS:
-        raise ValueError(f"variant must be one of {VARIANTS}; got {variant!r}")
-    return variant
+def _stroke_signs(s: Any) -> Any:
+    """``s`` if every entry is +1 or -1 (the stroke sign of eq. 11), else a ValueError."""
+    if not np.all((np.asarray(s) == 1.0) | (np.asarray(s) == -1.0)):
+        raise ValueError(f"the stroke sign `s` must be +1 or -1; got {s!r}")
+    return s
 
 
-def _node_count(n_nodes) -> int:
-    if isinstance(n_nodes, bool) or not isinstance(n_nodes, (int, np.integer)) or n_nodes < 2:
-        raise ValueError(f"n_nodes must be an integer >= 2; got {n_nodes!r}")
-    return int(n_nodes)
-
-
-def _alpha_m(alpha_m) -> float:
-    try:
-        value = float(alpha_m)
-    except (TypeError, ValueError):
-        raise ValueError(f"alpha_m must be a real number; got {alpha_m!r}") from None
-    if not (math.isfinite(value) and 0.0 <= value <= 0.5 * math.pi):
-        raise ValueError(f"alpha_m must lie in [0, pi/2] rad; got {alpha_m!r}")
-    return value
-
-
-def _amplitude(insect: Insect, amplitude) -> float:
+def _amplitude(insect: Insect, amplitude: object) -> float:
+    """The stroke amplitude, ``insect.stroke_amplitude`` when None, validated."""
     return check_amplitude(insect.stroke_amplitude if amplitude is None else amplitude)

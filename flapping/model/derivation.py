@@ -14,13 +14,18 @@ system rather than by hand, step by step so that the book can show each step:
 5. the stability derivatives, normalised as in eq. (29): X0, Z0 [N], M0 [N m]; X_u ... Z_q per unit
    mass; M_u ... M_q per unit pitch inertia.
 
-Stroke direction enters through s = sign(phi_dot) = +-1, constant on a half-stroke: |U| = s U near
+Stroke direction enters through s = sign(phi_dot) = +-1, constant on a half-stroke: ``|U|`` = s U
+near
 the zero state, sin(2 alpha_g) = s sin(2 alpha_m), cos(alpha_g) = s cos(alpha_m) with the
-geometric pitch alpha_g of eq. (11). The results are reported with |phi_dot| = s phi_dot.
+geometric pitch alpha_g of eq. (11). The results are reported with ``|phi_dot|`` = s phi_dot.
 
 The numeric model does not import SymPy: :func:`generate_source` prints the derivatives as plain
-NumPy code into ``flapping/model/_derivatives_generated.py``, which is committed, and a test checks that
-regenerating it gives the same text. Importing :mod:`flapping` never runs this derivation.
+NumPy code into ``flapping/model/_derivatives_generated.py``, which is committed, and a test checks
+that regenerating it gives the same text. Importing :mod:`flapping` never runs this derivation.
+
+Layering: this module imports the model's lower layers only (morphology, kinematics, and
+:mod:`flapping.model.aerodynamics`, which holds the K constants that :func:`evaluate` substitutes);
+the numeric :mod:`flapping.model.derivatives` sits above it and uses the generated code.
 """
 
 from __future__ import annotations
@@ -28,7 +33,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import lru_cache
 
+import numpy as np
 import sympy as sp
+from numpy.typing import ArrayLike
+
+import flapping._validation as _validation
+from flapping.model.aerodynamics import aero_constants, trim_angle_of_attack
+from flapping.model.kinematics import check_alpha_m, check_amplitude, flapping_angle, flapping_rate
+from flapping.model.morphology import Insect
 
 __all__ = [
     "DERIVATIVE_NAMES",
@@ -148,20 +160,34 @@ def section_loads() -> dict[str, sp.Expr]:
     F_xi = (-rho * A * c * U * absU * sp.sin(am) ** 2
             - sp.Rational(1, 2) * rho * A * c * absU * w_eff * sin2ag
             + rho * Gamma * w_eff)
-    Fz = -(sp.Rational(1, 2) * rho * A * c * (U * absU * sin2ag + 2 * absU * w_eff * sp.cos(am) ** 2)
+    Fz = -(sp.Rational(1, 2) * rho * A * c
+           * (U * absU * sin2ag + 2 * absU * w_eff * sp.cos(am) ** 2)
            + rho * U * Gamma)
     Fx = F_xi * sp.cos(phi)
     # eqs. (20)-(23): lift acts at the centre of pressure, x_hat c behind the hinge line.
     x_cp = S.x_h + r * sp.sin(phi) - S.x_hat * c * cosag * sp.cos(phi)
     z_cp = S.x_hat * c * sinag
-    tau = -sp.pi / 16 * rho * c**4 * (S.mu1 * S.f + S.mu2 * S.s_omega * Omega) * Omega  # Berman-Wang
+    # Berman and Wang's rotational damping torque
+    tau = -sp.pi / 16 * rho * c**4 * (S.mu1 * S.f + S.mu2 * S.s_omega * Omega) * Omega
     M = z_cp * Fx - x_cp * Fz + tau * sp.cos(phi)
     return {"U": U, "w_eff": w_eff, "Omega": Omega, "Gamma": Gamma, "F_xi": F_xi,
             "Fx": Fx, "Fz": Fz, "x_cp": x_cp, "z_cp": z_cp, "tau": tau, "M": M}
 
 
 def linearise(expr: sp.Expr) -> dict[str, sp.Expr]:
-    """Step 3: the constant term and the first derivatives in u, w, q at the zero state."""
+    """Step 3: the constant term and the first derivatives in u, w, q at the zero state (eq. 24-27).
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        A section load of :func:`section_loads`.
+
+    Returns
+    -------
+    dict
+        ``"0"``, ``"u"``, ``"w"``, ``"q"``: the value and the three partial derivatives at
+        u = w = q = 0, with s**2 = 1.
+    """
     S = symbols()
     zero = {S.u: 0, S.w: 0, S.q: 0}
     out = {"0": expr.subs(zero)}
@@ -171,7 +197,18 @@ def linearise(expr: sp.Expr) -> dict[str, sp.Expr]:
 
 
 def span_integrate(expr: sp.Expr) -> sp.Expr:
-    """Step 4a: 2 int_0^R (...) dr of a polynomial in r and c: r^m c^n -> I_mn."""
+    """Step 4a: 2 int_0^R (...) dr of a polynomial in r and c: r^m c^n -> I_mn (after eq. 29).
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        A polynomial in the symbols r and c (coefficients free of them).
+
+    Returns
+    -------
+    sympy.Expr
+        The expression with every monomial r^m c^n replaced by the span integral I_mn.
+    """
     S = symbols()
     poly = sp.Poly(sp.expand(expr), S.r, S.c)
     return sp.Add(*[coeff * S.I(m, n) for (m, n), coeff in poly.terms()])
@@ -239,7 +276,10 @@ def _tidy_coefficient(expr: sp.Expr) -> sp.Expr:
 
 
 def _to_abs(expr: sp.Expr) -> sp.Expr:
-    """Express the stroke sign through |phi_dot|: s phi_dot -> |phi_dot| (s^2 = 1, |phi_dot|^2 = phi_dot^2)."""
+    """Express the stroke sign through ``|phi_dot|``: s phi_dot -> ``|phi_dot|``.
+
+    Uses s^2 = 1 and ``|phi_dot|``^2 = phi_dot^2.
+    """
     S = symbols()
     a, pd = S.absphidot, S.phidot
     expr = sp.expand(sp.expand(expr).subs(S.s**2, 1).subs(S.s, a / pd))
@@ -304,7 +344,8 @@ def paper_derivatives() -> dict[str, sp.Expr]:
         "Mw": (2 * K(1, 2) * xt / Iy * pd * sp.cos(ph) * cos_a
                + 2 * K(2, 1) / Iy * ad * sp.sin(ph) * cos_a**2 + m * xh / Iy * Zw),
         "Mq": (2 * xt / Iy * ad * sp.cos(ph) * cos_a * (K(1, 2) * xh + K(2, 2) * sp.sin(ph))
-               + 1 / Iy * pd * sp.cos(ph) * (Kr(1, 3) * xt * cos_a * sp.cos(ph) + Kr(2, 2) * sp.sin(ph))
+               + 1 / Iy * pd * sp.cos(ph)
+               * (Kr(1, 3) * xt * cos_a * sp.cos(ph) + Kr(2, 2) * sp.sin(ph))
                + 2 / Iy * ad * cos_a**2 * sp.sin(ph) * (K(2, 1) * xh + K(3, 1) * sp.sin(ph))
                + S.Knu * S.mu1 * S.f / Iy * sp.cos(ph) ** 2 + m * xh / Iy * Zq),
     }
@@ -328,7 +369,7 @@ class TermComparison:
 
 
 def _same(a: sp.Expr, b: sp.Expr) -> bool:
-    """a == b on both half-strokes (|phi_dot| = s phi_dot with s = +1 and s = -1)."""
+    """a == b on both half-strokes (``|phi_dot|`` = s phi_dot with s = +1 and s = -1)."""
     S = symbols()
     for sign in (1, -1):
         diff = (a - b).subs(S.absphidot, sign * S.phidot)
@@ -365,7 +406,7 @@ def vanishing_symmetry(expr: sp.Expr) -> str:
 
     phi(t) = Phi cos(2 pi f t) is even about t = 0 and odd under the half-period shift, so an
     expression odd under time reversal (phi_dot -> -phi_dot, phi fixed) or under the half-period
-    shift (phi -> -phi, phi_dot -> -phi_dot) has zero cycle mean. |phi_dot| is even under both.
+    shift (phi -> -phi, phi_dot -> -phi_dot) has zero cycle mean. ``|phi_dot|`` is even under both.
 
     Returns
     -------
@@ -392,30 +433,43 @@ def vanishing_symmetry(expr: sp.Expr) -> str:
     return ""
 
 
-def evaluate(expr: sp.Expr, insect, t, *, alpha_m: float | None = None,
-             amplitude: float | None = None):
+def evaluate(expr: sp.Expr, insect: Insect, t: ArrayLike, *, alpha_m: float | None = None,
+             amplitude: float | None = None) -> np.ndarray:
     """Evaluate an expression of the derivation's symbols for ``insect`` at times ``t``.
 
     Any expression built from :func:`symbols` (a derivative of :func:`stability_derivatives`, a
     printed one of :func:`paper_derivatives`, a term group of :func:`compare_with_paper`) is
-    turned into numbers: phi, phi_dot, |phi_dot| from the stroke (eq. 39), alpha_m from the trim
+    turned into numbers: phi, phi_dot, ``|phi_dot|`` from the stroke (eq. 39), alpha_m from the trim
     (eq. 40) unless given, K_mn, Krot_mn, K_nu, x_hat, x_h, mu1, f, m, I_y from the insect.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        An expression in the symbols of :func:`symbols`.
+    insect : Insect
+        Supplies the constants.
+    t : array_like
+        Times [s].
+    alpha_m : float, optional
+        Mid-stroke angle of attack [rad] in (0, pi/2); default the trim of eq. (40).
+    amplitude : float, optional
+        Stroke amplitude Phi [rad] in (0, pi/2]; default ``insect.stroke_amplitude``.
 
     Returns
     -------
     numpy.ndarray
         The values, broadcast to the shape of ``t``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is outside its range (the message names it).
     """
-    import numpy as np
-
-    from flapping.model.aerodynamics import trim_angle_of_attack
-    from flapping.model.kinematics import flapping_angle, flapping_rate
-    from flapping.model.derivatives import aero_constants
-
+    _validation.instance("insect", insect, Insect)
     S = symbols()
-    amplitude = insect.stroke_amplitude if amplitude is None else amplitude
-    alpha_m = trim_angle_of_attack(insect) if alpha_m is None else alpha_m
-    t = np.asarray(t, dtype=float)
+    amplitude = check_amplitude(insect.stroke_amplitude if amplitude is None else amplitude)
+    alpha_m = check_alpha_m(trim_angle_of_attack(insect) if alpha_m is None else alpha_m)
+    t = _validation.array("t", t)
     phidot = flapping_rate(t, amplitude, insect.frequency)
     c = aero_constants(insect)
     values = {S.alpha_m: alpha_m, S.x_hat: c.x_hat, S.x_h: c.x_h, S.mu1: c.mu1, S.f: c.f,
@@ -448,10 +502,11 @@ def _numeric_names() -> dict[sp.Symbol, str]:
 
 
 def generate_source() -> str:
-    """Python source of ``flapping/model/_derivatives_generated.py`` (NumPy code, common subexpressions).
+    """Python source of ``flapping/model/_derivatives_generated.py`` (NumPy, common subexpressions).
 
     The generated function ``stability_derivatives(phi, phidot, absphidot, alpha_m, c)`` takes the
-    flapping angle and rate (arrays), |phi_dot|, the trim pitch alpha_m and a constants object ``c``
+    flapping angle and rate (arrays), ``|phi_dot|``, the trim pitch alpha_m and a constants object
+    ``c``
     with attributes K, Krot (5x5 arrays indexed [m, n]), Knu, x_hat, x_h, mu1, f, m, Iy.
     """
     derivs = stability_derivatives()
@@ -471,7 +526,7 @@ def generate_source() -> str:
 
         lines = [f"    {sym} = {show(e)}" for sym, e in replacements]
         lines.append("    return (")
-        lines += [f"        {show(e)},  # {name}" for name, e in zip(labels, reduced)]
+        lines += [f"        {show(e)},  # {name}" for name, e in zip(labels, reduced, strict=True)]
         lines.append("    )")
         return lines
 
@@ -508,7 +563,8 @@ def generate_source() -> str:
         "",
         "",
         "def stability_derivatives_scalar_with_amplitude(phi, phidot, absphidot, alpha_m, c):",
-        '    """The twelve derivatives and then Phi * d/dPhi of each (24 floats), for one phase."""',
+        '    """The twelve derivatives and then Phi * d/dPhi of each (24 floats), '
+        'for one phase."""',
         *body(math_printer, exprs + euler, list(DERIVATIVE_NAMES) + amp_labels),
     ]
     return "\n".join(lines) + "\n"

@@ -26,29 +26,49 @@ integrators that restart at :data:`~flapping.model.kinematics.HALF_STROKE_BREAKP
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Literal
+from typing import Any, Literal
 
 import numpy as np
 
+import flapping._numdiff as _numdiff
+import flapping._validation as _validation
 from flapping.model import _derivatives_generated as _gen
-from flapping.model.aerodynamics import BladeElementModel, trim_angle_of_attack
-from flapping.model.kinematics import (HALF_STROKE_BREAKPOINTS, check_amplitude, segment_stroke_sign,
-                                 stroke_sign)
+from flapping.model.aerodynamics import (
+    AeroConstants,
+    BladeElementModel,
+    aero_constants,
+    trim_angle_of_attack,
+)
+from flapping.model.kinematics import (
+    HALF_STROKE_BREAKPOINTS,
+    check_alpha_m,
+    check_amplitude,
+    segment_stroke_sign,
+    stroke_sign,
+)
 from flapping.model.morphology import Insect
-from flapping.model.derivatives import AeroConstants, aero_constants
 
 __all__ = ["STATE_NAMES", "AERODYNAMIC_MODELS", "LongitudinalDynamics"]
 
 #: Names of the state components, in order.
 STATE_NAMES: tuple[str, ...] = ("u", "w", "q", "theta")
-#: Aerodynamic models accepted by :class:`LongitudinalDynamics`.
-AERODYNAMIC_MODELS: tuple[str, ...] = ("linear", "small-angle", "exact")
-
 AerodynamicModel = Literal["linear", "small-angle", "exact"]
 
+#: Aerodynamic models accepted by :class:`LongitudinalDynamics`.
+AERODYNAMIC_MODELS: tuple[AerodynamicModel, ...] = ("linear", "small-angle", "exact")
 
-@dataclass(frozen=True)
+#: Central-difference steps of the blade-element Jacobians: 1e-6 max(1, |x_j|) for the states
+#: (near eps**(1/3) for unit-size states: accurate to ~1e-10) and 1e-7 Phi for the amplitude.
+_STATE_STEP = 1e-6
+_AMPLITUDE_STEP = 1e-7
+
+#: Blade-element models kept per LongitudinalDynamics at amplitudes other than its own.
+_MAX_BLADES = 8
+
+
+@dataclass(frozen=True, init=False)
 class LongitudinalDynamics:
     """Longitudinal flight dynamics of a flapping insect in the calling convention of ``solve_ivp``.
 
@@ -59,12 +79,23 @@ class LongitudinalDynamics:
     amplitude : float, optional
         Stroke amplitude Phi [rad], in (0, pi/2]; default ``insect.stroke_amplitude``.
     alpha_m : float, optional
-        Mean geometric angle of attack [rad]; default the trim of eq. (40) at the insect's nominal
-        stroke amplitude.
+        Mean geometric angle of attack [rad], in (0, pi/2); default the trim of eq. (40) at the
+        insect's nominal stroke amplitude.
     aerodynamics : {"linear", "small-angle", "exact"}
         Which aerodynamic model gives the loads (see the module docstring).
     n_nodes : int
-        Span quadrature nodes for the blade-element models.
+        Span quadrature nodes for the blade-element models, >= 2.
+
+    Attributes
+    ----------
+    insect, amplitude, alpha_m, aerodynamics, n_nodes
+        The arguments, validated (amplitude and alpha_m as floats, defaults filled in).
+
+    Raises
+    ------
+    ValueError
+        If an argument is outside its range (the message names it and the range), or, with
+        ``alpha_m=None``, if the insect is too heavy to trim (eq. 40).
 
     Examples
     --------
@@ -74,40 +105,37 @@ class LongitudinalDynamics:
     """
 
     insect: Insect
-    amplitude: float | None = None
-    alpha_m: float | None = None
-    aerodynamics: AerodynamicModel = "linear"
-    n_nodes: int = 32
+    amplitude: float
+    alpha_m: float
+    aerodynamics: str
+    n_nodes: int
     _constants: AeroConstants = field(init=False, repr=False, compare=False)
     _blade: BladeElementModel | None = field(init=False, repr=False, compare=False)
     # Last (t, amplitude) -> derivatives: rhs and jac are called at the same t by integrators of
     # the variational equations, and the derivatives are most of the cost of either.
-    _cache: list = field(init=False, repr=False, compare=False, default_factory=lambda: [None])
+    _cache: list[Any] = field(init=False, repr=False, compare=False)
     # Blade-element models at other amplitudes (shooting with Phi free evaluates a few of them
     # over and over; building one costs ~25 load evaluations). Bounded: oldest dropped first.
-    _blades: dict = field(init=False, repr=False, compare=False, default_factory=dict)
+    _blades: dict[float, BladeElementModel] = field(init=False, repr=False, compare=False)
 
-    def __post_init__(self) -> None:
-        if not isinstance(self.insect, Insect):
-            raise ValueError(f"insect must be an Insect; got {type(self.insect).__name__}")
-        amplitude = self.insect.stroke_amplitude if self.amplitude is None else self.amplitude
-        check_amplitude(amplitude)
-        object.__setattr__(self, "amplitude", float(amplitude))
-        if self.alpha_m is None:
-            object.__setattr__(self, "alpha_m",
-                               trim_angle_of_attack(self.insect, self.insect.stroke_amplitude))
-        alpha_m = float(self.alpha_m)
-        if not (math.isfinite(alpha_m) and 0.0 < alpha_m < math.pi / 2):
-            raise ValueError(f"alpha_m must lie in (0, pi/2) rad; got {self.alpha_m!r}")
-        object.__setattr__(self, "alpha_m", alpha_m)
-        if self.aerodynamics not in AERODYNAMIC_MODELS:
-            raise ValueError(f"aerodynamics must be one of {AERODYNAMIC_MODELS}; got {self.aerodynamics!r}")
-        object.__setattr__(self, "_constants", aero_constants(self.insect))
+    def __init__(self, insect: Insect, amplitude: float | None = None,
+                 alpha_m: float | None = None, aerodynamics: str = "linear",
+                 n_nodes: int = 32) -> None:
+        _validation.instance("insect", insect, Insect)
+        amplitude = check_amplitude(insect.stroke_amplitude if amplitude is None else amplitude)
+        if alpha_m is None:
+            alpha_m = trim_angle_of_attack(insect, insect.stroke_amplitude)
+        alpha_m = check_alpha_m(alpha_m)
+        aerodynamics = _validation.choice("aerodynamics", aerodynamics, AERODYNAMIC_MODELS)
+        n_nodes = _validation.integer("n_nodes", n_nodes, low=2)
         blade = None
-        if self.aerodynamics != "linear":
-            blade = BladeElementModel(self.insect, alpha_m, self.amplitude, self.aerodynamics,
-                                      self.n_nodes)
-        object.__setattr__(self, "_blade", blade)
+        if aerodynamics != "linear":
+            blade = BladeElementModel(insect, alpha_m, amplitude, aerodynamics, n_nodes)
+        values = dict(insect=insect, amplitude=amplitude, alpha_m=alpha_m,
+                      aerodynamics=aerodynamics, n_nodes=n_nodes,
+                      _constants=aero_constants(insect), _blade=blade, _cache=[None], _blades={})
+        for name, value in values.items():
+            object.__setattr__(self, name, value)
 
     # ---------------------------------------------------------------- basics
     @property
@@ -120,18 +148,50 @@ class LongitudinalDynamics:
         """Stroke reversals as fractions of the period, where the right-hand side is not smooth."""
         return HALF_STROKE_BREAKPOINTS
 
-    def with_amplitude(self, amplitude: float) -> "LongitudinalDynamics":
-        """The same model at another stroke amplitude (alpha_m kept)."""
+    def with_amplitude(self, amplitude: float) -> LongitudinalDynamics:
+        """The same model at another stroke amplitude (alpha_m kept).
+
+        Raises
+        ------
+        ValueError
+            If amplitude is outside (0, pi/2].
+        """
         return LongitudinalDynamics(self.insect, amplitude, self.alpha_m, self.aerodynamics,
                                     self.n_nodes)
 
     # ---------------------------------------------------------------- loads
     def derivatives(self, t: float, amplitude: float | None = None) -> tuple[float, ...]:
-        """(X0, Z0, M0, Xu, ..., Mq) at time t (scalar), normalised as in eq. (29)."""
+        """(X0, Z0, M0, Xu, ..., Mq) at time t (scalar), normalised as in eq. (29).
+
+        Parameters
+        ----------
+        t : float
+            Time [s] (trusted: called inside integrations).
+        amplitude : float, optional
+            Stroke amplitude [rad]; default the model's.
+
+        Returns
+        -------
+        tuple of 12 floats
+            In the order of :data:`flapping.model.derivatives.NAMES`.
+        """
         return self._derivatives_with_amplitude(t, amplitude)[:12]
 
     def amplitude_derivatives(self, t: float, amplitude: float | None = None) -> tuple[float, ...]:
-        """d/dPhi of (X0, Z0, M0, Xu, ..., Mq) at time t (from the generated code)."""
+        """d/dPhi of (X0, Z0, M0, Xu, ..., Mq) at time t (from the generated code).
+
+        Parameters
+        ----------
+        t : float
+            Time [s].
+        amplitude : float, optional
+            Stroke amplitude Phi [rad]; default the model's.
+
+        Returns
+        -------
+        tuple of 12 floats
+            The derivatives of :meth:`derivatives` with respect to Phi [per rad].
+        """
         amplitude = self.amplitude if amplitude is None else amplitude
         return tuple(v / amplitude for v in self._derivatives_with_amplitude(t, amplitude)[12:])
 
@@ -149,7 +209,7 @@ class LongitudinalDynamics:
         self._cache[0] = (key, values)
         return values
 
-    def loads(self, t: float, x, stroke: float | None = None,
+    def loads(self, t: float, x: Sequence[float] | np.ndarray, stroke: float | None = None,
               amplitude: float | None = None) -> np.ndarray:
         """Aerodynamic loads of both wings at time t and state x.
 
@@ -179,7 +239,8 @@ class LongitudinalDynamics:
         s = float(stroke_sign(t, self.insect.frequency)) if stroke is None else stroke
         return np.asarray(blade.loads(t, u, w, q, s), dtype=float)
 
-    def _eq29_accelerations(self, d, u: float, w: float, q: float) -> tuple[float, float, float]:
+    def _eq29_accelerations(self, d: Sequence[float], u: float, w: float,
+                            q: float) -> tuple[float, float, float]:
         """Loads of eq. (29) per unit mass / pitch inertia: X0/m + Xu u + Xw w + Xq q, etc."""
         c = self._constants
         return (d[0] / c.m + d[3] * u + d[4] * w + d[5] * q,
@@ -187,12 +248,13 @@ class LongitudinalDynamics:
                 d[2] / c.Iy + d[9] * u + d[10] * w + d[11] * q)
 
     def _blade_at(self, amplitude: float | None) -> BladeElementModel:
+        assert self._blade is not None, "only the blade-element models have a BladeElementModel"
         if amplitude is None or amplitude == self.amplitude:
             return self._blade
         amplitude = float(amplitude)
         blade = self._blades.get(amplitude)
         if blade is None:
-            if len(self._blades) >= 8:
+            if len(self._blades) >= _MAX_BLADES:
                 del self._blades[next(iter(self._blades))]
             blade = BladeElementModel(self.insect, self.alpha_m, amplitude, self.aerodynamics,
                                       self.n_nodes)
@@ -200,7 +262,7 @@ class LongitudinalDynamics:
         return blade
 
     # ---------------------------------------------------------------- vector field
-    def rhs(self, t: float, x, stroke: float | None = None,
+    def rhs(self, t: float, x: Sequence[float] | np.ndarray, stroke: float | None = None,
             amplitude: float | None = None) -> np.ndarray:
         """Right-hand side dx/dt of eq. (2) with the model's loads (eq. 29 for ``"linear"``).
 
@@ -218,6 +280,7 @@ class LongitudinalDynamics:
         Returns
         -------
         numpy.ndarray, shape (4,)
+            (u', w', q', theta') [m/s^2, m/s^2, rad/s^2, rad/s].
         """
         u, w, q, theta = float(x[0]), float(x[1]), float(x[2]), float(x[3])
         g, c = self.insect.gravity, self._constants
@@ -229,7 +292,7 @@ class LongitudinalDynamics:
             q,
         ])
 
-    def jac(self, t: float, x, stroke: float | None = None,
+    def jac(self, t: float, x: Sequence[float] | np.ndarray, stroke: float | None = None,
             amplitude: float | None = None) -> np.ndarray:
         """Jacobian d(dx/dt)/dx of :meth:`rhs` (eqs. 44-47).
 
@@ -251,18 +314,13 @@ class LongitudinalDynamics:
             aero = np.array([[d[3], d[4], d[5]], [d[6], d[7], d[8]], [d[9], d[10], d[11]]])
         else:
             # The blade-element loads have no closed-form derivative (span quadrature of |U|
-            # and atan2); central differences, step 1e-6 (near eps**(1/3) of unit-size states),
-            # are accurate to ~1e-10.
-            aero = np.empty((3, 3))
-            scale = np.array([1.0 / c.m, 1.0 / c.m, 1.0 / c.Iy])
-            for j in range(3):
-                h = 1e-6 * max(1.0, abs(float(x[j])))
-                xp = np.array([u, w, q], dtype=float)
-                xm = xp.copy()
-                xp[j] += h
-                xm[j] -= h
-                diff = self.loads(t, xp, stroke, amplitude) - self.loads(t, xm, stroke, amplitude)
-                aero[:, j] = diff * scale / (2.0 * h)
+            # and atan2): central differences of the loads (see _STATE_STEP).
+            # Scaled to per unit mass / inertia before the division by 2 h, as always done.
+            state = np.array([u, w, q])
+            h = _STATE_STEP * np.maximum(1.0, np.abs(state))
+            diff = _numdiff.central_differences(
+                lambda y: self.loads(t, y, stroke, amplitude), state, step=h)
+            aero = diff * np.array([[1.0 / c.m], [1.0 / c.m], [1.0 / c.Iy]]) / (2.0 * h)
         J = np.zeros((4, 4))
         J[:3, :3] = aero
         J[0, 1] -= q
@@ -274,24 +332,41 @@ class LongitudinalDynamics:
         J[3, 2] = 1.0
         return J
 
-    def amplitude_jac(self, t: float, x, stroke: float | None = None,
-                      amplitude: float | None = None) -> np.ndarray:
-        """d(dx/dt)/dPhi, shape (4, 1): analytic for ``"linear"``, central differences otherwise."""
+    def amplitude_jac(self, t: float, x: Sequence[float] | np.ndarray,
+                      stroke: float | None = None, amplitude: float | None = None) -> np.ndarray:
+        """d(dx/dt)/dPhi, the sensitivity of :meth:`rhs` to the stroke amplitude of eq. (39).
+
+        Analytic for ``"linear"`` (eq. 29 applied to the amplitude derivatives of the stability
+        derivatives); central differences with step 1e-7 Phi otherwise.
+
+        Parameters
+        ----------
+        t, x, stroke, amplitude
+            As for :meth:`rhs`.
+
+        Returns
+        -------
+        numpy.ndarray, shape (4, 1)
+        """
         amplitude = self.amplitude if amplitude is None else float(amplitude)
         if self.aerodynamics == "linear":
             u, w, q = float(x[0]), float(x[1]), float(x[2])
             # eq. (29) is linear in the derivatives, so d/dPhi applies it to their d/dPhi.
             acc = self._eq29_accelerations(self.amplitude_derivatives(t, amplitude), u, w, q)
             return np.array([[acc[0]], [acc[1]], [acc[2]], [0.0]])
-        h = 1e-7 * amplitude
-        return ((self.rhs(t, x, stroke, amplitude + h) - self.rhs(t, x, stroke, amplitude - h))
-                / (2.0 * h))[:, None]
+        return _numdiff.central_jacobian_nominal(
+            lambda p: self.rhs(t, x, stroke, p[0]), np.array([amplitude]),
+            step=_AMPLITUDE_STEP * amplitude)
 
-    def segment_functions(self) -> tuple[list[Callable], list[Callable]]:
+    def segment_functions(self) -> tuple[list[Callable[..., np.ndarray]],
+                                         list[Callable[..., np.ndarray]]]:
         """Per-half-stroke right-hand sides and Jacobians, smooth on each closed half-stroke.
 
-        Returns ``(rhs_list, jac_list)``: element k is used on segment k of the period split at
-        :attr:`breakpoints` (k = 0: backward stroke, k = 1: forward stroke).
+        Returns
+        -------
+        rhs_list, jac_list : list of callable
+            ``f(t, x)`` and ``J(t, x)`` per segment: element k is used on segment k of the period
+            split at :attr:`breakpoints` (k = 0: backward stroke, k = 1: forward stroke, eq. 11).
         """
         rhs, jac = [], []
         for k in range(len(self.breakpoints) + 1):

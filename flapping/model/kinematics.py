@@ -1,4 +1,4 @@
-"""Wing kinematics in hover: harmonic flapping in a horizontal stroke plane, piecewise-constant pitch.
+"""Wing kinematics in hover: harmonic flapping in a horizontal stroke plane, pitch fixed per stroke.
 
 phi(t) = Phi cos(2 pi f t) (eq. 39), phi > 0 forward. The stroke starts at the forward extreme, so
 the first half-period (0 < t < T/2) is the *backward* stroke (phi_dot < 0) and the second is the
@@ -8,6 +8,11 @@ The geometric pitch of the wing is constant within a half-stroke (alpha_dot = 0,
 and switches at reversal (eq. 11): alpha_m on the forward stroke, pi - alpha_m on the backward
 stroke. Right-hand sides built on these kinematics are smooth within each half-stroke only, so
 integrators should restart at :data:`HALF_STROKE_BREAKPOINTS`.
+
+The two kinematic parameters have one accepted range each, checked by :func:`check_amplitude` and
+:func:`check_alpha_m` wherever the model takes them (morphology, aerodynamics, derivatives,
+dynamics). The formula functions trust their inputs: they run inside integrations. This module
+imports nothing else from :mod:`flapping.model`.
 """
 
 from __future__ import annotations
@@ -15,6 +20,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
+import flapping._validation as _validation
 
 __all__ = [
     "HALF_STROKE_BREAKPOINTS",
@@ -26,6 +33,7 @@ __all__ = [
     "geometric_pitch",
     "reversed_flow_fraction",
     "check_amplitude",
+    "check_alpha_m",
 ]
 
 _SNAP = 1e-9  # phases this close to a reversal are taken to be at it
@@ -34,23 +42,58 @@ _SNAP = 1e-9  # phases this close to a reversal are taken to be at it
 HALF_STROKE_BREAKPOINTS: tuple[float, ...] = (0.5,)
 
 
-def check_amplitude(amplitude, name: str = "amplitude") -> float:
-    """Validate a stroke amplitude: a real number in (0, pi/2] rad; return it as a float.
+def check_amplitude(amplitude: object, name: str = "amplitude") -> float:
+    """Validate a stroke amplitude Phi of eq. (39): a real number in (0, pi/2] rad.
+
+    Beyond 90 deg the two wings would cross; at 0 the wing does not flap.
+
+    Parameters
+    ----------
+    amplitude : float
+        Stroke amplitude [rad] (any real scalar type; bools and strings are refused).
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    float
+        ``amplitude`` as a Python float.
 
     Raises
     ------
     ValueError
-        Naming ``name`` and the range: beyond 90 deg the two wings would cross.
+        Naming ``name`` and the range.
     """
-    try:
-        value = float(amplitude)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number; got {amplitude!r}") from None
-    if not (math.isfinite(value) and 0.0 < value <= math.pi / 2):
-        raise ValueError(
-            f"{name} must lie in (0, pi/2] rad (0 to 90 degrees: a larger stroke makes the wings "
-            f"cross); got {amplitude!r}")
-    return value
+    return _validation.real(name, amplitude, low=0.0, high=math.pi / 2, low_open=True,
+                            unit="rad")
+
+
+def check_alpha_m(alpha_m: object, name: str = "alpha_m") -> float:
+    """Validate a mid-stroke angle of attack alpha_m of eq. (11): a real number in (0, pi/2) rad.
+
+    At either end the wing makes no leading-edge-vortex lift (C_L = A sin(2 alpha) = 0, eq. 3):
+    at 0 it slices edgewise, at pi/2 it is broadside to the stroke, and eq. (40) has no trim.
+    The open interval is the one range used across the model.
+
+    Parameters
+    ----------
+    alpha_m : float
+        Mid-stroke angle of attack [rad] (any real scalar type; bools and strings are refused).
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    float
+        ``alpha_m`` as a Python float.
+
+    Raises
+    ------
+    ValueError
+        Naming ``name`` and the range.
+    """
+    return _validation.real(name, alpha_m, low=0.0, high=math.pi / 2, low_open=True,
+                            high_open=True, unit="rad")
 
 
 def flapping_angle(t: np.ndarray | float, amplitude: float, frequency: float) -> np.ndarray:
@@ -125,7 +168,20 @@ def stroke_sign(t: np.ndarray | float, frequency: float) -> np.ndarray:
 
 
 def stroke_sign_scalar(t: float, frequency: float) -> float:
-    """:func:`stroke_sign` for one float time, without NumPy (for ODE right-hand sides)."""
+    """:func:`stroke_sign` for one float time, without NumPy (for ODE right-hand sides).
+
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    frequency : float
+        Flapping frequency f [Hz].
+
+    Returns
+    -------
+    float
+        -1.0 on the backward half-stroke, +1.0 on the forward one (eq. 11).
+    """
     phase = (t * frequency) % 1.0
     snapped = round(phase * 2.0) / 2.0
     if abs(phase - snapped) < _SNAP:
@@ -173,7 +229,8 @@ def reversed_flow_fraction(radius: float, u: float, amplitude: float, frequency:
     """Fraction of the wingbeat in which the section at ``radius`` moves against its stroke.
 
     The chordwise velocity U = r phi_dot + u cos(phi) (eq. 9) has the sign of phi_dot except
-    where |r phi_dot| < |u cos(phi)|, near stroke reversal: there the linearisation's assumption
+    where ``|r phi_dot|`` < ``|u cos(phi)|``, near stroke reversal: there the linearisation's
+    assumption
     sign(U) = sign(phi_dot) fails. Uniform sampling of one period.
 
     Parameters
@@ -182,13 +239,28 @@ def reversed_flow_fraction(radius: float, u: float, amplitude: float, frequency:
         Radius of the section [m], >= 0.
     u : float
         Forward body speed [m/s].
-    amplitude, frequency : float
-        Stroke amplitude [rad] and flapping frequency [Hz].
+    amplitude : float
+        Stroke amplitude Phi [rad], in (0, pi/2].
+    frequency : float
+        Flapping frequency f [Hz], > 0.
     n_samples : int
-        Samples per period.
+        Samples per period, >= 1.
+
+    Returns
+    -------
+    float
+        The fraction, in [0, 1].
+
+    Raises
+    ------
+    ValueError
+        If an argument is outside its range (the message names it).
     """
-    if not radius >= 0.0:
-        raise ValueError(f"radius must be >= 0; got {radius!r}")
+    radius = _validation.nonnegative("radius", radius, unit="m")
+    u = _validation.real("u", u, unit="m/s")
+    amplitude = check_amplitude(amplitude)
+    frequency = _validation.positive("frequency", frequency, unit="Hz")
+    n_samples = _validation.integer("n_samples", n_samples, low=1)
     t = np.arange(n_samples) / (n_samples * frequency)
     phi = flapping_angle(t, amplitude, frequency)
     return float(np.mean(np.abs(radius * flapping_rate(t, amplitude, frequency))

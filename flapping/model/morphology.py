@@ -16,14 +16,34 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from scipy import special
 
+import flapping._validation as _validation
+from flapping.model.kinematics import check_amplitude
+
 __all__ = ["Insect", "hawkmoth", "beta_shape_parameters", "lev_lift_slope"]
 
 AspectRatioConvention = Literal["pair", "single"]
+
+#: The accepted aspect-ratio conventions of eq. (4) (see :class:`Insect`).
+ASPECT_RATIO_CONVENTIONS: tuple[AspectRatioConvention, ...] = ("pair", "single")
+
+#: Numeric fields of :class:`Insect`: (accepted range, unit). Ranges: "positive", "nonnegative",
+#: "fraction" (of the chord, [0, 1]), "real", "amplitude" (:func:`~.kinematics.check_amplitude`);
+#: r1 and r2 are checked together by :func:`beta_shape_parameters`.
+_FIELDS: dict[str, tuple[str, str]] = {
+    "semi_span": ("positive", "m"), "wing_area": ("positive", "m^2"),
+    "frequency": ("positive", "Hz"), "mass": ("positive", "kg"),
+    "pitch_inertia": ("positive", "kg m^2"), "air_density": ("positive", "kg/m^3"),
+    "a0": ("positive", "1/rad"), "gravity": ("nonnegative", "m/s^2"),
+    "mu1": ("nonnegative", ""), "mu2": ("nonnegative", ""),
+    "pitch_axis": ("fraction", ""), "center_of_pressure": ("fraction", ""),
+    "hinge_offset": ("real", "m"), "stroke_amplitude": ("amplitude", "rad"),
+    "r1": ("real", ""), "r2": ("real", ""),
+}
 
 
 def beta_shape_parameters(r1: float, r2: float) -> tuple[float, float]:
@@ -47,17 +67,12 @@ def beta_shape_parameters(r1: float, r2: float) -> tuple[float, float]:
     Raises
     ------
     ValueError
-        If r1 or r2 is outside the range for which a beta distribution exists.
+        If r1 or r2 is outside the range for which a beta distribution exists (the message names
+        the argument and the range).
     """
-    r1 = _finite("r1", r1)
-    r2 = _finite("r2", r2)
-    if not 0.0 < r1 < 1.0:
-        raise ValueError(f"r1 must lie in (0, 1); got r1={r1!r}")
-    if not r1 < r2 < math.sqrt(r1):
-        raise ValueError(
-            "r2 must lie in (r1, sqrt(r1)) for a beta chord distribution to exist; "
-            f"got r1={r1!r}, r2={r2!r}, allowed r2 in ({r1:.6g}, {math.sqrt(r1):.6g})"
-        )
+    r1 = _validation.real("r1", r1, low=0.0, high=1.0, low_open=True, high_open=True)
+    # r1 < r2: positive variance; r2 < sqrt(r1): a mean square below the mean (p, q > 0).
+    r2 = _validation.real("r2", r2, low=r1, high=math.sqrt(r1), low_open=True, high_open=True)
     variance = r2**2 - r1**2
     k = r1 * (1.0 - r1) / variance - 1.0
     return r1 * k, (1.0 - r1) * k
@@ -75,9 +90,19 @@ def lev_lift_slope(aspect_ratio: float, a0: float = 2.0 * math.pi) -> float:
         Aspect ratio AR > 0.
     a0 : float
         Two-dimensional lift-curve slope [1/rad], > 0. Default 2 pi.
+
+    Returns
+    -------
+    float
+        A (dimensionless), in (0, a0/2).
+
+    Raises
+    ------
+    ValueError
+        If aspect_ratio or a0 is not a positive real number.
     """
-    aspect_ratio = _positive("aspect_ratio", aspect_ratio)
-    a0 = _positive("a0", a0)
+    aspect_ratio = _validation.positive("aspect_ratio", aspect_ratio)
+    a0 = _validation.positive("a0", a0, unit="1/rad")
     x = math.pi * aspect_ratio
     return x / (2.0 * (1.0 + math.sqrt(1.0 + (x / a0) ** 2)))
 
@@ -125,6 +150,13 @@ class Insect:
         under the hinge line).
     mu1, mu2 : float
         Berman and Wang's rotational damping coefficients (dimensionless), >= 0. Default 0.2.
+
+    Raises
+    ------
+    ValueError
+        If a field is outside its range; the message names the field and the range. Numbers of
+        any real type (``int``, ``np.float32``, ``np.int64``, ...) are stored as Python floats;
+        bools and strings are refused.
     """
 
     name: str
@@ -148,28 +180,11 @@ class Insect:
     _shape: tuple[float, float] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        for name in ("semi_span", "wing_area", "frequency", "mass", "pitch_inertia",
-                     "air_density", "a0"):
-            _positive(name, getattr(self, name))
-        _nonnegative("gravity", self.gravity)
-        amplitude = _positive("stroke_amplitude", self.stroke_amplitude)
-        if amplitude > math.pi / 2:
-            raise ValueError(
-                "stroke_amplitude must lie in (0, pi/2] rad (0 to 90 degrees); "
-                f"got {amplitude!r} rad ({math.degrees(amplitude):.4g} deg)"
-            )
-        for name in ("pitch_axis", "center_of_pressure"):
-            value = _finite(name, getattr(self, name))
-            if not 0.0 <= value <= 1.0:
-                raise ValueError(f"{name} must lie in [0, 1] (fraction of chord); got {value!r}")
-        _finite("hinge_offset", self.hinge_offset)
-        _nonnegative("mu1", self.mu1)
-        _nonnegative("mu2", self.mu2)
-        if self.aspect_ratio_convention not in ("pair", "single"):
-            raise ValueError(
-                "aspect_ratio_convention must be 'pair' (2 R^2/S) or 'single' (R^2/S); "
-                f"got {self.aspect_ratio_convention!r}"
-            )
+        _validation.instance("name", self.name, str)
+        for name, (kind, unit) in _FIELDS.items():
+            object.__setattr__(self, name, _check_field(name, getattr(self, name), kind, unit))
+        _validation.choice("aspect_ratio_convention", self.aspect_ratio_convention,
+                           ASPECT_RATIO_CONVENTIONS)
         object.__setattr__(self, "_shape", beta_shape_parameters(self.r1, self.r2))
 
     # ----------------------------------------------------------------- geometry
@@ -233,8 +248,8 @@ class Insect:
         ValueError
             If the integral diverges for this planform (m + n(p-1) + 1 <= 0 or n(q-1) + 1 <= 0).
         """
-        m = _finite("m", m)
-        n = _finite("n", n)
+        m = _validation.real("m", m)
+        n = _validation.real("n", n)
         p, q = self._shape
         a = m + n * (p - 1.0) + 1.0
         b = n * (q - 1.0) + 1.0
@@ -250,8 +265,16 @@ class Insect:
         )
         return 2.0 * math.exp(log_value)
 
-    def with_(self, **changes) -> "Insect":
-        """A copy with some fields changed (validated again), e.g. ``hawkmoth().with_(hinge_offset=1e-3)``."""
+    def with_(self, **changes: Any) -> Insect:
+        """A copy with some fields changed (validated again).
+
+        E.g. ``hawkmoth().with_(hinge_offset=1e-3)``.
+
+        Raises
+        ------
+        ValueError
+            If a changed field is outside its range.
+        """
         return replace(self, **changes)
 
     def as_table(self) -> list[tuple[str, str, float, str]]:
@@ -277,7 +300,7 @@ class Insect:
         ]
 
 
-def hawkmoth(**overrides) -> Insect:
+def hawkmoth(**overrides: Any) -> Insect:
     """The hawkmoth *Manduca sexta* of the paper's appendix A.
 
     R = 51.9 mm, S = 947.8 mm^2 (one wing), r1 = 0.44, r2 = 0.525, f = 26.3 Hz, Phi = 60.5 deg,
@@ -286,8 +309,24 @@ def hawkmoth(**overrides) -> Insect:
     that the chord distribution has the stated area. The paper writes f = 26.5 Hz once, but its
     period T = 0.0380 s is 1/26.3 Hz. Choices the paper leaves open take the :class:`Insect`
     defaults and can be changed with keyword ``overrides``.
+
+    Parameters
+    ----------
+    **overrides
+        Any :class:`Insect` field, in SI units (e.g. ``mass=2e-3``).
+
+    Returns
+    -------
+    Insect
+
+    Raises
+    ------
+    ValueError
+        If an override is outside its field's range (see :class:`Insect`).
+    TypeError
+        If an override is not a field of :class:`Insect`.
     """
-    values = dict(
+    values: dict[str, Any] = dict(
         name="hawkmoth",
         semi_span=51.9e-3,
         wing_area=947.8e-6,
@@ -302,26 +341,14 @@ def hawkmoth(**overrides) -> Insect:
     return Insect(**values)
 
 
-# --------------------------------------------------------------------------- validation helpers
-def _finite(name: str, value: float) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number; got {value!r}") from None
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite; got {value!r}")
-    return value
-
-
-def _positive(name: str, value: float) -> float:
-    value = _finite(name, value)
-    if value <= 0.0:
-        raise ValueError(f"{name} must be > 0; got {value!r}")
-    return value
-
-
-def _nonnegative(name: str, value: float) -> float:
-    value = _finite(name, value)
-    if value < 0.0:
-        raise ValueError(f"{name} must be >= 0; got {value!r}")
-    return value
+def _check_field(name: str, value: object, kind: str, unit: str) -> float:
+    """One numeric field of :class:`Insect` as a float in its range (see :data:`_FIELDS`)."""
+    if kind == "positive":
+        return _validation.positive(name, value, unit=unit)
+    if kind == "nonnegative":
+        return _validation.nonnegative(name, value, unit=unit)
+    if kind == "fraction":
+        return _validation.real(name, value, low=0.0, high=1.0, unit="(fraction of the chord)")
+    if kind == "amplitude":
+        return check_amplitude(value, name)
+    return _validation.real(name, value, unit=unit)

@@ -16,6 +16,7 @@ from scipy import integrate
 from flapping.model.aerodynamics import (
     VARIANTS,
     BladeElementModel,
+    aero_constants,
     section_loads,
     span_quadrature,
     trim_angle_of_attack,
@@ -121,7 +122,7 @@ def test_exact_variant_quadrature_converges(phase, state):
     errors = [np.abs(BladeElementModel(insect, alpha_m, variant="exact", n_nodes=n).loads(
         t, *state) - reference).max() / scale for n in (4, 16, 64, 128)]
     assert errors[-1] < 1e-9
-    for coarse, fine in zip(errors, errors[1:]):     # monotone until rounding (1e-12) is reached
+    for coarse, fine in zip(errors, errors[1:], strict=False):     # monotone until rounding (1e-12) is reached
         assert fine <= max(coarse, 1e-12)
     assert errors[2] < max(1e-2 * errors[0], 1e-12)
 
@@ -400,10 +401,62 @@ def test_other_bad_inputs(moth, alpha_trim, kwargs, match):
         wing_loads(0.01, (0, 0, 0), moth, alpha_trim, **kwargs)
 
 
-@pytest.mark.parametrize("alpha_m", [-0.1, 2.0, math.nan])
+@pytest.mark.parametrize("alpha_m", [-0.1, 2.0, math.nan, 0.0, math.pi / 2, True, "0.3"])
 def test_bad_alpha_m(moth, alpha_m):
-    with pytest.raises(ValueError, match="alpha_m"):
+    # 0 and pi/2 were accepted here but refused by LongitudinalDynamics: one range now, (0, pi/2).
+    with pytest.raises(ValueError, match=r"`alpha_m` must be .*\(0, pi/2\) rad"):
         BladeElementModel(moth, alpha_m)
+    with pytest.raises(ValueError, match="`alpha_m`"):
+        section_loads(0.01, 0.01, 0.0, 100.0, 1.0, 0.0, 0.0, 0.0, alpha_m, moth)
+
+
+def test_wing_loads_refuses_a_bool_alpha_m_even_when_a_model_is_cached(moth):
+    # The model cache is keyed on its arguments and True == 1.0: validation comes first.
+    wing_loads(0.01, (0.0, 0.0, 0.0), moth, 1.0)
+    with pytest.raises(ValueError, match="`alpha_m`"):
+        wing_loads(0.01, (0.0, 0.0, 0.0), moth, True)
+
+
+def test_numpy_integer_node_count_is_accepted(moth, alpha_trim):
+    model = BladeElementModel(moth, alpha_trim, n_nodes=np.int64(12))
+    assert type(model.n_nodes) is int and model.n_nodes == 12
+    np.testing.assert_array_equal(model.loads(0.003, 0.1, 0.2, 3.0),
+                                  BladeElementModel(moth, alpha_trim, n_nodes=12).loads(
+                                      0.003, 0.1, 0.2, 3.0))
+    assert span_quadrature(moth, np.int32(12)) is span_quadrature(moth, 12)
+    with pytest.raises(ValueError, match="`n_nodes`"):
+        span_quadrature(moth, 12.0)
+
+
+def test_numpy_scalar_arguments_give_the_float64_loads(moth, alpha_trim):
+    t, state = np.float32(0.004), (0.1, -0.2, 3.0)
+    ref = wing_loads(float(t), state, moth, alpha_trim, amplitude=1.0)
+    got = wing_loads(t, (np.float64(0.1), np.float64(-0.2), np.int64(3)), moth,
+                     np.float64(alpha_trim), amplitude=np.float32(1.0))
+    assert got.dtype == np.float64
+    np.testing.assert_array_equal(got, ref)
+    model = BladeElementModel(moth, np.float32(0.3), amplitude=np.int64(1))
+    assert type(model.alpha_m) is float and type(model.amplitude) is float
+    assert model == BladeElementModel(moth, float(np.float32(0.3)), amplitude=1.0)
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(insect="hawkmoth"), "insect"),
+    (dict(variant=("exact",)), "variant"),
+    (dict(amplitude=True), "amplitude"),
+])
+def test_model_arguments_are_named(moth, alpha_trim, kwargs, name):
+    args = dict(insect=moth, alpha_m=alpha_trim) | kwargs
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        BladeElementModel(**args)
+
+
+@pytest.mark.parametrize("name, value", [("r", math.nan), ("phi_dot", "1"), ("q", [True])])
+def test_section_loads_name_the_bad_input(moth, alpha_trim, name, value):
+    args = dict(r=0.01, chord=0.01, phi=0.0, phi_dot=100.0, s=1.0, u=0.0, w=0.0, q=0.0) | {
+        name: value}
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        section_loads(*args.values(), alpha_trim, moth)
 
 
 def test_bad_state_length(moth, alpha_trim):
@@ -435,3 +488,22 @@ def test_scalar_and_array_loads_agree_at_stroke_reversal():
             scalar = model.loads(float(t), 0.3, 0.1, 0.5)
             array = model.loads(np.array(t), 0.3, 0.1, 0.5)
             np.testing.assert_array_equal(scalar, np.asarray(array).reshape(3))
+
+
+# ----------------------------------------------------------------------------- linearised loads
+def test_k_constants_use_the_closed_form_span_integrals(moth):
+    c = aero_constants(moth)
+    assert c.K[(2, 1)] == pytest.approx(
+        0.5 * moth.air_density * moth.lift_slope * 2 * moth.wing_area
+        * moth.semi_span**2 * moth.r2**2, rel=1e-12)
+    assert c.Knu == pytest.approx(math.pi / 16 * moth.air_density * moth.span_integral(0, 4))
+
+
+def test_root_singular_planform_needs_no_damping_integral_without_damping():
+    # p < 3/4 makes I_04 (rotational damping) diverge: allowed without damping, refused with it.
+    r1, r2 = 0.3, 0.4  # beta shape p ~ 0.6
+    light = hawkmoth(r1=r1, r2=r2, mu1=0.0, mu2=0.0)
+    assert light.beta_p < 0.75
+    assert aero_constants(light).Knu == 0.0
+    with pytest.raises(ValueError, match="mu1 = mu2 = 0"):
+        aero_constants(hawkmoth(r1=r1, r2=r2))

@@ -1,6 +1,5 @@
 """The SymPy derivation: reproducible generated code, and agreement with the blade-element model."""
 
-import math
 import subprocess
 import sys
 from pathlib import Path
@@ -10,8 +9,8 @@ import pytest
 
 import flapping
 from flapping.model.aerodynamics import BladeElementModel, trim_angle_of_attack
+from flapping.model.derivatives import stability_derivatives
 from flapping.model.dynamics import LongitudinalDynamics
-from flapping.model.derivatives import aero_constants, stability_derivatives
 
 sympy = pytest.importorskip("sympy")
 sp_sin = sympy.sin
@@ -76,22 +75,6 @@ def test_linearisation_error_shrinks_as_square_of_state(hawkmoth_models):
     ratios = np.array(errors[:-1]) / np.array(errors[1:])
     # Second-order remainder: halving the state quarters the error (within 10 %).
     np.testing.assert_allclose(ratios, 4.0, rtol=0.1)
-
-
-def test_cycle_mean_of_z0_balances_weight_at_trim():
-    insect = flapping.hawkmoth()
-    t = np.linspace(0.0, insect.period, 2048, endpoint=False)
-    mean_z0 = stability_derivatives(insect, t).cycle_mean()["Z0"]
-    assert mean_z0 / insect.mass == pytest.approx(-insect.gravity, rel=1e-12)
-
-
-def test_k_constants_use_the_closed_form_span_integrals():
-    insect = flapping.hawkmoth()
-    c = aero_constants(insect)
-    assert c.K[(2, 1)] == pytest.approx(
-        0.5 * insect.air_density * insect.lift_slope * 2 * insect.wing_area
-        * insect.semi_span**2 * insect.r2**2, rel=1e-12)
-    assert c.Knu == pytest.approx(math.pi / 16 * insect.air_density * insect.span_integral(0, 4))
 
 
 def test_paper_comparison_finds_the_dropped_cos_phi_in_x0():

@@ -1,9 +1,15 @@
 """Equations of motion: Jacobian, validation, and consistency between the aerodynamic models."""
 
+import math
+
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import flapping
+from flapping.model.aerodynamics import BladeElementModel
+from flapping.model.derivatives import stability_derivatives
 from flapping.model.dynamics import LongitudinalDynamics
 
 
@@ -63,6 +69,10 @@ def test_segment_functions_use_their_own_stroke_sign(insect):
     (dict(amplitude=float("nan")), "amplitude"),
     (dict(aerodynamics="quasi"), "aerodynamics"),
     (dict(alpha_m=2.0), "alpha_m"),
+    (dict(alpha_m=True), "alpha_m"),
+    (dict(amplitude="1.0"), "amplitude"),
+    (dict(n_nodes=1), "n_nodes"),
+    (dict(n_nodes=32.0), "n_nodes"),
 ])
 def test_bad_arguments_raise(insect, kwargs, match):
     with pytest.raises(ValueError, match=match):
@@ -75,31 +85,75 @@ def test_too_heavy_insect_cannot_trim():
         LongitudinalDynamics(heavy)
 
 
-def test_reversed_flow_fraction_grows_with_speed_and_vanishes_at_rest():
-    from flapping.model.kinematics import reversed_flow_fraction
+# ----------------------------------------------------------------------------- one range, float64
+@settings(max_examples=60, deadline=None)
+@given(alpha_m=st.one_of(st.sampled_from([0.0, math.pi / 2, -0.0, 1e-300, math.pi / 2 - 1e-15]),
+                         st.floats(-1.0, 2.0)))
+def test_alpha_m_range_is_the_same_for_every_model_that_takes_it(insect, alpha_m):
+    # BladeElementModel accepted [0, pi/2], LongitudinalDynamics (0, pi/2): now all (0, pi/2).
+    def accepts(build):
+        try:
+            build()
+        except ValueError as error:
+            assert "`alpha_m`" in str(error)
+            return False
+        return True
 
-    h = flapping.hawkmoth()
-    r = h.r2 * h.semi_span
-    fracs = [reversed_flow_fraction(r, u, h.stroke_amplitude, h.frequency) for u in (0.0, 0.1, 0.5)]
-    assert fracs[0] == 0.0 < fracs[1] < fracs[2] < 0.5
+    verdicts = {
+        "blade": accepts(lambda: BladeElementModel(insect, alpha_m, n_nodes=4)),
+        "dynamics": accepts(lambda: LongitudinalDynamics(insect, alpha_m=alpha_m)),
+        "derivatives": accepts(lambda: stability_derivatives(insect, [0.0], alpha_m=alpha_m)),
+    }
+    assert set(verdicts.values()) == {0.0 < alpha_m < math.pi / 2}, verdicts
 
 
-def test_root_singular_planform_needs_no_damping_integral_without_damping():
-    # p < 3/4 makes I_04 (rotational damping) diverge: allowed without damping, refused with it.
-    r1, r2 = 0.3, 0.4  # beta shape p ~ 0.6
-    light = flapping.hawkmoth(r1=r1, r2=r2, mu1=0.0, mu2=0.0)
-    assert flapping.model.morphology.beta_shape_parameters(r1, r2)[0] < 0.75
-    from flapping.model.derivatives import aero_constants
+@pytest.mark.parametrize("aerodynamics", ["linear", "small-angle"])
+@pytest.mark.parametrize("overrides", [
+    dict(mass=np.float32(1.648e-3)),               # the issue's reproducer (hover failed after 107 s)
+    dict(frequency=np.int64(26), pitch_inertia=np.float32(2.08e-7)),
+])
+def test_numpy_scalar_insect_gives_the_float64_equations_of_motion(overrides, aerodynamics):
+    # The float32 mass leaked into the derivatives; every field is now a float on entry, so the
+    # model is the one of the float64 values: rhs and jac identical, bit for bit.
+    as_float = flapping.hawkmoth(**{k: float(v) for k, v in overrides.items()})
+    as_numpy = flapping.hawkmoth(**overrides)
+    a = LongitudinalDynamics(as_float, aerodynamics=aerodynamics)
+    b = LongitudinalDynamics(as_numpy, aerodynamics=aerodynamics, amplitude=np.float32(1.0),
+                             n_nodes=np.int64(32))
+    a = a.with_amplitude(float(np.float32(1.0)))
+    assert type(b.alpha_m) is float and type(b.amplitude) is float and type(b.n_nodes) is int
+    x = np.array([0.1, -0.05, 0.7, 0.02])
+    for t in np.linspace(0.0, as_float.period, 7):
+        for method in ("rhs", "jac", "amplitude_jac"):
+            fa, fb = getattr(a, method)(t, x), getattr(b, method)(t, x)
+            assert fb.dtype == np.float64
+            np.testing.assert_array_equal(fb, fa)
 
-    assert aero_constants(light).Knu == 0.0
-    with pytest.raises(ValueError, match="mu1 = mu2 = 0"):
-        aero_constants(flapping.hawkmoth(r1=r1, r2=r2))
+
+def test_blade_element_jacobian_uses_the_documented_steps(insect):
+    # Central differences of the loads with steps 1e-6 max(1, |x_j|), divided by 2 h: the values
+    # the book's blade-element results were computed with.
+    model = LongitudinalDynamics(insect, aerodynamics="exact")
+    t, x = 0.3 * insect.period, np.array([0.4, -2.0, 3.0, 0.1])
+    u, w, q, _ = x
+    rigid_body = np.array([[0.0, -q, -w], [q, 0.0, u], [0.0, 0.0, 0.0]])   # eq. (2)
+    scale = np.array([insect.mass, insect.mass, insect.pitch_inertia])
+    J = model.jac(t, x)
+    for j in range(3):
+        h = 1e-6 * max(1.0, abs(x[j]))
+        xp, xm = x[:3].copy(), x[:3].copy()
+        xp[j] += h
+        xm[j] -= h
+        column = (model.loads(t, xp) - model.loads(t, xm)) * (1.0 / scale) / (2.0 * h)
+        # Bit for bit up to the one rounding of adding the rigid-body terms back.
+        np.testing.assert_allclose(J[:3, j] - rigid_body[:, j], column, rtol=0,
+                                   atol=np.spacing(np.abs(rigid_body[:, j]).max()))
 
 
-def test_stability_derivatives_reject_bad_alpha_m():
-    from flapping.model.derivatives import stability_derivatives
-
-    h = flapping.hawkmoth()
-    for bad in (float("nan"), -3.0, 2.0):
-        with pytest.raises(ValueError, match="alpha_m"):
-            stability_derivatives(h, [0.0], alpha_m=bad)
+def test_amplitude_jacobian_of_the_blade_element_model(insect):
+    model = LongitudinalDynamics(insect, aerodynamics="small-angle")
+    t, x = 0.2 * insect.period, np.array([0.1, 0.2, -1.0, 0.0])
+    h = 1e-7 * model.amplitude
+    expected = (model.rhs(t, x, amplitude=model.amplitude + h)
+                - model.rhs(t, x, amplitude=model.amplitude - h)) / (2.0 * h)
+    np.testing.assert_array_equal(model.amplitude_jac(t, x)[:, 0], expected)

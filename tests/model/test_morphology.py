@@ -160,3 +160,64 @@ def test_with_revalidates_and_insect_is_hashable(moth):
     assert moth.with_(mass=moth.mass) == moth
     assert hash(moth.with_(mass=moth.mass)) == hash(moth)
     assert isinstance(moth, Insect)
+
+
+# ----------------------------------------------------------------------------- types on entry
+NUMERIC_FIELDS = POSITIVE_FIELDS + ["gravity", "mu1", "mu2", "hinge_offset", "r1", "r2",
+                                    "pitch_axis", "center_of_pressure"]
+
+
+@pytest.mark.parametrize("value", ["0.001648", True, np.bool_(False), None, 1e-3 + 0j, [1e-3]])
+def test_mass_that_is_not_a_real_number_is_refused(value):
+    # "0.001648" was accepted and failed later with a TypeError; True was 1 kg.
+    with pytest.raises(ValueError, match=r"`mass` must be a real number in \(0, inf\) kg"):
+        hawkmoth(mass=value)
+
+
+@settings(max_examples=80, deadline=None)
+@given(name=st.sampled_from(NUMERIC_FIELDS),
+       value=st.sampled_from([True, False, "1", None, b"1", 1j]))
+def test_bools_strings_and_none_are_refused_naming_the_field(name, value):
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        hawkmoth(**{name: value})
+
+
+@pytest.mark.parametrize("convert", [np.float32, np.float64, np.array, float])
+def test_every_field_is_stored_as_a_python_float(moth, convert):
+    # A float32 mass used to leak into the derivatives (hover then failed after 107 s).
+    values = {name: convert(getattr(moth, name)) for name in NUMERIC_FIELDS}
+    insect = hawkmoth(**values)
+    for name in NUMERIC_FIELDS:
+        assert type(getattr(insect, name)) is float, name
+        assert getattr(insect, name) == float(convert(getattr(moth, name)))
+
+
+def test_numpy_integers_are_accepted_as_floats():
+    insect = hawkmoth(frequency=np.int64(26), gravity=np.int32(10), hinge_offset=np.int8(0))
+    assert (insect.frequency, insect.gravity, insect.hinge_offset) == (26.0, 10.0, 0.0)
+    assert all(type(v) is float for v in (insect.frequency, insect.gravity, insect.hinge_offset))
+    assert insect == hawkmoth(frequency=26.0, gravity=10.0, hinge_offset=0.0)
+
+
+def test_float32_insect_equals_and_hashes_as_its_float64_value():
+    m32 = np.float32(1.648e-3)
+    assert hawkmoth(mass=m32) == hawkmoth(mass=float(m32))
+    assert hash(hawkmoth(mass=m32)) == hash(hawkmoth(mass=float(m32)))
+
+
+def test_name_must_be_a_string():
+    with pytest.raises(ValueError, match="`name`"):
+        hawkmoth(name=1)
+
+
+@pytest.mark.parametrize("m, n", [(True, 1), ("1", 1), (1, None)])
+def test_span_integral_orders_must_be_numbers(moth, m, n):
+    with pytest.raises(ValueError, match="`[mn]`"):
+        moth.span_integral(m, n)
+
+
+def test_lift_slope_arguments_are_checked():
+    with pytest.raises(ValueError, match="`aspect_ratio`"):
+        lev_lift_slope(0.0)
+    with pytest.raises(ValueError, match="`a0`"):
+        lev_lift_slope(5.0, a0=True)
