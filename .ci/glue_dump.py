@@ -23,8 +23,8 @@ def dump(folder: Path) -> dict[str, dict[str, str]]:
         for name, out in json.loads(path.read_text()).items():
             data = {k.removeprefix("application/papermill.record/"): v
                     for k, v in out.get("data", {}).items()}
-            text = next((data[k] for k in ("text/markdown", "text/latex", "text/plain") if k in data),
-                        None)
+            text = next((data[k] for k in ("text/markdown", "text/latex", "text/plain")
+                         if k in data), None)
             if any(k.startswith("image/") for k in data):
                 text = "<figure>"
             chapter[name] = "".join(text) if isinstance(text, list) else str(text)

@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from flapping.model.morphology import Insect
 from flapping.model.derivatives import stability_derivatives
+from flapping.model.morphology import Insect
 
 __all__ = [
     "APPENDIX_MEAN_CHORD_MM",
@@ -52,7 +52,8 @@ FIG6_PANEL4_TICKS = (6.332, 6.336)
 FIG6_Q_TICK_MAX = 20.0
 
 #: Table 1, the initial guess (u [m/s], w [m/s], q [rad/s], theta [rad], h [m/s]).
-TABLE1_GUESS = {"u": 0.1, "w": 0.1, "q": 0.1 * math.pi / 180, "theta": 0.1 * math.pi / 180, "h": 2.0}
+TABLE1_GUESS = {"u": 0.1, "w": 0.1, "q": 0.1 * math.pi / 180, "theta": 0.1 * math.pi / 180,
+                "h": 2.0}
 
 #: Table 2, the initial state of the periodic orbit as printed (units not stated in the table;
 #: Fig. 6 labels u, w in m/s and q in "m/sec"; theta = 6.3345 is 2 pi + 0.0513 if in radians).

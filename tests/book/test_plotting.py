@@ -6,8 +6,7 @@ import sys
 import numpy as np
 import pytest
 
-import flapping
-from flapping.book import plotting
+from flapping.book import plotting, style
 
 matplotlib = pytest.importorskip("matplotlib")
 matplotlib.use("Agg")
@@ -22,30 +21,12 @@ def _close_figures():
     plt.close("all")
 
 
-def test_importing_plotting_does_not_import_matplotlib():
+def test_importing_the_book_helpers_does_not_import_matplotlib():
     # matplotlib is not a dependency of the package: the module must import without it.
-    code = "import sys, flapping, flapping.book.plotting; print('matplotlib' in sys.modules)"
+    code = ("import sys, flapping, flapping.book.plotting, flapping.book.schematic, "
+            "flapping.book.style, flapping.book.tables; print('matplotlib' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
-
-
-def test_each_state_and_load_has_its_own_colour():
-    colours = list(plotting.STATE_COLORS.values()) + list(plotting.LOAD_COLORS.values())
-    assert len(set(colours)) == len(colours)
-    assert set(plotting.STATE_COLORS) == set(plotting.STATE_NAMES) == set(plotting.STATE_LABELS)
-
-
-def test_derivative_takes_the_colour_of_its_state_or_load():
-    assert plotting.derivative_color("Mw") == plotting.STATE_COLORS["w"]
-    assert plotting.derivative_color("Z0") == plotting.LOAD_COLORS["Z"]
-    with pytest.raises(ValueError, match="name"):
-        plotting.derivative_color("Xtheta")
-
-
-def test_draw_insect_model_returns_a_figure_with_three_panels():
-    fig = plotting.draw_insect_model(flapping.hawkmoth())
-    assert isinstance(fig, Figure)
-    assert len(fig.axes) == 3
 
 
 def test_plot_states_overlays_on_given_axes():
@@ -74,7 +55,7 @@ def test_plot_loads_and_load_models():
 
 def test_plot_derivatives_and_relative_difference():
     t = np.linspace(0.0, 0.038, 30)
-    values = {name: np.sin(t + k) for k, name in enumerate(plotting.DERIVATIVE_LABELS)}
+    values = {name: np.sin(t + k) for k, name in enumerate(style.DERIVATIVE_LABELS)}
     fig = plotting.plot_derivatives(t, values, ["Xu", "Zw", "Mq", "M0"], period=0.038)
     assert isinstance(fig, Figure)
     assert sum(ax.get_visible() for ax in fig.axes) == 4
@@ -91,21 +72,3 @@ def test_plot_multipliers_keeps_the_unit_circle_in_view():
     assert lo <= -1.0 and hi >= 1.03
     assert plotting.plot_multipliers(2.5, ax=ax, circle=False, marker="x") is ax
     assert ax.get_xlim()[1] >= 2.5
-
-
-def test_markdown_table_has_one_line_per_row_and_escapes_pipes():
-    text = plotting.markdown_table(["a", "b"], [[1, "x|y"], [2, 3]], align="lr")
-    lines = text.splitlines()
-    assert len(lines) == 4 and lines[1] == "|:--|--:|"
-    assert r"x\|y" in lines[2]
-    with pytest.raises(ValueError, match="cells"):
-        plotting.markdown_table(["a", "b"], [[1]])
-
-
-def test_latex_aligned_breaks_long_sums():
-    sympy = pytest.importorskip("sympy")
-    x = sympy.symbols("x0:7")
-    text = plotting.latex_aligned({"y": sympy.Add(*x), "z": r"\alpha"}, terms_per_line=3)
-    assert text.startswith(r"\begin{aligned}") and text.endswith(r"\end{aligned}")
-    assert text.count(r"&\qquad") == 2        # 7 terms, 3 per line: two continuation lines
-    assert r"z &= \alpha" in text

@@ -1,0 +1,23 @@
+"""Markdown tables and LaTeX aligned blocks for glue."""
+
+import pytest
+
+from flapping.book import tables
+
+
+def test_markdown_table_has_one_line_per_row_and_escapes_pipes():
+    text = tables.markdown_table(["a", "b"], [[1, "x|y"], [2, 3]], align="lr")
+    lines = text.splitlines()
+    assert len(lines) == 4 and lines[1] == "|:--|--:|"
+    assert r"x\|y" in lines[2]
+    with pytest.raises(ValueError, match="cells"):
+        tables.markdown_table(["a", "b"], [[1]])
+
+
+def test_latex_aligned_breaks_long_sums():
+    sympy = pytest.importorskip("sympy")
+    x = sympy.symbols("x0:7")
+    text = tables.latex_aligned({"y": sympy.Add(*x), "z": r"\alpha"}, terms_per_line=3)
+    assert text.startswith(r"\begin{aligned}") and text.endswith(r"\end{aligned}")
+    assert text.count(r"&\qquad") == 2        # 7 terms, 3 per line: two continuation lines
+    assert r"z &= \alpha" in text
