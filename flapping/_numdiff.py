@@ -16,7 +16,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-__all__ = ["central_jacobian", "central_step"]
+__all__ = ["central_jacobian", "central_step", "central_jacobian_nominal", "forward_jacobian",
+           "central_differences"]
 
 _EPS = float(np.finfo(float).eps)
 
@@ -52,3 +53,103 @@ def central_jacobian(
         # divide by the representable difference, not 2h: removes the rounding of x +- h
         columns.append((np.asarray(f(xp)) - np.asarray(f(xm))) / (xp[j] - xm[j]))
     return np.stack(columns, axis=-1)
+
+
+def central_differences(
+    f: Callable[[np.ndarray], np.ndarray],
+    x: np.ndarray,
+    step: np.ndarray | float,
+) -> np.ndarray:
+    """The undivided central differences ``f(x + h_j e_j) - f(x - h_j e_j)``, shape ``(m, n)``.
+
+    For callers that scale the differences before dividing by ``2 h_j`` (as the insect model's
+    Jacobian, which divides the loads by the mass), so that their values stay bit for bit those
+    they had before this module existed.
+
+    Parameters
+    ----------
+    f : callable
+        ``f(x) -> array of shape (m,)``.
+    x : ndarray, shape (n,)
+        Where to differentiate.
+    step : float or ndarray
+        Absolute steps ``h_j`` per component. ``2 n`` evaluations of ``f``.
+
+    Returns
+    -------
+    ndarray, shape (m, n)
+        Column j is the difference across component j.
+    """
+    x = np.asarray(x, dtype=float)
+    h = np.broadcast_to(np.asarray(step, float), x.shape)
+    columns = []
+    for j in range(x.size):
+        xp, xm = x.copy(), x.copy()
+        xp[j] += h[j]
+        xm[j] -= h[j]
+        columns.append(np.asarray(f(xp)) - np.asarray(f(xm)))
+    return np.stack(columns, axis=-1)
+
+
+def central_jacobian_nominal(
+    f: Callable[[np.ndarray], np.ndarray],
+    x: np.ndarray,
+    step: np.ndarray | float,
+) -> np.ndarray:
+    """Central differences ``(f(x + h_j e_j) - f(x - h_j e_j)) / (2 h_j)``, shape ``(m, n)``.
+
+    As :func:`central_jacobian` with given steps, but divided by the nominal ``2 h_j`` rather
+    than the representable difference of the two points. The insect model's amplitude
+    derivative (:meth:`flapping.model.dynamics.LongitudinalDynamics.amplitude_jac`) was written
+    this way before this module existed; this form keeps its values, and every number derived
+    from them, bit for bit.
+
+    Parameters
+    ----------
+    f : callable
+        ``f(x) -> array of shape (m,)``.
+    x : ndarray, shape (n,)
+        Where to differentiate.
+    step : float or ndarray
+        Absolute steps ``h_j`` per component. ``2 n`` evaluations of ``f``.
+
+    Returns
+    -------
+    ndarray, shape (m, n)
+    """
+    h = np.broadcast_to(np.asarray(step, float), np.shape(x))
+    return central_differences(f, x, h) / (2.0 * h)
+
+
+def forward_jacobian(
+    f: Callable[[np.ndarray], np.ndarray],
+    x: np.ndarray,
+    fx: np.ndarray,
+) -> np.ndarray:
+    """Forward-difference Jacobian with MINPACK ``lmdif``'s steps ``sqrt(eps) |x_j|``.
+
+    The paper's Jacobian of the shooting residual (each column one more shooting integration,
+    so one evaluation per column rather than two); step ``sqrt(eps)`` where ``x_j = 0``.
+
+    Parameters
+    ----------
+    f : callable
+        ``f(x) -> array of shape (m,)``.
+    x : ndarray, shape (n,)
+        Where to differentiate.
+    fx : ndarray, shape (m,)
+        ``f(x)``, already known.
+
+    Returns
+    -------
+    ndarray, shape (m, n)
+    """
+    x = np.asarray(x, dtype=float)
+    J = np.empty((np.asarray(fx).size, x.size))
+    for j in range(x.size):
+        h = _EPS ** 0.5 * abs(x[j]) or _EPS ** 0.5
+        xp = x.copy()
+        xp[j] += h
+        # divide by the representable step, not h: removes the rounding of x + h
+        J[:, j] = (np.asarray(f(xp)) - fx) / (xp[j] - x[j])
+    return J

@@ -24,7 +24,7 @@ import numpy as np
 
 __all__ = [
     "real", "positive", "nonnegative", "integer", "choice", "vector", "matrix",
-    "finite_output",
+    "finite_output", "array", "instance", "tolerances", "real_vector",
 ]
 
 T = TypeVar("T")
@@ -134,6 +134,20 @@ def vector(name: str, value: Any, *, size: int | None = None) -> np.ndarray:
     return x
 
 
+def real_vector(name: str, value: Any, *, size: int | None = None) -> np.ndarray:
+    """Like :func:`vector`, but booleans and strings are refused.
+
+    ``[True, False]`` or ``["1", "2"]`` would otherwise pass as numbers through ``float()``.
+    """
+    try:
+        kind = np.asarray(value).dtype.kind
+    except (TypeError, ValueError):
+        kind = "O"
+    if kind not in "iuf":
+        raise ValueError(f"`{name}` must be an array of real numbers; got {value!r}")
+    return vector(name, value, size=size)
+
+
 def matrix(name: str, value: Any, *, square: bool = False) -> np.ndarray:
     """A finite 2-D float64 (or complex128, if complex) copy of ``value``."""
     x = np.array(value)
@@ -156,3 +170,35 @@ def finite_output(name: str, value: np.ndarray, t: float, x: Sequence[float] | n
         raise ValueError(
             f"`{name}` returned a non-finite value at t = {t!r}, x = {np.asarray(x)!r}: "
             f"{np.asarray(value)!r}")
+
+
+def array(name: str, value: Any) -> np.ndarray:
+    """A finite float64 array of any shape (0-d included) from ``value``, or a ValueError.
+
+    For arguments that broadcast (times, states, radii); bools and strings are refused as in
+    :func:`real`.
+    """
+    try:
+        x = np.asarray(value)
+    except (TypeError, ValueError):  # ragged nested sequences
+        raise ValueError(f"`{name}` must be an array of real numbers; got {value!r}") from None
+    if x.dtype.kind not in "iuf":
+        raise ValueError(
+            f"`{name}` must be an array of real numbers; got {value!r} (dtype {x.dtype})")
+    x = x.astype(float)
+    if not np.all(np.isfinite(x)):
+        raise ValueError(f"`{name}` must be finite; got {value!r}")
+    return x
+
+
+def instance(name: str, value: T, cls: type) -> T:
+    """``value`` if it is an instance of ``cls``, else a ValueError naming ``name`` and the type."""
+    if not isinstance(value, cls):
+        raise ValueError(
+            f"`{name}` must be a {cls.__name__}; got {value!r} ({type(value).__name__})")
+    return value
+
+
+def tolerances(rtol: Any, atol: Any) -> tuple[float, float]:
+    """``(rtol, atol)`` of an integration as positive floats, or a ValueError naming the bad one."""
+    return positive("rtol", rtol), positive("atol", atol)

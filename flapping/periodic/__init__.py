@@ -2,15 +2,30 @@
 
 - :mod:`~flapping.periodic.integrate`: flows and variational flows (state-transition matrices),
   piecewise-smooth right-hand sides restarted at breakpoints;
+- :mod:`~flapping.periodic.rk4`: the paper's fixed-step RK4 as a scipy ``OdeSolver``;
 - :mod:`~flapping.periodic.shooting`: periodic orbits by the optimized (Levenberg-Marquardt)
   shooting method;
 - :mod:`~flapping.periodic.floquet`: monodromy matrices and Floquet multipliers;
 - :mod:`~flapping.periodic.testproblems`: Lorenz, Roessler and a forced oscillator.
 
+Conventions, the same in every module: time along the last axis (as ``solve_ivp``'s ``y``);
+counters ``nfev``, ``njev``, ``nit`` as scipy names them; ``rtol``, ``atol``, ``method``,
+``rk4_steps`` and ``max_steps`` wherever something is integrated; arguments checked once, at the
+public functions, numbers converted to float64 and bools or strings refused. Every integration
+checks that ``fun`` and ``jac`` return finite values and has a step budget, so a NaN or a stiff
+problem fails with a message instead of hanging.
+
 This subpackage imports nothing from :mod:`flapping.model`; other projects can reuse it alone.
+(``_segments`` and ``_problem`` are package-internal modules: the integration driver and the
+shooting problem that the public modules share.)
 """
 
-from flapping.periodic.floquet import monodromy
-from flapping.periodic.shooting import find_periodic_orbit
+from flapping.periodic.floquet import Monodromy, monodromy
+from flapping.periodic.integrate import FlowResult, VariationalFlow, flow, variational_flow
+from flapping.periodic.rk4 import RK4
+from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
 
-__all__ = ["find_periodic_orbit", "monodromy"]
+__all__ = [
+    "find_periodic_orbit", "PeriodicOrbit", "monodromy", "Monodromy", "flow", "FlowResult",
+    "variational_flow", "VariationalFlow", "RK4",
+]

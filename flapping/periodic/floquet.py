@@ -8,8 +8,8 @@ the unit circle.
 
 Accuracy. ``M`` of a dissipative orbit is nearly singular: on the Lorenz orbit AB its smallest
 multiplier is ~1e-10 against ~5 for the largest. ``eig(M)`` then returns the small multipliers
-with an absolute error ~``tol * |M|``, i.e. with few or no correct digits, and ``det(M)`` is just
-as wrong. We therefore integrate ``M`` as a product of ``n_sub`` well-conditioned factors
+with an absolute error of about ``tol * |M|``, i.e. with few or no correct digits, and ``det(M)``
+is just as wrong. We therefore integrate ``M`` as a product of ``n_sub`` well-conditioned factors
 ``M = Phi_K ... Phi_1`` (the period split into equal sub-intervals, breakpoints respected) and
 compute
 
@@ -21,6 +21,16 @@ compute
 
 Liouville's formula ``det M = exp(int_0^T trace J dt)`` checks both, with the trace integrated as
 an extra quadrature state along the orbit.
+
+Overflow. A strongly unstable orbit can have multipliers beyond the float range (``x' = 50 x``
+over ``T = 20``: ``exp(1000)``). The factors stay finite; their product, ``det M``, Liouville's
+``exp(trace_integral)`` and the large multipliers are then reported as ``inf`` with a
+``RuntimeWarning`` (no ``OverflowError``), while ``trace_integral`` and the exponents, computed
+from the logarithms of the periodic QR, stay finite. A zero multiplier has the exponent
+``-inf``.
+
+Conventions as in :mod:`flapping.periodic.integrate` (time along the last axis: the factors are
+``(n, n, K)``; ``nfev``/``njev``; ``rtol``/``atol``/``max_steps``; arguments checked once).
 """
 
 from __future__ import annotations
@@ -29,19 +39,14 @@ import math
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from scipy.integrate import OdeSolver
 
+import flapping._validation as check
 from flapping.errors import ConvergenceError
-from flapping.periodic.integrate import (
-    _check_breakpoints,
-    _check_method,
-    _check_period,
-    _check_rk4_steps,
-    _check_state,
-    _check_tolerances,
-    variational_flow,
-)
+from flapping.periodic import _segments as seg
 
 __all__ = [
     "FloquetAccuracyWarning",
@@ -77,17 +82,19 @@ class Monodromy:
     trace_integral : float
         ``int_0^T trace J dt``, integrated along the orbit.
     liouville_det : float
-        ``exp(trace_integral)``, Liouville's prediction of ``det M``.
+        ``exp(trace_integral)``, Liouville's prediction of ``det M`` (``inf`` on overflow).
     liouville_error : float
-        ``|det - liouville_det| / |liouville_det|``.
+        ``|det - liouville_det| / |liouville_det|`` (from the logarithms when either value
+        overflows or underflows).
     x_end : ndarray, shape (n,)
         State after one period (closure check: equals ``x0`` on a periodic orbit).
     closure_error : float
         ``|x_end - x0|`` (Euclidean).
     period : float
         The period used.
-    factors : ndarray, shape (K, n, n)
-        Sub-interval state-transition matrices, ``M = factors[-1] @ ... @ factors[0]``.
+    factors : ndarray, shape (n, n, K)
+        Sub-interval state-transition matrices in time order (time along the last axis),
+        ``M = factors[..., -1] @ ... @ factors[..., 0]``.
     multiplier_method : str
         ``"periodic-qr"`` or ``"eig"`` (fallback: complex pair or equal moduli).
     nfev : int
@@ -129,7 +136,7 @@ def _warn_if_inaccurate(mu: np.ndarray, stacklevel: int = 3) -> None:
         )
 
 
-def floquet_multipliers(matrix) -> np.ndarray:
+def floquet_multipliers(matrix: Any) -> np.ndarray:
     """Eigenvalues of a monodromy matrix, sorted by modulus (descending), eq. (67).
 
     Parameters
@@ -152,15 +159,17 @@ def floquet_multipliers(matrix) -> np.ndarray:
     FloquetAccuracyWarning
         When a multiplier's modulus is below machine epsilon times the largest.
     """
-    M = np.asarray(matrix, dtype=float)
-    if M.ndim != 2 or M.shape[0] != M.shape[1] or M.size == 0 or not np.all(np.isfinite(M)):
-        raise ValueError(f"`matrix` must be a finite square matrix, got shape {M.shape}")
+    M = check.matrix("matrix", matrix, square=True)
+    if np.iscomplexobj(M):
+        raise ValueError("`matrix` must be a real square matrix (a monodromy matrix)")
+    if M.size == 0:
+        raise ValueError("`matrix` must be a finite square matrix; got shape (0, 0)")
     mu = _sort_by_modulus(np.linalg.eigvals(M).astype(complex))
     _warn_if_inaccurate(mu)
     return mu
 
 
-def floquet_exponents(multipliers, period: float) -> np.ndarray:
+def floquet_exponents(multipliers: Any, period: float) -> np.ndarray:
     """Floquet exponents ``log(mu) / T`` (principal branch of the complex logarithm).
 
     Parameters
@@ -173,20 +182,25 @@ def floquet_exponents(multipliers, period: float) -> np.ndarray:
     Returns
     -------
     ndarray, complex
-        Exponents; the real parts are the orbit's Lyapunov exponents.
+        Exponents; the real parts are the orbit's Lyapunov exponents. A zero multiplier gives
+        ``-inf`` (real part; imaginary part its argument over T), an infinite one ``+inf``.
 
     Raises
     ------
     ValueError
         For a non-positive period.
     """
-    T = _check_period(period)
+    T = check.positive("period", period)
     mu = np.asarray(multipliers, dtype=complex)
-    with np.errstate(divide="ignore"):
-        return np.log(mu) / T
+    with np.errstate(divide="ignore", invalid="ignore"):
+        exponents = np.asarray(np.log(mu) / T)
+        bad = ~np.isfinite(exponents)
+        if np.any(bad):  # log(0) = -inf and log(inf) = inf: real and imaginary parts apart
+            exponents[bad] = np.log(np.abs(mu[bad])) / T + 1j * (np.angle(mu[bad]) / T)
+    return exponents
 
 
-def trivial_multiplier(multipliers) -> int:
+def trivial_multiplier(multipliers: Any) -> int:
     """Index of the multiplier closest to 1 (the trivial one of an autonomous orbit).
 
     Parameters
@@ -203,26 +217,42 @@ def trivial_multiplier(multipliers) -> int:
     return int(np.argmin(np.abs(np.asarray(mu, dtype=complex) - 1.0)))
 
 
-def nontrivial_multipliers(multipliers) -> np.ndarray:
-    """The multipliers without the trivial one (closest to 1), in the same order."""
+def nontrivial_multipliers(multipliers: Any) -> np.ndarray:
+    """The multipliers without the trivial one (closest to 1), in the same order.
+
+    Parameters
+    ----------
+    multipliers : array_like or Monodromy
+        Multipliers, or a :class:`Monodromy`.
+
+    Returns
+    -------
+    ndarray, complex
+        The ``n - 1`` others.
+    """
     mu = multipliers.multipliers if isinstance(multipliers, Monodromy) else np.asarray(multipliers)
     return np.delete(np.asarray(mu, dtype=complex), trivial_multiplier(mu))
 
 
-def _periodic_qr(factors: np.ndarray, M: np.ndarray, max_sweeps: int = 200):
+def _periodic_qr(factors: Sequence[np.ndarray], M: np.ndarray,
+                 max_sweeps: int = 200) -> tuple[np.ndarray, np.ndarray] | None:
     """Multipliers from the periodic QR (orthogonal) iteration on ``M = F_K ... F_1``.
 
-    Returns the real multipliers sorted by modulus, or None when the iteration does not reach
-    the periodic Schur form (complex pair, equal moduli). Started from an orthonormal basis of
-    the eigenvectors of ``M`` (sorted by modulus) so that it usually converges in a sweep or two:
-    the dominant directions of ``M`` are accurate even when its small eigenvalues are not.
+    Returns the real multipliers sorted by modulus and the logarithms of their moduli (finite
+    even when the multipliers overflow), or None when the iteration does not reach the
+    periodic Schur form (complex pair, equal moduli). Started from an orthonormal basis of
+    the eigenvectors of ``M`` (sorted by modulus) so that it usually converges in a sweep or
+    two: the dominant directions of ``M`` are accurate even when its small eigenvalues are not;
+    from the identity when ``M`` overflowed.
     """
     n = M.shape[0]
-    lam, vec = np.linalg.eig(M)
-    if np.any(np.abs(lam.imag) > 0):
-        return None
-    order = np.argsort(-np.abs(lam))
-    Q, _ = np.linalg.qr(vec[:, order].real)
+    if np.all(np.isfinite(M)):
+        lam, vec = np.linalg.eig(M)
+        if np.any(np.abs(lam.imag) > 0):
+            return None
+        Q, _ = np.linalg.qr(vec[:, np.argsort(-np.abs(lam))].real)
+    else:
+        Q = np.eye(n)
     for _ in range(max_sweeps):
         Q_start = Q
         log_diag = np.zeros(n)
@@ -231,31 +261,148 @@ def _periodic_qr(factors: np.ndarray, M: np.ndarray, max_sweeps: int = 200):
             d = np.diag(R).copy()
             if np.any(d == 0.0):
                 return None
-            s = np.sign(d)
-            Q = Q * s  # make diag(R) positive: the QR factors are then unique
+            Q = Q * np.sign(d)  # make diag(R) positive: the QR factors are then unique
             log_diag += np.log(np.abs(d))
         C = Q_start.T @ Q  # M Q_start = Q R  =>  Q_start^T M Q_start = C R
         if np.max(np.abs(np.tril(C, -1))) < 64 * _EPS * n:
-            signs = np.sign(np.diag(C))
-            mu = signs * np.exp(log_diag)
-            return mu[np.argsort(-np.abs(mu), kind="stable")]
+            with np.errstate(over="ignore"):
+                mu = np.sign(np.diag(C)) * np.exp(log_diag)
+            key = np.abs(mu) if np.all(np.isfinite(mu)) else log_diag
+            order = np.argsort(-key, kind="stable")
+            return mu[order], log_diag[order]
     return None
 
 
+def _check_monodromy(x0: Any, period: Any, method: Any, rtol: Any, atol: Any, rk4_steps: Any,
+                     max_steps: Any, breakpoints: Any, n_sub: Any, max_cond: Any
+                     ) -> tuple[np.ndarray, float, seg.Settings, tuple[float, ...], int, float,
+                                float | None]:
+    """Arguments of :func:`monodromy`, checked: ``(x0, T, settings, breakpoints, n_sub,
+    max_cond, h)``."""
+    x = check.real_vector("x0", x0)
+    T = check.positive("period", period)
+    settings = seg.check_settings(method, rtol, atol, rk4_steps, max_steps)
+    b = seg.check_breakpoints(breakpoints)
+    n_sub = check.integer("n_sub", n_sub, low=1)
+    if not (isinstance(max_cond, (float, np.floating)) and max_cond == math.inf):
+        max_cond = check.real("max_cond", max_cond, low=1.0, low_open=True)
+    if settings.fixed_step and settings.rk4_steps % n_sub:
+        raise ValueError(f"with method='RK4', `rk4_steps` ({settings.rk4_steps}) must be a "
+                         f"multiple of `n_sub` ({n_sub})")
+    h = seg.fixed_step(settings, 0.0, T, T, b)
+    return x, T, settings, b, n_sub, float(max_cond), h
+
+
+@dataclass
+class _Factors:
+    """The sub-interval factors of M in time order, with the trace integral and the counts."""
+
+    matrices: list[np.ndarray]
+    trace_integral: float
+    x_end: np.ndarray
+    nfev: int
+    njev: int
+
+
+def _factorise(funs: Sequence[Callable[..., Any]], jacs: Sequence[Callable[..., Any] | None],
+               x: np.ndarray, T: float, *, args: tuple[Any, ...], settings: seg.Settings,
+               h: float | None, breakpoints: tuple[float, ...], n_sub: int,
+               max_cond: float) -> _Factors:
+    """Sub-intervals integrated in time order from ``Phi = I``; one whose factor is
+    ill-conditioned (cond > max_cond) is bisected and redone, so that every factor keeps nearly
+    all its digits."""
+    pending = [(T * k / n_sub, T * (k + 1) / n_sub) for k in range(n_sub)]
+    out = _Factors([], 0.0, x, 0, 0)
+    h_rk4 = T / settings.rk4_steps
+    pjacs = (None,) * len(funs)
+    while pending:
+        a, b = pending.pop(0)
+        var = seg.variational(funs, jacs, pjacs, float(a), float(b), out.x_end, args=args,
+                              params=None, trace=True, settings=settings, h=h, period=T,
+                              breakpoints=breakpoints, t_out=(float(b),))
+        out.nfev += var.nfev
+        out.njev += var.njev
+        if not var.success:
+            raise ConvergenceError(
+                f"the orbit could not be integrated over [{a:.6g}, {b:.6g}]: {var.message}")
+        F = var.stm_end
+        steps = round((b - a) / h_rk4)
+        splittable = (b - a) > T * 2.0**-12 and (not settings.fixed_step or steps % 2 == 0)
+        if splittable and np.linalg.cond(F) > max_cond:
+            m = a + 0.5 * (b - a)
+            pending[:0] = [(a, m), (m, b)]
+            continue
+        out.matrices.append(F)
+        assert var.trace_integral is not None
+        out.trace_integral += float(var.trace_integral[-1])
+        out.x_end = var.x_end
+    return out
+
+
+def _exp_or_inf(value: float) -> float:
+    """``exp(value)``, ``inf`` instead of OverflowError."""
+    try:
+        return math.exp(value)
+    except OverflowError:
+        return math.inf
+
+
+def _determinants(factors: Sequence[np.ndarray], trace_integral: float
+                  ) -> tuple[float, float, float]:
+    """``det M`` (product of the factors'), Liouville's ``exp(trace)``, and their relative
+    difference (from the logarithms when either is not a normal float)."""
+    signs_logs = [np.linalg.slogdet(F) for F in factors]
+    sign = float(np.prod([s for s, _ in signs_logs]))
+    log_det = float(sum(l for _, l in signs_logs))
+    det = sign * _exp_or_inf(log_det)
+    liouville = _exp_or_inf(trace_integral)
+    if math.isfinite(det) and math.isfinite(liouville) and liouville:
+        error = abs(det - liouville) / abs(liouville)
+    else:
+        error = abs(math.expm1(min(log_det - trace_integral, 700.0))) if sign > 0 else math.inf
+    if not (math.isfinite(det) and math.isfinite(liouville)):
+        warnings.warn(
+            f"monodromy: det M = exp({log_det:.6g}) and/or Liouville's exp({trace_integral:.6g}) "
+            "overflow float64: reported as inf (trace_integral and the exponents keep the "
+            "logarithms)", RuntimeWarning, stacklevel=3)
+    return det, liouville, error
+
+
+def _multipliers(factors: Sequence[np.ndarray], M: np.ndarray, T: float
+                 ) -> tuple[np.ndarray, np.ndarray, str]:
+    """Multipliers, exponents and how the multipliers were computed."""
+    qr = _periodic_qr(factors, M)
+    if qr is not None:
+        mu, log_abs = qr[0].astype(complex), qr[1]
+        exponents = floquet_exponents(mu, T)
+        big = ~np.isfinite(mu)
+        exponents[big] = log_abs[big] / T + 1j * (np.angle(mu[big]) / T)
+        return mu, exponents, "periodic-qr"
+    if not np.all(np.isfinite(M)):
+        raise ConvergenceError(
+            "the monodromy matrix overflows float64 and the periodic QR iteration on its "
+            "factors did not converge (complex pair or equal moduli): integrate over a "
+            "shorter span or rescale the problem")
+    mu = _sort_by_modulus(np.linalg.eigvals(M).astype(complex))
+    _warn_if_inaccurate(mu, stacklevel=4)
+    return mu, floquet_exponents(mu, T), "eig"
+
+
 def monodromy(
-    fun: Callable | Sequence[Callable],
-    x0,
+    fun: Callable[..., Any] | Sequence[Callable[..., Any]],
+    x0: Any,
     period: float,
     *,
-    jac: Callable | Sequence[Callable] | None = None,
+    jac: Callable[..., Any] | Sequence[Callable[..., Any]] | None = None,
     breakpoints: Sequence[float] = (),
-    method: str = "DOP853",
+    method: str | type[OdeSolver] = "DOP853",
     rtol: float = 1e-12,
     atol: float = 1e-12,
     rk4_steps: int = 1024,
+    max_steps: int | None = None,
     n_sub: int = 4,
     max_cond: float = 100.0,
-    args: tuple = (),
+    args: tuple[Any, ...] = (),
 ) -> Monodromy:
     """Monodromy matrix, Floquet multipliers and Liouville check of a periodic orbit (eqs. 42-49).
 
@@ -271,8 +418,8 @@ def monodromy(
     jac : callable or sequence of callables, optional
         Analytic ``df/dx(t, x, *args)``; default central finite differences of ``fun`` at every
         evaluation (relative error ~ eps**(2/3) in the variational equations).
-    breakpoints, method, rtol, atol, rk4_steps
-        As in :func:`flapping.periodic.integrate.flow`.
+    breakpoints, method, rtol, atol, rk4_steps, max_steps
+        As in :func:`flapping.periodic.integrate.flow` (``max_steps``: per sub-interval).
     n_sub : int, optional
         Initial number of equal sub-intervals of the period, each integrated from ``Phi = I``
         (see the module notes); with RK4, ``rk4_steps`` must be a multiple of it.
@@ -292,71 +439,35 @@ def monodromy(
     Raises
     ------
     ValueError
-        For a bad argument.
+        For a bad argument, or ``fun``/``jac`` returning a wrong shape or a non-finite value.
+    ConvergenceError
+        If the orbit could not be integrated (the integrator gave up, the step budget ran out:
+        the message suggests what to try, or the state overflowed).
 
     Warns
     -----
     FloquetAccuracyWarning
         When the multipliers come from ``eig(M)`` and one is below eps times the largest.
+    RuntimeWarning
+        When ``det M`` or Liouville's ``exp(trace_integral)`` overflows (reported as inf).
     """
-    x = _check_state(x0)
-    T = _check_period(period)
-    method = _check_method(method)
-    _check_tolerances(rtol, atol)
-    rk4_steps = _check_rk4_steps(rk4_steps)
-    breakpoints = _check_breakpoints(breakpoints)
-    if isinstance(n_sub, bool) or int(n_sub) != n_sub or n_sub < 1:
-        raise ValueError(f"`n_sub` must be a positive integer, got {n_sub!r}")
-    n_sub = int(n_sub)
-    if not (max_cond > 1.0):
-        raise ValueError(f"`max_cond` must be > 1, got {max_cond!r}")
-    if method == "RK4" and rk4_steps % n_sub:
-        raise ValueError(f"with method='RK4', `rk4_steps` ({rk4_steps}) must be a multiple of `n_sub` ({n_sub})")
-    # Sub-intervals, integrated in time order from Phi = I; one whose factor is ill-conditioned
-    # (cond > max_cond) is bisected and redone, so that every factor keeps nearly all its digits.
-    h_rk4 = T / rk4_steps
-    pending = [(T * k / n_sub, T * (k + 1) / n_sub) for k in range(n_sub)]
-    factors, trace_total, nfev, njev = [], 0.0, 0, 0
-    xi = x
-    while pending:
-        a, b = pending.pop(0)
-        var = variational_flow(fun, jac, (float(a), float(b)), xi, breakpoints=breakpoints,
-                               period=T, method=method, rtol=rtol, atol=atol,
-                               rk4_steps=rk4_steps, trace=True, args=args)
-        nfev += var.nfev
-        njev += var.njev
-        if not var.success:
-            raise ConvergenceError(
-                f"the orbit could not be integrated over [{a:.6g}, {b:.6g}]: {var.message}")
-        F = var.stm_end
-        steps = round((b - a) / h_rk4)
-        splittable = (b - a) > T * 2.0**-12 and (method != "RK4" or steps % 2 == 0)
-        if splittable and np.linalg.cond(F) > max_cond:
-            m = a + 0.5 * (b - a)
-            pending[:0] = [(a, m), (m, b)]
-            continue
-        factors.append(F)
-        trace_total += float(var.trace_integral[-1])
-        xi = var.x_end
-    factors = np.array(factors)
+    x, T, settings, breakpoints, n_sub, max_cond, h = _check_monodromy(
+        x0, period, method, rtol, atol, rk4_steps, max_steps, breakpoints, n_sub, max_cond)
+    n_seg = len(breakpoints) + 1
+    funs = seg.segment_callables(fun, n_seg, "fun")
+    jacs = (None,) * n_seg if jac is None else seg.segment_callables(jac, n_seg, "jac")
+    parts = _factorise(funs, jacs, x, T, args=tuple(args), settings=settings, h=h,
+                       breakpoints=breakpoints, n_sub=n_sub, max_cond=max_cond)
     M = np.eye(x.size)
-    for F in factors:
-        M = F @ M
-    signs_logs = [np.linalg.slogdet(F) for F in factors]
-    det = float(np.prod([s for s, _ in signs_logs]) * math.exp(sum(l for _, l in signs_logs)))
-    mu = _periodic_qr(factors, M)
-    if mu is not None:
-        mu = mu.astype(complex)
-        how = "periodic-qr"
-    else:
-        mu = _sort_by_modulus(np.linalg.eigvals(M).astype(complex))
-        _warn_if_inaccurate(mu)
-        how = "eig"
-    liouville = math.exp(trace_total)
+    with np.errstate(over="ignore", invalid="ignore"):
+        for F in parts.matrices:
+            M = F @ M
+    det, liouville, error = _determinants(parts.matrices, parts.trace_integral)
+    mu, exponents, how = _multipliers(parts.matrices, M, T)
     return Monodromy(
-        matrix=M, multipliers=mu, exponents=floquet_exponents(mu, T), det=det,
-        trace_integral=trace_total, liouville_det=liouville,
-        liouville_error=abs(det - liouville) / abs(liouville) if liouville else math.inf,
-        x_end=xi, closure_error=float(np.linalg.norm(xi - x)), period=T, factors=factors,
-        multiplier_method=how, nfev=nfev, njev=njev,
+        matrix=M, multipliers=mu, exponents=exponents, det=det,
+        trace_integral=parts.trace_integral, liouville_det=liouville, liouville_error=error,
+        x_end=parts.x_end, closure_error=float(np.linalg.norm(parts.x_end - x)), period=T,
+        factors=np.stack(parts.matrices, axis=-1), multiplier_method=how, nfev=parts.nfev,
+        njev=parts.njev,
     )

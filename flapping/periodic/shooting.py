@@ -21,32 +21,45 @@ integration, step ``2**-10`` of a period):
   breakpoint (stroke reversal) are integrated one smooth segment at a time.
 
 The paper's method is available as ``jacobian="finite-difference", method="RK4"``.
+
+Structure: :func:`find_periodic_orbit` checks its arguments once and builds a
+:class:`~flapping.periodic._problem.ShootingProblem` (unknowns <-> ``(x0, T, p)``, residual,
+Jacobian, counters); Levenberg-Marquardt solves it; the answer and its diagnostics come back as a
+:class:`PeriodicOrbit`.
+
+Phase condition. An autonomous system's orbit can be started anywhere on it, so one more
+condition than the periodicity residuals is needed. ``fixed`` (a component held: a Poincare
+section), ``n_points >= 2`` or an ``extra_residual`` provide it; with none of them, the plain call
+``find_periodic_orbit(fun, x0, period)`` holds the component of ``x0`` along which the vector
+field at the guess is largest (the coordinate plane through the guess most transversal to the
+flow). :attr:`PeriodicOrbit.phase_condition` says which was used.
+
+No false successes. Every autonomous residual also vanishes at an equilibrium (any T) and as
+``T -> 0``. An answer whose vector field satisfies ``|f(x0)| T <= sqrt(eps) max(1, |x0|,
+|x0_guess|)`` (the state would move by less than the shooting's accuracy over a period) is refused
+as an equilibrium, and a period below ``min_period`` as the collapse ``T -> 0``: both raise
+:class:`~flapping.errors.ConvergenceError`, never ``success=True``.
+
+Conventions as in :mod:`flapping.periodic.integrate`: counters ``nfev`` (evaluations of ``fun``),
+``njev`` (of ``jac``/``param_jac``), ``nit`` (Levenberg-Marquardt iterations); ``rtol``,
+``atol``, ``method``, ``rk4_steps``, ``max_steps`` for the integrations; arguments checked once.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
+from scipy.integrate import OdeSolver
 from scipy.optimize import least_squares
 
+import flapping._validation as check
 from flapping.errors import ConvergenceError
-from flapping.periodic.integrate import (
-    _check_breakpoints,
-    _check_method,
-    _check_period,
-    _check_rk4_steps,
-    _check_state,
-    _check_tolerances,
-    _Counted,
-    _Counter,
-    _FunP,
-    _propagate,
-    _segment_callables,
-    variational_flow,
-)
+from flapping.periodic import _segments as seg
+from flapping.periodic._problem import IntegrationFailed, ShootingProblem, ShootingSetup
 
 __all__ = [
     "PeriodicOrbit",
@@ -57,7 +70,10 @@ __all__ = [
 #: Accepted values of ``jacobian``.
 JACOBIANS: tuple[str, ...] = ("variational", "finite-difference")
 
-_EPS = np.finfo(float).eps
+_EPS = float(np.finfo(float).eps)
+
+#: Relative motion over a period below which an autonomous "orbit" is an equilibrium.
+_EQUILIBRIUM = math.sqrt(_EPS)
 
 
 @dataclass(frozen=True)
@@ -73,9 +89,10 @@ class PeriodicOrbit:
     params : ndarray or None
         Converged free parameters.
     success : bool
-        Converged to ``residual_norm <= tol``.
+        Converged to ``residual_norm <= tol`` (and, autonomous, neither an equilibrium nor a
+        collapsed period).
     message : str
-        Why the iteration stopped (MINPACK's reason).
+        Why the iteration stopped (MINPACK's reason, or why the answer was refused).
     residual : ndarray
         Final residual vector (eq. 38, then the extra residuals).
     residual_norm : float
@@ -86,13 +103,14 @@ class PeriodicOrbit:
     iteration_history : ndarray
         Residual norm at every point where the Jacobian was evaluated (the accepted iterates),
         followed by the final one.
-    iterations : int
-        Number of Jacobian evaluations (Levenberg-Marquardt iterations).
+    nit : int
+        Levenberg-Marquardt iterations (Jacobian evaluations).
     n_residual_evals : int
         Residual evaluations requested by Levenberg-Marquardt.
-    n_rhs_evals : int
-        Right-hand-side evaluations in total (residuals, Jacobians, finite differences).
-    n_jac_evals : int
+    nfev : int
+        Evaluations of ``fun`` in total (residuals, Jacobians, finite differences; the one
+        diagnostic evaluation of the equilibrium check is not counted).
+    njev : int
         Evaluations of the analytic ``jac``/``param_jac`` (0 without them).
     jacobian : str
         ``"variational"`` or ``"finite-difference"``.
@@ -102,6 +120,9 @@ class PeriodicOrbit:
         Whether the period was an unknown.
     unknowns : ndarray
         The final vector of unknowns (free components of x0, then T, then params).
+    phase_condition : str
+        What fixed the phase of an autonomous orbit (see the module notes), or why none was
+        needed.
     """
 
     x0: np.ndarray
@@ -113,21 +134,56 @@ class PeriodicOrbit:
     residual_norm: float
     residual_history: np.ndarray
     iteration_history: np.ndarray
-    iterations: int
+    nit: int
     n_residual_evals: int
-    n_rhs_evals: int
-    n_jac_evals: int
+    nfev: int
+    njev: int
     jacobian: str
     method: str
     autonomous: bool
     unknowns: np.ndarray
+    phase_condition: str
+
+    @property
+    def iterations(self) -> int:
+        """Alias of :attr:`nit` (the name used before the counters followed scipy)."""
+        return self.nit
+
+    @property
+    def n_rhs_evals(self) -> int:
+        """Alias of :attr:`nfev` (the name used before the counters followed scipy)."""
+        return self.nfev
+
+    @property
+    def n_jac_evals(self) -> int:
+        """Alias of :attr:`njev` (the name used before the counters followed scipy)."""
+        return self.njev
 
 
-class _IntegrationFailed(Exception):
-    """Raised inside the residual to leave MINPACK when the integrator gives up."""
+@dataclass(frozen=True)
+class _Stopping:
+    """Checked options of the Levenberg-Marquardt iteration and of the acceptance test."""
+
+    tol: float
+    xtol: float
+    ftol: float
+    max_nfev: int | None
+    min_period: float
 
 
-def _check_fixed(fixed, n) -> tuple[int, ...]:
+@dataclass(frozen=True)
+class _Outcome:
+    """How the Levenberg-Marquardt solve ended."""
+
+    z: np.ndarray
+    residual: np.ndarray
+    message: str
+    status_ok: bool
+    failed: bool
+    njev: int
+
+
+def _check_fixed(fixed: Any, n: int) -> tuple[int, ...]:
     message = f"`fixed` must be a sequence of distinct integer indices in [0, {n}), got {fixed!r}"
     try:
         items = list(fixed)
@@ -143,31 +199,191 @@ def _check_fixed(fixed, n) -> tuple[int, ...]:
     return tuple(int(i) for i in items)
 
 
+def _check_stopping(tol: Any, xtol: Any, ftol: Any, max_nfev: Any, min_period: Any,
+                    T: float) -> _Stopping:
+    return _Stopping(
+        tol=check.positive("tol", tol),
+        xtol=check.real("xtol", xtol, low=_EPS),
+        ftol=check.real("ftol", ftol, low=_EPS),
+        max_nfev=None if max_nfev is None else check.integer("max_nfev", max_nfev, low=1),
+        min_period=1e-2 * T if min_period is None else check.positive("min_period", min_period),
+    )
+
+
+def _check_shape_options(settings: seg.Settings, n_points: Any, delta: Any
+                         ) -> tuple[int, float]:
+    n_points = check.integer("n_points", n_points, low=1)
+    delta = check.real("delta", delta, low=0.0, high=1.0, low_open=True, high_open=True)
+    steps = settings.rk4_steps
+    if settings.fixed_step and n_points > 1 and abs(delta * steps - round(delta * steps)) > 1e-9:
+        raise ValueError(
+            f"with method='RK4', `delta` must be a multiple of 1/rk4_steps = 1/{steps} so that "
+            f"the residual points fall on the step grid, got delta={delta!r}")
+    return n_points, delta
+
+
+def _check_callables(fun: Any, jac: Any, param_jac: Any, n_seg: int, has_params: bool
+                     ) -> tuple[tuple[Any, ...], tuple[Any, ...], tuple[Any, ...]]:
+    funs = seg.segment_callables(fun, n_seg, "fun")
+    jacs = (None,) * n_seg if jac is None else seg.segment_callables(jac, n_seg, "jac")
+    if param_jac is not None and not has_params:
+        raise ValueError("`param_jac` needs `free_params`")
+    pjacs = ((None,) * n_seg if param_jac is None
+             else seg.segment_callables(param_jac, n_seg, "param_jac"))
+    return funs, jacs, pjacs
+
+
+def _probe(setup: ShootingSetup, problem_counter: seg.Counter) -> tuple[np.ndarray, int]:
+    """Evaluate each segment's ``fun`` and ``extra_residual`` at the initial guess.
+
+    A wrong shape or a non-finite value is then a ValueError here, not an obscure failure
+    inside MINPACK. Returns ``f`` of the first segment at ``(0, x0)`` and the extra length.
+    """
+    n = setup.x_init.size
+    values = []
+    for k, f in enumerate(setup.funs):
+        g = seg.Checked(f, setup.args, setup.p_init, (n,), problem_counter)
+        values.append(g(setup.T_init * (setup.breakpoints[k - 1] if k else 0.0), setup.x_init))
+    n_extra = 0
+    if setup.extra_residual is not None:
+        extra0 = np.atleast_1d(np.asarray(
+            setup.extra_residual(setup.x_init.copy(), setup.T_init, setup.p_init), dtype=float))
+        if extra0.ndim != 1:
+            raise ValueError(f"`extra_residual` must return a 1-D array, got shape {extra0.shape}")
+        n_extra = extra0.size
+    return values[0], n_extra
+
+
+def _phase_condition(setup: ShootingSetup, f0: np.ndarray, fixed_given: bool
+                     ) -> tuple[ShootingSetup, str]:
+    """The setup with a phase condition added if an autonomous problem lacks one, and its name."""
+    if not setup.autonomous:
+        return setup, "none: the period is known (forced system)"
+    if fixed_given:
+        return setup, f"fixed: x[{', '.join(map(str, setup.fixed))}] held at the guess"
+    if setup.n_residuals >= setup.n_unknowns:
+        how = (f"{setup.n_points} residual blocks" if setup.n_points > 1 else "")
+        how += (" and " if how and setup.n_extra else "") + ("extra_residual" if setup.n_extra
+                                                              else "")
+        return setup, f"none imposed: {how} leave the phase to Levenberg-Marquardt"
+    k = int(np.argmax(np.abs(f0)))
+    chosen = replace(setup, fixed=(k,))
+    return chosen, (f"fixed: x[{k}] held at {setup.x_init[k]:.17g} (chosen: the component of "
+                    f"largest |f| at the guess, {abs(f0[k]):.3g})")
+
+
+def _check_size(setup: ShootingSetup) -> None:
+    n, n_p = setup.x_init.size, 0 if setup.p_init is None else setup.p_init.size
+    n_unknowns, n_residuals = setup.n_unknowns, setup.n_residuals
+    if n_unknowns == 0:
+        raise ValueError("nothing to solve for: every component is `fixed` and the period is known")
+    if n_residuals < n_unknowns:
+        raise ValueError(
+            f"too few residuals for the unknowns: n_points={setup.n_points} gives "
+            f"{n * setup.n_points} periodicity residuals (+{setup.n_extra} extra) for "
+            f"{n_unknowns} unknowns ({n - len(setup.fixed)} free components of x0"
+            f"{', T' if setup.autonomous else ''}{f', {n_p} parameters' if n_p else ''}); raise "
+            f"`n_points`, hold a component with `fixed` (a phase condition), or add an "
+            f"`extra_residual`")
+
+
+def _solve(problem: ShootingProblem, stopping: _Stopping) -> _Outcome:
+    """Levenberg-Marquardt (MINPACK ``lmder``) on the problem; failures become an outcome."""
+    max_nfev = stopping.max_nfev or 100 * (problem.setup.n_unknowns + 1)
+    failure = None
+    try:
+        result = least_squares(problem.residual, problem.z0, jac=problem.jacobian, method="lm",
+                               x_scale="jac", xtol=stopping.xtol, ftol=stopping.ftol,
+                               gtol=_EPS * 10, max_nfev=max_nfev)
+        # The residual of the final iterate, from the discretisation the iteration used (the
+        # variational integration takes other steps than the plain one; on an expanding orbit
+        # the two differ by their global errors, ~1e-10 on Lorenz).
+        r = problem.residual(result.x)
+        return _Outcome(result.x, r, result.message, result.status > 0, False, int(result.njev))
+    except IntegrationFailed as exc:
+        failure = f"the iteration failed: {exc}"
+    except (np.linalg.LinAlgError, FloatingPointError, OverflowError) as exc:
+        failure = f"numerical failure during the iteration: {exc}"
+    r = (problem.last_residual if problem.last_residual is not None
+         else np.full(problem.setup.n_residuals, np.nan))
+    return _Outcome(problem.last_good, r, failure, False, True, 0)
+
+
+def _refusal(problem: ShootingProblem, x: np.ndarray, T: float, p: np.ndarray | None,
+             min_period: float) -> str | None:
+    """Why a converged autonomous answer is not a periodic orbit (None if it is one)."""
+    if not min_period <= T:
+        return (f"the period collapsed to T = {T:.3e} < min_period = {min_period:.3e}: the "
+                f"trivial solution T -> 0 of the autonomous residual (no periodic orbit near the "
+                f"guess, or an equilibrium)")
+    s = problem.setup
+    # One evaluation outside the counters: a diagnostic, not part of the iteration.
+    fx = np.asarray(s.funs[0](0.0, x, *(s.args if p is None else s.args + (p,))), dtype=float)
+    scale = max(1.0, float(np.linalg.norm(x)), float(np.linalg.norm(s.x_init)))
+    moved = float(np.linalg.norm(fx)) * T
+    if moved <= _EQUILIBRIUM * scale:
+        return (f"converged to an equilibrium, not a periodic orbit: |f(x0)| T = {moved:.3e} "
+                f"<= sqrt(eps) * {scale:.3g} (the state does not move over the period; x0 = "
+                f"{x!r}); start from a guess on the orbit, or hold with `fixed` a component "
+                f"whose value the equilibrium does not have")
+    return None
+
+
+def _result(problem: ShootingProblem, outcome: _Outcome, stopping: _Stopping,
+            phase: str) -> PeriodicOrbit:
+    """The :class:`PeriodicOrbit` of an outcome, with the acceptance verdict."""
+    s = problem.setup
+    norm = float(np.linalg.norm(outcome.residual))
+    x, T, p = problem.unpack(outcome.z)
+    problem.close_history(outcome.z, norm)
+    success = not outcome.failed and outcome.status_ok and norm <= stopping.tol
+    message = outcome.message
+    if success and s.autonomous:
+        refusal = _refusal(problem, x, T, p, stopping.min_period)
+        if refusal is not None:
+            success, message = False, refusal
+    elif not outcome.failed and not success:
+        message = (f"Levenberg-Marquardt stopped ({message}) with residual norm {norm:.3e} > "
+                   f"tol = {stopping.tol:.1e}" if outcome.status_ok
+                   else f"Levenberg-Marquardt did not converge: {message}")
+    return PeriodicOrbit(
+        x0=x, period=T, params=p, success=success, message=message,
+        residual=np.asarray(outcome.residual), residual_norm=norm,
+        residual_history=np.array(problem.residual_history),
+        iteration_history=np.array(problem.iteration_history),
+        nit=outcome.njev or len(problem.iteration_history) - 1,
+        n_residual_evals=len(problem.residual_history), nfev=problem.nfev, njev=problem.njev,
+        jacobian=s.jacobian, method=s.settings.method, autonomous=s.autonomous,
+        unknowns=np.array(outcome.z, dtype=float), phase_condition=phase,
+    )
+
+
 def find_periodic_orbit(
-    fun: Callable | Sequence[Callable],
-    x0,
+    fun: Callable[..., Any] | Sequence[Callable[..., Any]],
+    x0: Any,
     period: float,
     *,
     autonomous: bool = True,
-    jac: Callable | Sequence[Callable] | None = None,
-    free_params=None,
-    param_jac: Callable | Sequence[Callable] | None = None,
-    extra_residual: Callable | None = None,
+    jac: Callable[..., Any] | Sequence[Callable[..., Any]] | None = None,
+    free_params: Any = None,
+    param_jac: Callable[..., Any] | Sequence[Callable[..., Any]] | None = None,
+    extra_residual: Callable[..., Any] | None = None,
     fixed: Sequence[int] = (),
     breakpoints: Sequence[float] = (),
     jacobian: str = "variational",
-    method: str = "DOP853",
+    method: str | type[OdeSolver] = "DOP853",
     n_points: int = 1,
     delta: float = 2.0**-10,
     rtol: float = 1e-11,
     atol: float = 1e-12,
     rk4_steps: int = 1024,
+    max_steps: int | None = None,
     tol: float = 1e-10,
     max_nfev: int | None = None,
     xtol: float = 1e-12,
     ftol: float = 1e-12,
     min_period: float | None = None,
-    args: tuple = (),
+    args: tuple[Any, ...] = (),
 ) -> PeriodicOrbit:
     """Find a periodic orbit by the optimized shooting method (eqs. 30-38).
 
@@ -188,8 +404,9 @@ def find_periodic_orbit(
     period : float
         Period: the initial guess if ``autonomous``, the known forcing period otherwise.
     autonomous : bool, optional
-        ``True``: ``fun`` does not depend on t and ``T`` is an unknown (a phase condition, e.g. a
-        component in ``fixed`` or ``n_points >= 2``, is then needed to make the problem square).
+        ``True``: ``fun`` does not depend on t and ``T`` is an unknown; a phase condition is
+        then needed (``fixed``, ``n_points >= 2`` or ``extra_residual``; with none, the
+        component of largest ``|f|`` at the guess is held, see the module notes).
         ``False``: forced system, ``T`` known and fixed.
     jac : callable or sequence of callables, optional
         Analytic ``df/dx`` (same signature and segments as ``fun``). Default: central finite
@@ -213,7 +430,7 @@ def find_periodic_orbit(
         sensitivity equations). ``"finite-difference"``: forward differences of the residual,
         step ``sqrt(eps) |z_j|`` (MINPACK ``lmdif``'s rule, the paper's method); one extra
         shooting integration per unknown.
-    method : str, optional
+    method : str or OdeSolver subclass, optional
         Integrator: ``"DOP853"`` (default), another solve_ivp method, or ``"RK4"`` (fixed step
         ``T / rk4_steps``, the paper's).
     n_points : int, optional
@@ -224,6 +441,9 @@ def find_periodic_orbit(
         Integration tolerances (adaptive methods).
     rk4_steps : int, optional
         RK4 steps per period.
+    max_steps : int, optional
+        Step budget of each integration (default 100 000, see
+        :mod:`flapping.periodic.integrate`); running out ends the iteration with advice.
     tol : float, optional
         Required final residual norm (absolute, in the units of the state).
     max_nfev : int, optional
@@ -239,291 +459,52 @@ def find_periodic_orbit(
     Returns
     -------
     PeriodicOrbit
-        The orbit and the convergence diagnostics.
+        The orbit and the convergence diagnostics (``phase_condition`` says what fixed the
+        phase).
 
     Raises
     ------
     ValueError
         Bad arguments: non-positive or non-finite period, x0 not a finite 1-D array, wrong output
-        shape of ``fun``/``extra_residual``, ``fixed`` out of range, ``n_points < 1``, fewer
-        residuals than unknowns, breakpoints with an autonomous system, RK4 grid mismatch.
+        shape or non-finite output of ``fun``/``jac``/``extra_residual``, ``fixed`` out of
+        range, ``n_points < 1``, fewer residuals than unknowns, breakpoints with an autonomous
+        system, RK4 grid mismatch.
     ConvergenceError
         Levenberg-Marquardt stopped without reaching ``residual_norm <= tol``, the integration
-        failed, or the period collapsed; carries the last iterate (unknowns), the residual norm,
-        the iteration count, and the :class:`PeriodicOrbit` as ``result``.
+        failed (or ran out of its step budget), the period collapsed, or the answer is an
+        equilibrium; carries the last iterate (unknowns), the residual norm, the iteration
+        count, and the :class:`PeriodicOrbit` as ``result``.
     """
-    # ---- validation at the public boundary --------------------------------------------------
-    x_init = _check_state(x0)
-    n = x_init.size
-    T_init = _check_period(period)
-    method = _check_method(method)
-    _check_tolerances(rtol, atol)
-    rk4_steps = _check_rk4_steps(rk4_steps)
-    breakpoints = _check_breakpoints(breakpoints)
-    if autonomous and breakpoints:
+    x_init = check.real_vector("x0", x0)
+    T_init = check.positive("period", period)
+    settings = seg.check_settings(method, rtol, atol, rk4_steps, max_steps)
+    b = seg.check_breakpoints(breakpoints)
+    if not isinstance(autonomous, (bool, np.bool_)):
+        raise ValueError(f"`autonomous` must be True or False; got {autonomous!r}")
+    if autonomous and b:
         raise ValueError(
             "`breakpoints` move with the unknown period, so they make the system non-autonomous: "
-            "use autonomous=False (known period) with breakpoints"
-        )
-    if jacobian not in JACOBIANS:
-        raise ValueError(f"`jacobian` must be one of {JACOBIANS}, got {jacobian!r}")
-    if isinstance(n_points, bool) or int(n_points) != n_points or n_points < 1:
-        raise ValueError(f"`n_points` must be an integer >= 1, got {n_points!r}")
-    n_points = int(n_points)
-    if not (math.isfinite(delta) and 0.0 < delta < 1.0):
-        raise ValueError(f"`delta` must lie in (0, 1) (a fraction of the period), got {delta!r}")
-    if method == "RK4" and n_points > 1 and abs(delta * rk4_steps - round(delta * rk4_steps)) > 1e-9:
-        raise ValueError(
-            f"with method='RK4', `delta` must be a multiple of 1/rk4_steps = 1/{rk4_steps} so that "
-            f"the residual points fall on the step grid, got delta={delta!r}"
-        )
-    if not (math.isfinite(tol) and tol > 0):
-        raise ValueError(f"`tol` must be a positive finite number, got {tol!r}")
-    for name, value in (("xtol", xtol), ("ftol", ftol)):
-        if not (math.isfinite(value) and value >= _EPS):
-            raise ValueError(f"`{name}` must be finite and >= machine epsilon ({_EPS:.2e}), got {value!r}")
-    if max_nfev is not None and (int(max_nfev) != max_nfev or max_nfev < 1):
-        raise ValueError(f"`max_nfev` must be a positive integer, got {max_nfev!r}")
-    fixed = _check_fixed(fixed, n)
-    free = np.array([i for i in range(n) if i not in fixed], dtype=int)
-    if free_params is not None:
-        p_init = np.atleast_1d(np.array(free_params, dtype=float))
-        if p_init.ndim != 1 or p_init.size == 0 or not np.all(np.isfinite(p_init)):
-            raise ValueError(f"`free_params` must be a non-empty finite 1-D array, got {free_params!r}")
-    else:
-        p_init = None
-    n_p = 0 if p_init is None else p_init.size
-    args = tuple(args)
-    n_seg = len(breakpoints) + 1
-    funs_raw = _segment_callables(fun, n_seg, "fun")
-    if jac is not None:
-        _segment_callables(jac, n_seg, "jac")
-    if param_jac is not None:
-        if p_init is None:
-            raise ValueError("`param_jac` needs `free_params`")
-        _segment_callables(param_jac, n_seg, "param_jac")
-    if min_period is None:
-        min_period = 1e-2 * T_init
-
-    counter = _Counter()
-
-    def bind(p):
-        """Per-segment counted callables g(t, x) for the parameters p."""
-        if p is None:
-            return tuple(_Counted(f, args, (n,), counter, "fun") for f in funs_raw)
-        return tuple(_FunP(f, args, p, (n,), counter) for f in funs_raw)
-
-    # One evaluation per segment at the initial guess: a wrong shape or a non-finite value is a
-    # ValueError here, not an obscure failure inside MINPACK.
-    for k, g in enumerate(bind(p_init)):
-        value = g(T_init * (breakpoints[k - 1] if k else 0.0), x_init)
-        if not np.all(np.isfinite(value)):
-            raise ValueError(f"`fun` returned non-finite values at the initial guess: {value}")
-
-    n_unknowns = free.size + (1 if autonomous else 0) + n_p
-    n_extra = 0
-    if extra_residual is not None:
-        extra0 = np.atleast_1d(np.asarray(extra_residual(x_init.copy(), T_init, p_init), dtype=float))
-        if extra0.ndim != 1:
-            raise ValueError(f"`extra_residual` must return a 1-D array, got shape {extra0.shape}")
-        n_extra = extra0.size
-    n_residuals = n * n_points + n_extra
-    if n_unknowns == 0:
-        raise ValueError("nothing to solve for: every component is `fixed` and the period is known")
-    if n_residuals < n_unknowns:
-        raise ValueError(
-            f"too few residuals for the unknowns: n_points={n_points} gives {n * n_points} "
-            f"periodicity residuals (+{n_extra} extra) for {n_unknowns} unknowns "
-            f"({free.size} free components of x0{', T' if autonomous else ''}"
-            f"{f', {n_p} parameters' if n_p else ''}); raise `n_points`, hold a component with "
-            f"`fixed` (a phase condition), or add an `extra_residual`"
-        )
-
-    # ---- unknowns <-> (x0, T, p) -------------------------------------------------------------
-    z_init = np.concatenate([x_init[free], [T_init] if autonomous else [], p_init if n_p else []])
-
-    def unpack(z):
-        x = x_init.copy()
-        x[free] = z[: free.size]
-        T = float(z[free.size]) if autonomous else T_init
-        p = z[free.size + (1 if autonomous else 0):].copy() if n_p else None
-        return x, T, p
-
-    # Residual points in normalised time: tau = k delta and 1 + k delta (eq. 38).
-    taus_a = np.arange(n_points) * delta
-    taus_b = 1.0 + taus_a
-    tau_out = np.concatenate([taus_a[1:], taus_b])
-
-    state = {"z": None, "r": None, "last_good": z_init.copy()}
-    residual_history: list[float] = []
-    iteration_history: list[float] = []
-    jcounter = _Counter()
-    jac_cache = {"z": None, "J": None}
-
-    def extra(z):
-        x, T, p = unpack(z)
-        e = np.atleast_1d(np.asarray(extra_residual(x, T, p), dtype=float))
-        if e.shape != (n_extra,):
-            raise ValueError(f"`extra_residual` must return shape {(n_extra,)}, got {e.shape}")
-        return e
-
-    def extra_jacobian(z):
-        """Central differences of the (cheap, integration-free) extra residual."""
-        E = np.empty((n_extra, z.size))
-        hs = _EPS ** (1.0 / 3.0) * np.maximum(1.0, np.abs(z))
-        for j in range(z.size):
-            zp, zm = z.copy(), z.copy()
-            zp[j] += hs[j]
-            zm[j] -= hs[j]
-            E[:, j] = (extra(zp) - extra(zm)) / (zp[j] - zm[j])
-        return E
-
-    def finish(r, z):
-        if n_extra:
-            r = np.concatenate([r, extra(z)])
-        if not np.all(np.isfinite(r)):
-            raise _IntegrationFailed("non-finite residual")
-        return r
-
-    def plain_residual(z):
-        """Eq. (38) by one integration of the state (states at tau = k delta, 1 + k delta)."""
-        x, T, p = unpack(z)
-        out = _propagate(bind(p), 0.0, float(taus_b[-1] * T), x, period=T,
-                         breakpoints=breakpoints, method=method, rtol=rtol, atol=atol,
-                         rk4_h=T / rk4_steps, t_out=tuple(tau_out * T))
-        if not out["success"]:
-            raise _IntegrationFailed(out["message"])
-        ys = np.array(out["y_out"])
-        xa = np.vstack([x[None, :], ys[: n_points - 1]])
-        return finish((ys[n_points - 1:] - xa).ravel(), z)
-
-    def variational_residual(z):
-        """Eq. (38) and its Jacobian from one integration of the variational equations."""
-        x, T, p = unpack(z)
-        var = variational_flow(
-            fun, jac, (0.0, float(taus_b[-1] * T)), x, breakpoints=breakpoints, period=T,
-            method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps, t_out=tuple(tau_out * T),
-            params=p, param_jac=param_jac, args=args,
-        )
-        counter.n += var.nfev
-        jcounter.n += var.njev
-        if not var.success:
-            raise _IntegrationFailed(var.message)
-        xa = np.vstack([x[None, :], var.x[: n_points - 1]])
-        xb = var.x[n_points - 1:]
-        r = finish((xb - xa).ravel(), z)
-        stm_a = np.concatenate([np.eye(n)[None], var.stm[: n_points - 1]])
-        blocks = [(var.stm[n_points - 1:] - stm_a)[:, :, free]]
-        if autonomous:
-            # d x(tau) / dT = tau f(x(tau)) for an autonomous field: the solution of the
-            # variational equation forced by f (normalised time, eq. 36) in closed form.
-            g = bind(p)[0]
-            col = np.array([tb * g(0.0, b) - ta_ * g(0.0, a)
-                            for ta_, tb, a, b in zip(taus_a, taus_b, xa, xb)])
-            blocks.append(col[:, :, None])
-        if n_p:
-            sens_a = np.concatenate([np.zeros((1, n, n_p)), var.sensitivity[: n_points - 1]])
-            blocks.append(var.sensitivity[n_points - 1:] - sens_a)
-        J = np.concatenate(blocks, axis=2).reshape(n * n_points, z.size)
-        if n_extra:
-            J = np.vstack([J, extra_jacobian(z)])
-        return r, J
-
-    def residual(z):
-        if state["z"] is not None and np.array_equal(z, state["z"]):
-            return state["r"]  # scipy re-requests points it has seen; do not integrate twice
-        if autonomous and not z[free.size] > 0.0:
-            raise _IntegrationFailed(
-                f"the period left (0, inf) (T = {z[free.size]:.3e}): the iteration is heading for "
-                f"the trivial solution T -> 0 of the autonomous residual (no periodic orbit near "
-                f"the guess, or an equilibrium)"
-            )
-        if jacobian == "variational":
-            # Integrate the variational equations with every residual: a trial point that LM
-            # accepts (the usual case near the orbit) then has its Jacobian for free, one
-            # integration per iteration instead of two.
-            r, J = variational_residual(z)
-            jac_cache["z"], jac_cache["J"] = z.copy(), J
-        else:
-            r = plain_residual(z)
-        norm = float(np.linalg.norm(r))
-        state["z"], state["r"], state["last_good"] = z.copy(), r, z.copy()
-        residual_history.append(norm)
-        return r
-
-    def jacobian_fd(z):
-        r0 = residual(z)
-        J = np.empty((r0.size, z.size))
-        for j in range(z.size):
-            h = math.sqrt(_EPS) * abs(z[j]) or math.sqrt(_EPS)  # MINPACK lmdif's step
-            zp = z.copy()
-            zp[j] += h
-            J[:, j] = (plain_residual(zp) - r0) / (zp[j] - z[j])
-        return J
-
-    last_jac = {"z": None}
-
-    def jacobian_fn(z):
-        r = residual(z)
-        if last_jac["z"] is None or not np.array_equal(z, last_jac["z"]):
-            iteration_history.append(float(np.linalg.norm(r)))
-            last_jac["z"] = z.copy()
-        if jac_cache["z"] is not None and np.array_equal(z, jac_cache["z"]):
-            return jac_cache["J"]
-        J = variational_residual(z)[1] if jacobian == "variational" else jacobian_fd(z)
-        jac_cache["z"], jac_cache["J"] = z.copy(), J
-        return J
-
-    # ---- Levenberg-Marquardt (MINPACK) ---------------------------------------------------------
-    if max_nfev is None:
-        max_nfev = 100 * (n_unknowns + 1)
-    result, failure = None, None
-    try:
-        result = least_squares(residual, z_init, jac=jacobian_fn, method="lm", x_scale="jac",
-                               xtol=xtol, ftol=ftol, gtol=_EPS * 10, max_nfev=max_nfev)
-    except _IntegrationFailed as exc:
-        failure = f"the iteration failed: {exc}"
-    except (np.linalg.LinAlgError, FloatingPointError, OverflowError) as exc:
-        failure = f"numerical failure during the iteration: {exc}"
-
-    if result is not None:
-        z_final = result.x
-        # The residual of the final iterate, from the discretisation the iteration used (the
-        # variational integration takes other steps than the plain one; on an expanding orbit
-        # the two differ by their global errors, ~1e-10 on Lorenz).
-        r_final = residual(z_final)
-        message = result.message
-        status_ok = result.status > 0
-    else:
-        z_final = state["last_good"]
-        r_final = state["r"] if state["r"] is not None else np.full(n_residuals, np.nan)
-        message, status_ok = failure, False
-    norm = float(np.linalg.norm(r_final))
-    x_fin, T_fin, p_fin = unpack(z_final)
-    if last_jac["z"] is None or not np.array_equal(z_final, last_jac["z"]):
-        iteration_history.append(norm)
-    else:
-        iteration_history[-1] = norm  # the same point, at full accuracy
-    success = failure is None and status_ok and norm <= tol
-    if success and autonomous and not (T_fin >= min_period):
-        success = False
-        message = (f"the period collapsed to T = {T_fin:.3e} < min_period = {min_period:.3e}: "
-                   f"the trivial solution T -> 0 of the autonomous residual (no periodic orbit "
-                   f"near the guess, or an equilibrium)")
-    elif failure is None and not success:
-        message = (f"Levenberg-Marquardt stopped ({message}) with residual norm {norm:.3e} > "
-                   f"tol = {tol:.1e}" if status_ok else f"Levenberg-Marquardt did not converge: {message}")
-    orbit = PeriodicOrbit(
-        x0=x_fin, period=T_fin, params=p_fin, success=success, message=message,
-        residual=np.asarray(r_final), residual_norm=norm,
-        residual_history=np.array(residual_history), iteration_history=np.array(iteration_history),
-        iterations=int(result.njev) if result is not None and result.njev else len(iteration_history) - 1, n_residual_evals=len(residual_history),
-        n_rhs_evals=counter.n, n_jac_evals=jcounter.n, jacobian=jacobian, method=method,
-        autonomous=bool(autonomous), unknowns=np.array(z_final, dtype=float),
-    )
-    if not success:
-        raise ConvergenceError(
-            f"no periodic orbit found: {message}", x=z_final, residual=norm,
-            iterations=orbit.iterations, result=orbit,
-        )
+            "use autonomous=False (known period) with breakpoints")
+    seg.fixed_step(settings, 0.0, T_init, T_init, b)
+    jacobian = check.choice("jacobian", jacobian, JACOBIANS)
+    n_points, delta = _check_shape_options(settings, n_points, delta)
+    stopping = _check_stopping(tol, xtol, ftol, max_nfev, min_period, T_init)
+    fixed_given = _check_fixed(fixed, x_init.size)
+    p_init = None if free_params is None else check.real_vector("free_params",
+                                                                 np.atleast_1d(free_params))
+    funs, jacs, pjacs = _check_callables(fun, jac, param_jac, len(b) + 1, p_init is not None)
+    setup = ShootingSetup(funs, jacs, pjacs, tuple(args), x_init, T_init, p_init, fixed_given,
+                          bool(autonomous), b, settings, n_points, delta, extra_residual, 0,
+                          jacobian)
+    counter = seg.Counter()
+    f0, n_extra = _probe(setup, counter)
+    setup, phase = _phase_condition(replace(setup, n_extra=n_extra),
+                                    f0, bool(fixed_given))
+    _check_size(setup)
+    problem = ShootingProblem(setup)
+    problem.counter.n = counter.n  # the probe's evaluations count
+    orbit = _result(problem, _solve(problem, stopping), stopping, phase)
+    if not orbit.success:
+        raise ConvergenceError(f"no periodic orbit found: {orbit.message}", x=orbit.unknowns,
+                               residual=orbit.residual_norm, iterations=orbit.nit, result=orbit)
     return orbit

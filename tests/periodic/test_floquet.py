@@ -8,6 +8,7 @@ import warnings
 import numpy as np
 import pytest
 
+from flapping.errors import ConvergenceError
 from flapping.periodic.floquet import (
     FloquetAccuracyWarning,
     floquet_exponents,
@@ -130,3 +131,65 @@ def test_bad_arguments():
         monodromy(lorenz, [1.0, 1.0, 1.0], 1.0, n_sub=0)
     with pytest.raises(ValueError, match="`period`"):
         monodromy(lorenz, [1.0, 1.0, 1.0], -1.0)
+
+
+# ---- no hangs, no overflow errors -------------------------------------------------------------
+
+
+def test_nan_from_fun_is_a_valueerror_not_a_hang():
+    # The reproducer of issue 7: hung forever before.
+    with pytest.raises(ValueError, match="`fun` returned a non-finite value"):
+        monodromy(lambda t, x: np.full(2, np.nan), [1.0, 1.0], 1.0)
+
+
+def test_nan_from_jac_is_a_valueerror_naming_jac():
+    with pytest.raises(ValueError, match="`jac` returned a non-finite value"):
+        monodromy(lambda t, x: -x, [1.0, 1.0], 1.0, jac=lambda t, x: np.full((2, 2), np.nan))
+
+
+def test_stiff_monodromy_fails_early_with_advice():
+    with pytest.raises(ConvergenceError, match="method='Radau'"):
+        monodromy(lambda t, x: -1e9 * (x - np.cos(t)), [1.0], 2 * math.pi)
+
+
+def test_overflowing_multiplier_is_inf_with_a_warning_and_a_finite_exponent():
+    # x' = 50 x over T = 20 at the equilibrium x = 0: M = exp(1000) overflows float64. It raised
+    # OverflowError; now the multiplier and det M are inf (with a warning), while the exponent
+    # and Liouville's log keep the value: 50 and 1000 (relative 1e-12: rtol 1e-12, constant J).
+    with pytest.warns(RuntimeWarning, match="overflow"):
+        mon = monodromy(lambda t, x: 50.0 * x, [0.0], 20.0)
+    assert mon.multipliers[0] == math.inf and mon.det == math.inf
+    assert mon.liouville_det == math.inf
+    assert abs(mon.exponents[0].real / 50.0 - 1.0) <= 1e-12
+    assert abs(mon.trace_integral / 1000.0 - 1.0) <= 1e-12
+    assert mon.liouville_error <= 1e-9  # from the logarithms
+
+
+def test_exponent_of_a_zero_multiplier_is_minus_inf_without_warnings():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ex = floquet_exponents([0.0, 1.0, 0j, -1.0], 2.0)
+    assert ex[0] == complex(-math.inf, 0.0) and ex[2] == complex(-math.inf, 0.0)
+    assert ex[1] == 0.0 and ex[3] == pytest.approx(1j * math.pi / 2.0)
+
+
+def test_factors_are_time_last_and_multiply_to_the_matrix(mon_ab):
+    F = mon_ab.factors
+    assert F.shape[:2] == (3, 3) and F.shape[2] >= 4
+    M = np.eye(3)
+    for k in range(F.shape[2]):
+        M = F[:, :, k] @ M
+    np.testing.assert_array_equal(M, mon_ab.matrix)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(period=True), "`period`"),
+    (dict(n_sub=2.0), "`n_sub`"),
+    (dict(max_cond=1.0), "`max_cond`"),
+    (dict(rtol="1e-8"), "`rtol`"),
+])
+def test_bools_strings_and_bad_numbers_are_refused(kwargs, match):
+    call = dict(period=1.0)
+    call.update(kwargs)
+    with pytest.raises(ValueError, match=match):
+        monodromy(lorenz, [1.0, 1.0, 1.0], call.pop("period"), **call)

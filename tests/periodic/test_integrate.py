@@ -146,7 +146,7 @@ def test_parameter_sensitivity_matches_finite_differences():
     h = 1e-5
     plus = flow(lambda t, x: f(t, x, [28.0 + h]), (0.0, 0.5), X_AB).x[:, -1]
     minus = flow(lambda t, x: f(t, x, [28.0 - h]), (0.0, 0.5), X_AB).x[:, -1]
-    np.testing.assert_allclose(var.sensitivity[-1][:, 0], (plus - minus) / (2 * h), rtol=1e-6)
+    np.testing.assert_allclose(var.sensitivity_end[:, 0], (plus - minus) / (2 * h), rtol=1e-6)
 
 
 def test_trace_integral_of_lorenz_is_exact():
@@ -184,5 +184,130 @@ def test_sequence_length_must_match_segments():
 @settings(max_examples=40, deadline=None)
 @given(st.one_of(st.floats(max_value=0.0), st.just(math.inf), st.just(math.nan)))
 def test_non_positive_or_non_finite_period_is_rejected(period):
-    with pytest.raises(ValueError, match="`period` must be a positive finite number"):
+    with pytest.raises(ValueError, match=r"`period` must be a real number in \(0, inf\)"):
         flow(lambda t, x: -x, (0.0, 1.0), [1.0], period=period)
+
+
+# ---- no hangs: non-finite values, step budgets -------------------------------------------------
+
+
+def nan_rhs(t, x):
+    return np.full(2, np.nan)
+
+
+@pytest.mark.parametrize("integrate", [
+    lambda: flow(nan_rhs, (0.0, 1.0), [1.0, 1.0]),
+    lambda: variational_flow(nan_rhs, None, (0.0, 1.0), [1.0, 1.0]),
+    lambda: flow(nan_rhs, (0.0, 1.0), [1.0, 1.0], method="RK4"),
+])
+def test_nan_from_fun_is_a_valueerror_naming_fun(integrate):
+    # Used to hang: solve_ivp fed NaN shrinks its step forever.
+    with pytest.raises(ValueError, match="`fun` returned a non-finite value at t = 0.0"):
+        integrate()
+
+
+def test_nan_from_jac_is_a_valueerror_naming_jac():
+    with pytest.raises(ValueError, match="`jac` returned a non-finite value"):
+        variational_flow(lambda t, x: -x, lambda t, x: np.full((2, 2), np.nan), (0.0, 1.0),
+                         [1.0, 1.0])
+
+
+def test_nan_midway_names_the_time_and_state():
+    def f(t, x):
+        return -x if t < 0.5 else np.full(1, np.inf)
+
+    with pytest.raises(ValueError, match=r"`fun` returned a non-finite value at t = 0\.5"):
+        flow(f, (0.0, 1.0), [1.0], method="RK4", rk4_steps=4)
+
+
+def stiff(t, x):
+    return -1e9 * (x - np.cos(t))
+
+
+def test_stiff_problem_with_an_explicit_method_fails_early_with_advice():
+    # DOP853 needs steps ~3e-9 (its stability limit) to cross 2 pi: ~1e9 steps, hours. The step
+    # guard stops after 100 steps whose size cannot reach the end within max_steps.
+    res = flow(stiff, (0.0, 2 * math.pi), [1.0])
+    assert not res.success
+    assert "method='Radau'" in res.message and "max_steps" in res.message
+    assert res.nfev <= 12 * 150  # DOP853: 12 evaluations per step, ~100 steps taken
+
+
+def test_stiff_problem_with_the_advised_method_succeeds():
+    # Radau follows the slow manifold x = cos t (up to 1e-9 sin t).
+    res = flow(stiff, (0.0, 2 * math.pi), [1.0], method="Radau", rtol=1e-8, atol=1e-10)
+    assert res.success and abs(res.x[0, -1] - 1.0) < 1e-7
+
+
+def test_step_budget_is_a_hard_limit():
+    res = flow(lorenz, (0.0, 100.0), X_AB, max_steps=50)
+    assert not res.success and "max_steps = 50" in res.message
+    # 51 accepted steps of 12 evaluations, plus the rejected ones (fewer than the accepted here)
+    assert res.nfev <= 2 * 12 * 51
+
+
+def test_finite_time_blow_up_fails_instead_of_hanging():
+    # x' = x^2, x(0) = 1 blows up at t = 1: the step shrinks towards the singularity.
+    res = flow(lambda t, x: x**2, (0.0, 2.0), [1.0])
+    assert not res.success and res.nfev < 12 * 10**4
+
+
+@pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning",
+                            "ignore:invalid value encountered:RuntimeWarning")
+def test_overflowing_state_fails_with_a_message():
+    # x' = 50 x from 1 over [0, 20]: the state leaves the float range (exp(1000)).
+    res = flow(lambda t, x: 50.0 * x, (0.0, 20.0), [1.0], rtol=1e-6)
+    assert not res.success and "non-finite" in res.message
+
+
+# ---- conventions -------------------------------------------------------------------------------
+
+
+def test_time_is_the_last_axis_of_every_result():
+    def f(t, x, p):
+        return lorenz(t, x, 10.0, p[0], 8.0 / 3.0)
+
+    t_out = [0.1, 0.2, 0.3, 0.4]
+    var = variational_flow(f, None, (0.0, 0.4), X_AB, params=[28.0], t_out=t_out, trace=True)
+    assert var.x.shape == (3, 4) and var.stm.shape == (3, 3, 4)
+    assert var.sensitivity.shape == (3, 1, 4) and var.trace_integral.shape == (4,)
+    np.testing.assert_array_equal(var.x_end, var.x[:, -1])
+    np.testing.assert_array_equal(var.stm_end, var.stm[:, :, -1])
+    np.testing.assert_array_equal(var.sensitivity_end, var.sensitivity[:, :, -1])
+    res = flow(lambda t, x, p: f(t, x, [28.0]), (0.0, 0.4), X_AB, t_eval=t_out, args=(None,))
+    assert res.x.shape == (3, 4)
+    np.testing.assert_allclose(res.x, var.x, rtol=1e-9)  # two integrations, rtol 1e-11
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(period=True), "`period`"),
+        (dict(rtol="1e-8"), "`rtol`"),
+        (dict(atol=False), "`atol`"),
+        (dict(rk4_steps=1024.0, method="RK4"), "`rk4_steps`"),
+        (dict(max_steps=0), "`max_steps`"),
+        (dict(x0=[True]), "`x0`"),
+        (dict(x0=["1.0"]), "`x0`"),
+        (dict(t_span=("0", 1.0)), "`t_span"),
+    ],
+)
+def test_bools_and_strings_are_refused(kwargs, match):
+    call = dict(t_span=(0.0, 1.0), x0=[1.0])
+    call.update(kwargs)
+    with pytest.raises(ValueError, match=match):
+        flow(lambda t, x: -x, call.pop("t_span"), call.pop("x0"), **call)
+
+
+def test_numpy_scalars_are_converted_to_float64():
+    res = flow(lambda t, x: -x, (np.float32(0.0), np.int64(1)), np.array([1.0], np.float32),
+               rtol=np.float32(1e-10), period=np.float32(1.0))
+    assert res.x.dtype == np.float64 and abs(res.x[0, -1] - math.exp(-1.0)) < 1e-9
+
+
+def test_method_may_be_an_ode_solver_class():
+    from flapping.periodic.rk4 import RK4
+
+    a = flow(lorenz, (0.0, T_AB), X_AB, method="RK4", period=T_AB)
+    b = flow(lorenz, (0.0, T_AB), X_AB, method=RK4, period=T_AB)
+    np.testing.assert_array_equal(a.x, b.x)

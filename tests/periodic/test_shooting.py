@@ -162,17 +162,16 @@ def test_unbounded_drift_forced_system_raises_convergence_error():
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        (dict(period=-1.0), "`period` must be a positive finite number"),
-        (dict(period=math.nan), "`period` must be a positive finite number"),
+        (dict(period=-1.0), r"`period` must be a real number in \(0, inf\)"),
+        (dict(period=math.nan), r"`period` must be a real number in \(0, inf\)"),
         (dict(x0=[[1.0, 2.0, 3.0]]), "`x0` must be a non-empty 1-D array"),
         (dict(x0=[1.0, math.inf, 3.0]), "`x0` must be finite"),
         (dict(fixed=[3]), r"`fixed` must be a sequence of distinct integer indices in \[0, 3\)"),
         (dict(fixed=[0, 0]), "distinct"),
-        (dict(n_points=0), "`n_points` must be an integer >= 1"),
-        (dict(fixed=()), "too few residuals"),
+        (dict(n_points=0), r"`n_points` must be an integer in \[1, inf\]"),
         (dict(breakpoints=(0.5,)), "autonomous=False"),
         (dict(jacobian="broyden"), "`jacobian` must be one of"),
-        (dict(delta=1.5), "`delta` must lie in"),
+        (dict(delta=1.5), r"`delta` must be a real number in \(0, 1\)"),
         (dict(tol=0.0), "`tol`"),
     ],
 )
@@ -181,6 +180,14 @@ def test_bad_arguments_raise_valueerror(kwargs, match):
     base.update(kwargs)
     with pytest.raises(ValueError, match=match):
         find_periodic_orbit(lorenz, base.pop("x0"), base.pop("period"), **base)
+
+
+def test_too_few_residuals_is_a_valueerror():
+    # Forced, two states and one free parameter, one residual block and no extra residual:
+    # two equations for three unknowns (the plain autonomous call no longer is such a case).
+    with pytest.raises(ValueError, match="too few residuals"):
+        find_periodic_orbit(lambda t, x, p: -x + p[0], [0.0, 0.0], 1.0, autonomous=False,
+                            free_params=[1.0])
 
 
 def test_wrong_fun_output_shape_raises_valueerror():
@@ -198,3 +205,120 @@ def test_invalid_n_points_and_fixed_indices_always_rejected(n_points, index):
         find_periodic_orbit(lorenz, [1.0, 1.0, 20.0], 1.5, fixed=[2], n_points=n_points)
     with pytest.raises(ValueError, match="`fixed`"):
         find_periodic_orbit(lorenz, [1.0, 1.0, 20.0], 1.5, fixed=[index])
+
+
+# ---- no false successes ------------------------------------------------------------------------
+
+
+def van_der_pol(t, x):
+    return np.array([x[1], (1.0 - x[0] ** 2) * x[1] - x[0]])
+
+
+# Van der Pol (mu = 1) limit-cycle period, 6.6632868593231 (e.g. Strogatz; to 13 digits).
+T_VDP = 6.6632868593231
+
+
+def test_van_der_pol_equilibrium_is_refused():
+    # Issue 7's reproducer: it returned x0 ~ 1e-29 (the equilibrium) with success=True.
+    with pytest.raises(ConvergenceError, match="equilibrium") as info:
+        find_periodic_orbit(van_der_pol, [0.1, 0.0], 6.66, fixed=[1])
+    assert not info.value.result.success
+
+
+def test_roessler_equilibrium_is_refused():
+    # Issue 7's reproducer: n_points=2 converged to the equilibrium near the origin.
+    with pytest.raises(ConvergenceError, match="equilibrium") as info:
+        find_periodic_orbit(rossler, [0.1, 5.0, 3.6], 5.0, n_points=2)
+    assert not info.value.result.success
+
+
+def test_van_der_pol_limit_cycle_is_found():
+    # The genuine orbit from a reasonable guess, x[1] = 0 held: T to 1e-10 (integration 1e-11).
+    orbit = find_periodic_orbit(van_der_pol, [2.0, 0.0], 6.6, fixed=[1])
+    assert abs(orbit.period / T_VDP - 1.0) <= 1e-10
+    assert abs(orbit.x0[0] - 2.0086198608) <= 1e-9  # amplitude where x' = 0
+
+
+def test_plain_autonomous_call_chooses_and_reports_a_phase_condition():
+    # find_periodic_orbit(fun, x0, period) on an autonomous system: it raised "too few
+    # residuals" before. At (1.5, 1) the field is (1, -2.75): x[1] is held, and said so.
+    orbit = find_periodic_orbit(van_der_pol, [1.5, 1.0], 6.6)
+    assert abs(orbit.period / T_VDP - 1.0) <= 1e-10
+    assert orbit.x0[1] == 1.0
+    assert orbit.phase_condition.startswith("fixed: x[1]") and "chosen" in orbit.phase_condition
+
+
+def test_phase_condition_of_user_choices_is_reported():
+    kw = dict(args=DEDNAM_ARGS, jac=rossler_jac)
+    fixed = find_periodic_orbit(rossler, DEDNAM_GUESS, 5.92, fixed=[2], **kw)
+    assert fixed.phase_condition == "fixed: x[2] held at the guess"
+    A = 0.7
+    forced = find_periodic_orbit(forced_oscillator, [0.0, 0.0], 2 * math.pi / FORCED[2],
+                                 autonomous=False, args=FORCED + (A,))
+    assert forced.phase_condition.startswith("none: the period is known")
+
+
+# ---- no hangs ----------------------------------------------------------------------------------
+
+
+def test_nan_from_fun_is_a_valueerror_not_a_hang():
+    with pytest.raises(ValueError, match="`fun` returned a non-finite value"):
+        find_periodic_orbit(lambda t, x: np.full(2, np.nan), [1.0, 1.0], 1.0)
+
+
+def test_nan_during_the_iteration_is_a_valueerror_naming_fun():
+    # Finite at the guess, NaN later in the period (at t >= 0.5): the integration names it.
+    def f(t, x):
+        return -x + math.cos(t) if t < 0.5 else np.full(1, np.nan)
+
+    with pytest.raises(ValueError, match="`fun` returned a non-finite value at t = 0.5"):
+        find_periodic_orbit(f, [0.0], 1.0, autonomous=False)
+
+
+def test_nan_from_jac_is_a_valueerror_naming_jac():
+    with pytest.raises(ValueError, match="`jac` returned a non-finite value"):
+        find_periodic_orbit(lorenz, [1.0, 1.0, 20.0], 1.5, fixed=[2],
+                            jac=lambda t, x: np.full((3, 3), np.nan))
+
+
+def test_stiff_forced_problem_fails_early_with_advice():
+    with pytest.raises(ConvergenceError, match="method='Radau'"):
+        find_periodic_orbit(lambda t, x: -1e9 * (x - np.cos(t)), [1.0], 2 * math.pi,
+                            autonomous=False)
+
+
+# ---- conventions -------------------------------------------------------------------------------
+
+
+def test_counters_are_named_as_scipy_and_the_old_names_are_aliases():
+    orbit = find_periodic_orbit(rossler, DEDNAM_GUESS, 5.92, fixed=[2], jac=rossler_jac,
+                                args=DEDNAM_ARGS)
+    assert orbit.nit == orbit.iterations > 0
+    assert orbit.nfev == orbit.n_rhs_evals > 0 and orbit.njev == orbit.n_jac_evals > 0
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(period=True), "`period`"),
+        (dict(period="1.5"), "`period`"),
+        (dict(x0=[True, False, True]), "`x0`"),
+        (dict(n_points=1.0), "`n_points`"),
+        (dict(autonomous=1), "`autonomous`"),
+        (dict(tol=True), "`tol`"),
+        (dict(max_steps=-1), "`max_steps`"),
+    ],
+)
+def test_bools_and_strings_are_refused(kwargs, match):
+    base = dict(x0=[1.0, 1.0, 20.0], period=1.5, fixed=[2])
+    base.update(kwargs)
+    with pytest.raises(ValueError, match=match):
+        find_periodic_orbit(lorenz, base.pop("x0"), base.pop("period"), **base)
+
+
+def test_numpy_float32_inputs_are_converted():
+    orbit = find_periodic_orbit(rossler, np.array(DEDNAM_GUESS, np.float32), np.float32(5.92),
+                                fixed=[np.int64(2)], jac=rossler_jac, args=DEDNAM_ARGS)
+    assert orbit.x0.dtype == np.float64 and isinstance(orbit.period, float)
+    # the guess's x3 was rounded to float32, so compare with a looser 1e-6 (float32 eps ~ 6e-8)
+    assert abs(orbit.period / T_DEDNAM - 1.0) <= 1e-6

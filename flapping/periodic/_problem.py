@@ -1,0 +1,330 @@
+"""The shooting problem: unknowns, residual (eq. 38) and its Jacobian, with evaluation counters.
+
+:class:`ShootingProblem` is what :func:`flapping.periodic.shooting.find_periodic_orbit` hands to
+Levenberg-Marquardt. It owns
+
+* the layout of the unknowns ``z = (x0[free], T if autonomous, p)``
+  (:meth:`~ShootingProblem.unpack`),
+* the residual ``r_k = x(1 + k delta) - x(k delta)``, ``k = 0 .. n_points - 1`` (normalised time
+  ``tau = t / T``), followed by the user's extra residual,
+* its Jacobian, from the variational equations (one integration gives r and J) or from forward
+  differences of the residual (the paper's method),
+* the counters and histories reported in :class:`~flapping.periodic.shooting.PeriodicOrbit`.
+
+Extension to multiple shooting. The problem is single shooting: one integration over the
+period. Multiple shooting (M segments, each started from its own unknown state) changes three
+things, each in one place here: the layout (:meth:`unpack`: M states instead of one), the
+integration (:meth:`_integrate` and :meth:`_integrate_variational`: one call of
+:func:`~flapping.periodic._segments.propagate` / :func:`~flapping.periodic._segments.variational`
+per segment), and the assembly (:meth:`_assemble` and :meth:`_assemble_jacobian`: continuity
+blocks ``x_k(end) - s_{k+1}`` and a block-bidiagonal Jacobian ``[Phi_k, -I]``). The caching,
+counting and histories that Levenberg-Marquardt relies on stay as they are.
+
+Inputs are trusted: :mod:`flapping.periodic.shooting` checks them at the public boundary.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from flapping._numdiff import central_jacobian, forward_jacobian
+from flapping.periodic import _segments as seg
+
+__all__ = ["ShootingSetup", "ShootingProblem", "IntegrationFailed"]
+
+
+
+class IntegrationFailed(Exception):
+    """Raised inside the residual to leave MINPACK when the integrator gives up."""
+
+
+@dataclass(frozen=True)
+class ShootingSetup:
+    """The checked inputs of a shooting problem (see ``find_periodic_orbit`` for each).
+
+    Attributes
+    ----------
+    funs, jacs, pjacs : tuple
+        The user's callables, one per segment of the period (None: finite differences).
+    args : tuple
+        Extra arguments of the callables (before ``p``).
+    x_init : ndarray, shape (n,)
+        Initial guess of the state; its ``fixed`` components are kept.
+    T_init : float
+        Period guess (autonomous) or the known period.
+    p_init : ndarray or None
+        Initial guess of the free parameters.
+    fixed : tuple of int
+        Components of x0 held at their guess (the user's, or the chosen phase condition).
+    autonomous : bool
+        Whether T is an unknown.
+    breakpoints : tuple of float
+        Restart fractions of the period.
+    settings : Settings
+        Integration settings.
+    n_points, delta : int, float
+        Residual blocks and their spacing in normalised time (eq. 38).
+    extra_residual : callable or None
+        Further conditions ``extra_residual(x0, T, p)``, of length ``n_extra``.
+    n_extra : int
+        Length of the extra residual.
+    jacobian : str
+        ``"variational"`` or ``"finite-difference"``.
+    """
+
+    funs: tuple[Callable[..., Any], ...]
+    jacs: tuple[Callable[..., Any] | None, ...]
+    pjacs: tuple[Callable[..., Any] | None, ...]
+    args: tuple[Any, ...]
+    x_init: np.ndarray
+    T_init: float
+    p_init: np.ndarray | None
+    fixed: tuple[int, ...]
+    autonomous: bool
+    breakpoints: tuple[float, ...]
+    settings: seg.Settings
+    n_points: int
+    delta: float
+    extra_residual: Callable[..., Any] | None
+    n_extra: int
+    jacobian: str
+
+    @property
+    def n_unknowns(self) -> int:
+        """Free components of x0, plus T if autonomous, plus the parameters."""
+        n_p = 0 if self.p_init is None else self.p_init.size
+        return self.x_init.size - len(self.fixed) + int(self.autonomous) + n_p
+
+    @property
+    def n_residuals(self) -> int:
+        """Periodicity residuals (``n * n_points``) plus the extra ones."""
+        return self.x_init.size * self.n_points + self.n_extra
+
+
+class ShootingProblem:
+    """Residual and Jacobian of the shooting method for Levenberg-Marquardt (eqs. 30-38).
+
+    ``residual(z)`` and ``jacobian(z)`` are the ``fun`` and ``jac`` of
+    :func:`scipy.optimize.least_squares`. A point seen before is not integrated again (scipy
+    re-requests points); with the variational Jacobian the residual integration also yields the
+    Jacobian, so an accepted trial point costs no further integration.
+
+    Parameters
+    ----------
+    setup : ShootingSetup
+        The checked inputs.
+    """
+
+    def __init__(self, setup: ShootingSetup) -> None:
+        self.setup = setup
+        n = setup.x_init.size
+        self.free = np.array([i for i in range(n) if i not in setup.fixed], dtype=int)
+        self.n_p = 0 if setup.p_init is None else setup.p_init.size
+        # Residual points in normalised time: tau = k delta and 1 + k delta (eq. 38).
+        self.taus_a = np.arange(setup.n_points) * setup.delta
+        self.taus_b = 1.0 + self.taus_a
+        self.tau_out = np.concatenate([self.taus_a[1:], self.taus_b])
+        self.counter, self.jcounter = seg.Counter(), seg.Counter()
+        self.residual_history: list[float] = []
+        self.iteration_history: list[float] = []
+        self.last_good = self.z0.copy()
+        self.last_residual: np.ndarray | None = None
+        self._r_cache: tuple[np.ndarray, np.ndarray] | None = None  # (z, r)
+        self._J_cache: tuple[np.ndarray, np.ndarray] | None = None  # (z, J)
+        self._last_jacobian_z: np.ndarray | None = None
+
+    # ---- unknowns <-> (x0, T, p) ---------------------------------------------------------------
+
+    @property
+    def z0(self) -> np.ndarray:
+        """The initial unknowns."""
+        s = self.setup
+        return np.concatenate([s.x_init[self.free], [s.T_init] if s.autonomous else [],
+                               s.p_init if self.n_p else []])
+
+    def unpack(self, z: np.ndarray) -> tuple[np.ndarray, float, np.ndarray | None]:
+        """``(x0, T, p)`` of the unknowns ``z``."""
+        s = self.setup
+        x = s.x_init.copy()
+        x[self.free] = z[: self.free.size]
+        T = float(z[self.free.size]) if s.autonomous else s.T_init
+        p = z[self.free.size + int(s.autonomous):].copy() if self.n_p else None
+        return x, T, p
+
+    # ---- counters --------------------------------------------------------------------------------
+
+    @property
+    def nfev(self) -> int:
+        """Evaluations of ``fun`` so far (finite differences included)."""
+        return self.counter.n
+
+    @property
+    def njev(self) -> int:
+        """Evaluations of ``jac`` and ``param_jac`` so far."""
+        return self.jcounter.n
+
+    def bind(self, p: np.ndarray | None) -> tuple[seg.Checked, ...]:
+        """The per-segment callables ``g(t, x)`` at the parameters ``p``, counted and checked."""
+        n = self.setup.x_init.size
+        return tuple(seg.Checked(f, self.setup.args, p, (n,), self.counter)
+                     for f in self.setup.funs)
+
+    # ---- Levenberg-Marquardt's fun and jac ------------------------------------------------------
+
+    def residual(self, z: np.ndarray) -> np.ndarray:
+        """The residual at ``z`` (eq. 38 and the extra residual); cached.
+
+        Raises
+        ------
+        IntegrationFailed
+            When the period leaves (0, inf) or the integration fails.
+        """
+        if self._r_cache is not None and np.array_equal(z, self._r_cache[0]):
+            return self._r_cache[1]  # scipy re-requests points it has seen; do not integrate twice
+        s = self.setup
+        if s.autonomous and not z[self.free.size] > 0.0:
+            raise IntegrationFailed(
+                f"the period left (0, inf) (T = {z[self.free.size]:.3e}): the iteration is "
+                f"heading for the trivial solution T -> 0 of the autonomous residual (no "
+                f"periodic orbit near the guess, or an equilibrium)")
+        if s.jacobian == "variational":
+            # Integrate the variational equations with every residual: a trial point that LM
+            # accepts (the usual case near the orbit) then has its Jacobian for free, one
+            # integration per iteration instead of two.
+            r, J = self._variational_residual(z)
+            self._J_cache = (z.copy(), J)
+        else:
+            r = self._plain_residual(z)
+        self._r_cache = (z.copy(), r)
+        self.last_good, self.last_residual = z.copy(), r
+        self.residual_history.append(float(np.linalg.norm(r)))
+        return r
+
+    def jacobian(self, z: np.ndarray) -> np.ndarray:
+        """The Jacobian of the residual at ``z``; records the iteration history."""
+        r = self.residual(z)
+        if self._last_jacobian_z is None or not np.array_equal(z, self._last_jacobian_z):
+            self.iteration_history.append(float(np.linalg.norm(r)))
+            self._last_jacobian_z = z.copy()
+        if self._J_cache is not None and np.array_equal(z, self._J_cache[0]):
+            return self._J_cache[1]
+        if self.setup.jacobian == "variational":
+            J = self._variational_residual(z)[1]
+        else:
+            J = self._forward_difference_jacobian(z, r)
+        self._J_cache = (z.copy(), J)
+        return J
+
+    def close_history(self, z: np.ndarray, norm: float) -> None:
+        """End the iteration history with the final point's residual norm."""
+        if self._last_jacobian_z is None or not np.array_equal(z, self._last_jacobian_z):
+            self.iteration_history.append(norm)
+        else:
+            self.iteration_history[-1] = norm  # the same point, at full accuracy
+
+    # ---- integration ---------------------------------------------------------------------------
+
+    def _span(self, T: float) -> tuple[float, tuple[float, ...], float | None]:
+        """End time, output times and RK4 step of the shooting integration at period T."""
+        h = T / self.setup.settings.rk4_steps if self.setup.settings.fixed_step else None
+        return float(self.taus_b[-1] * T), tuple(self.tau_out * T), h
+
+    def _integrate(self, x: np.ndarray, T: float, p: np.ndarray | None) -> np.ndarray:
+        """States at ``tau_out * T`` (time-first), by one integration of the state."""
+        s = self.setup
+        t1, t_out, h = self._span(T)
+        out = seg.propagate(self.bind(p), 0.0, t1, x, period=T, breakpoints=s.breakpoints,
+                            settings=s.settings, h=h, t_out=t_out)
+        if not out.success:
+            raise IntegrationFailed(out.message)
+        return np.array(out.y_out)
+
+    def _integrate_variational(self, x: np.ndarray, T: float,
+                               p: np.ndarray | None) -> seg.VariationalFlow:
+        """States, matrices and sensitivities at ``tau_out * T`` by one integration."""
+        s = self.setup
+        t1, t_out, h = self._span(T)
+        var = seg.variational(s.funs, s.jacs, s.pjacs, 0.0, t1, x, args=s.args, params=p,
+                              trace=False, settings=s.settings, h=h, period=T,
+                              breakpoints=s.breakpoints, t_out=t_out)
+        self.counter.n += var.nfev
+        self.jcounter.n += var.njev
+        if not var.success:
+            raise IntegrationFailed(var.message)
+        return var
+
+    # ---- assembly ------------------------------------------------------------------------------
+
+    def _assemble(self, z: np.ndarray, xa: np.ndarray, xb: np.ndarray) -> np.ndarray:
+        """Residual from the states at ``taus_a`` and ``taus_b`` (time-first), extra appended."""
+        r = (xb - xa).ravel()
+        if self.setup.n_extra:
+            r = np.concatenate([r, self._extra(z)])
+        if not np.all(np.isfinite(r)):
+            raise IntegrationFailed("non-finite residual")
+        return r
+
+    def _plain_residual(self, z: np.ndarray) -> np.ndarray:
+        """Eq. (38) by one integration of the state (states at tau = k delta, 1 + k delta)."""
+        x, T, p = self.unpack(z)
+        ys = self._integrate(x, T, p)
+        k = self.setup.n_points - 1
+        return self._assemble(z, np.vstack([x[None, :], ys[:k]]), ys[k:])
+
+    def _variational_residual(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Eq. (38) and its Jacobian from one integration of the variational equations."""
+        x, T, p = self.unpack(z)
+        var = self._integrate_variational(x, T, p)
+        k = self.setup.n_points - 1
+        xs = var.x.T  # time-first: one row per output time
+        xa, xb = np.vstack([x[None, :], xs[:k]]), xs[k:]
+        r = self._assemble(z, xa, xb)
+        return r, self._assemble_jacobian(z, var, xa, xb, p)
+
+    def _assemble_jacobian(self, z: np.ndarray, var: seg.VariationalFlow, xa: np.ndarray,
+                           xb: np.ndarray, p: np.ndarray | None) -> np.ndarray:
+        """Columns for the free x0 (matrices), T (``tau f(x(tau))``), p (sensitivities)."""
+        n, k = self.setup.x_init.size, self.setup.n_points - 1
+        stm = np.moveaxis(var.stm, -1, 0)  # time-first
+        stm_a = np.concatenate([np.eye(n)[None], stm[:k]])
+        blocks = [(stm[k:] - stm_a)[:, :, self.free]]
+        if self.setup.autonomous:
+            # d x(tau) / dT = tau f(x(tau)) for an autonomous field: the solution of the
+            # variational equation forced by f (normalised time, eq. 36) in closed form.
+            g = self.bind(p)[0]
+            col = np.array([tb * g(0.0, b) - ta * g(0.0, a)
+                            for ta, tb, a, b in zip(self.taus_a, self.taus_b, xa, xb,
+                                                    strict=True)])
+            blocks.append(col[:, :, None])
+        if self.n_p:
+            assert var.sensitivity is not None
+            sens = np.moveaxis(var.sensitivity, -1, 0)
+            sens_a = np.concatenate([np.zeros((1, n, self.n_p)), sens[:k]])
+            blocks.append(sens[k:] - sens_a)
+        J = np.concatenate(blocks, axis=2).reshape(n * self.setup.n_points, z.size)
+        if self.setup.n_extra:
+            # central differences of the (cheap, integration-free) extra residual
+            J = np.vstack([J, central_jacobian(self._extra, z)])
+        return J
+
+    def _forward_difference_jacobian(self, z: np.ndarray, r0: np.ndarray) -> np.ndarray:
+        """Forward differences of the residual, MINPACK lmdif's step (the paper's method)."""
+        return forward_jacobian(self._plain_residual, z, r0)
+
+    def _extra(self, z: np.ndarray) -> np.ndarray:
+        """The user's extra residual at ``z``, checked."""
+        extra = self.setup.extra_residual
+        assert extra is not None
+        x, T, p = self.unpack(z)
+        e = np.atleast_1d(np.asarray(extra(x, T, p), dtype=float))
+        if e.shape != (self.setup.n_extra,):
+            raise ValueError(f"`extra_residual` must return shape {(self.setup.n_extra,)}, got "
+                             f"{e.shape}")
+        if not np.all(np.isfinite(e)):
+            raise ValueError(f"`extra_residual` returned a non-finite value at x0 = {x!r}, "
+                             f"T = {T!r}, p = {p!r}: {e!r}")
+        return e
