@@ -121,7 +121,7 @@ def _notebook_dir(config) -> Path:
 def pytest_collect_file(file_path: Path, parent):
     if file_path == TOC:
         return TocFile.from_parent(parent, path=file_path)
-    if file_path.suffix == ".md" and file_path.is_relative_to(BOOK):
-        if file_path.relative_to(BOOK).with_suffix("").as_posix() in book_chapters():
-            return MystChapter.from_parent(parent, path=file_path)
+    if (file_path.suffix == ".md" and file_path.is_relative_to(BOOK)
+            and file_path.relative_to(BOOK).with_suffix("").as_posix() in book_chapters()):
+        return MystChapter.from_parent(parent, path=file_path)
     return None

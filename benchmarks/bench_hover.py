@@ -21,8 +21,8 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
 import flapping
-from flapping.model.dynamics import LongitudinalDynamics
 from flapping.hover import find_hover_orbit
+from flapping.model.dynamics import LongitudinalDynamics
 from flapping.stability import hover_stability
 
 RTOL, ATOL = 1e-11, 1e-12
@@ -31,7 +31,7 @@ RTOL, ATOL = 1e-11, 1e-12
 def ours(insect):
     orbit = find_hover_orbit(insect, rtol=RTOL, atol=ATOL)
     stab = hover_stability(orbit, rtol=RTOL, atol=ATOL)
-    return orbit.amplitude, stab.multipliers, orbit.shooting.n_rhs_evals
+    return orbit.amplitude, stab.multipliers, orbit.shooting.nfev
 
 
 def baseline(insect):
@@ -81,8 +81,10 @@ def main(repeat: int = 3) -> dict:
     t_ours, (phi_a, mu_a, n_a) = best_time(ours, insect, repeat)
     t_base, (phi_b, mu_b, n_b) = best_time(baseline, insect, repeat)
     print(f"hover orbit + Floquet multipliers of the {insect.name} (best of {repeat})")
-    print(f"  ours     : {t_ours * 1e3:8.1f} ms   {n_a:7d} RHS evals (shooting)  Phi = {math.degrees(phi_a):.9f} deg")
-    print(f"  baseline : {t_base * 1e3:8.1f} ms   {n_b:7d} RHS evals (all)       Phi = {math.degrees(phi_b):.9f} deg")
+    print(f"  ours     : {t_ours * 1e3:8.1f} ms   {n_a:7d} RHS evals (shooting)  "
+          f"Phi = {math.degrees(phi_a):.9f} deg")
+    print(f"  baseline : {t_base * 1e3:8.1f} ms   {n_b:7d} RHS evals (all)       "
+          f"Phi = {math.degrees(phi_b):.9f} deg")
     print(f"  ratio baseline/ours: {t_base / t_ours:.1f}")
     print(f"  largest multiplier: ours {abs(mu_a[0]):.10f}, baseline {abs(mu_b[0]):.10f}")
     return {"ours_s": t_ours, "baseline_s": t_base, "ratio": t_base / t_ours}

@@ -12,19 +12,22 @@ Hovering Flapping MAVs/Insects". Layers, each importing only the ones before it:
 - :mod:`flapping.book`: the book's figures, tables and the paper's printed numbers (not
   re-exported).
 
-Importing the package does no work beyond definitions.
+Importing the package does no work beyond definitions. The command line is
+:mod:`flapping.__main__` (``flapping --help``).
 """
 
-from flapping.errors import ConvergenceError
+from flapping.errors import ConvergenceError, HoverDriftWarning
 from flapping.hover import HoverOrbit, find_hover_orbit
 from flapping.model.morphology import Insect, hawkmoth
 from flapping.periodic.floquet import monodromy
 from flapping.periodic.shooting import find_periodic_orbit
-from flapping.stability import hover_stability
+from flapping.stability import HoverStability, hover_stability
 
 __all__ = [
     "ConvergenceError",
+    "HoverDriftWarning",
     "HoverOrbit",
+    "HoverStability",
     "Insect",
     "find_hover_orbit",
     "find_periodic_orbit",
@@ -32,4 +35,4 @@ __all__ = [
     "hover_stability",
     "monodromy",
 ]
-__version__ = "0.1.0"
+__version__ = "0.2.0"

@@ -1,38 +1,152 @@
-"""Command line: ``python -m flapping hover [--insect hawkmoth] [--aerodynamics linear] [--json]``.
+"""Command line: the hovering orbit of a preset insect and its Floquet stability.
 
-Prints the hovering periodic orbit of a preset insect and its Floquet stability. Bad arguments exit
-with status 2 and a one-line message; a solver failure exits with status 1 and a one-line message.
+``flapping hover [--insect hawkmoth] [--aerodynamics linear] [--json]`` (the console script), or
+the same after ``python -m flapping``. ``flapping --version`` prints the package version.
+
+Exit status: 0 on success; 1 if the solver fails (no convergence, a failed integration, or a result
+that is not a finite number); 2 for bad arguments. Errors are one line on standard error.
+
+The JSON report (:func:`hover_report`) is in SI units (angles in rad unless the key ends in
+``_deg``), and its ``units`` member gives the unit of every key. It never contains NaN or infinity:
+a non-finite result is an error (status 1), not a number a JSON parser may refuse.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
+import inspect
 import json
 import math
+import os
 import sys
-from typing import Sequence
+import warnings
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any, NoReturn
 
-from flapping.model.dynamics import AERODYNAMIC_MODELS, STATE_NAMES
+from flapping import __version__
 from flapping.errors import ConvergenceError
-from flapping.model.morphology import hawkmoth
+from flapping.hover import HoverOrbit, find_hover_orbit
+from flapping.model.dynamics import AERODYNAMIC_MODELS, STATE_NAMES
+from flapping.model.morphology import Insect, hawkmoth
+from flapping.stability import HoverStability, hover_stability
 
-PRESETS = {"hawkmoth": hawkmoth}
+__all__ = ["PRESETS", "UNITS", "NonFiniteResultError", "hover_report", "main"]
+
+#: Preset insects selectable with ``--insect``.
+PRESETS: dict[str, Callable[[], Insect]] = {"hawkmoth": hawkmoth}
+
+_STATE_UNITS = {"u": "m/s", "w": "m/s", "q": "rad/s", "theta": "rad"}
+_COUNT = "1"  # a dimensionless number (a count, a ratio, a multiplier)
+#: Units of the :class:`~flapping.model.morphology.Insect` fields (``None``: not a quantity).
+INSECT_UNITS: dict[str, str | None] = {
+    "name": None, "semi_span": "m", "wing_area": "m^2", "r1": _COUNT, "r2": _COUNT,
+    "frequency": "Hz", "stroke_amplitude": "rad", "mass": "kg", "pitch_inertia": "kg m^2",
+    "air_density": "kg/m^3", "gravity": "m/s^2", "a0": "1/rad", "aspect_ratio_convention": None,
+    "pitch_axis": _COUNT, "center_of_pressure": _COUNT, "hinge_offset": "m", "mu1": _COUNT,
+    "mu2": _COUNT,
+}
+_ATOL_UNIT = "SI units of each state (m/s, rad/s, rad; m for z)"
+_SHOOTING_UNITS: dict[str, str | None] = {
+    "method": None, "rtol": _COUNT, "atol": _ATOL_UNIT,
+    "tol": "SI units of each state (norm of the residual)", "jacobian": None, "success": None,
+    "nit": _COUNT, "nfev": _COUNT, "njev": _COUNT,
+}
+_STABILITY_UNITS: dict[str, str | None] = {
+    "method": None, "rtol": _COUNT, "atol": _ATOL_UNIT, "rk4_steps": _COUNT, "n_average": _COUNT,
+}
+#: Unit of every key of the JSON report (nested like the report; ``None``: not a quantity;
+#: ``"1"``: dimensionless). Lists of complex numbers ``{"re", "im"}`` share one unit.
+UNITS: dict[str, Any] = {
+    "version": None,
+    "insect": None,
+    "insect_parameters": INSECT_UNITS,
+    "aerodynamics": None,
+    "amplitude_deg": "deg",
+    "alpha_m_deg": "deg",
+    "initial_state": _STATE_UNITS,
+    "period_s": "s",
+    "residual_norm": "SI units of each state (norm of the shooting residual)",
+    "mean_inertial_velocity": {"forward": "m/s", "climb": "m/s"},
+    "mean_horizontal_velocity": "m/s",
+    "mean_vertical_velocity": "m/s",
+    "is_hover": None,
+    "multipliers": _COUNT,
+    "floquet_exponents": "1/s",
+    "det_monodromy": _COUNT,
+    "liouville_det": _COUNT,
+    "liouville_error": _COUNT,
+    "averaged_eigenvalues": "1/s",
+    "stable": None,
+    "solver": {"shooting": _SHOOTING_UNITS, "stability": _STABILITY_UNITS},
+}
+
+_DESCRIPTION = """\
+Stability of hovering flapping-wing flight (Elsadek, El-Bayoumi & Taha): the periodic hover
+orbit of an insect and its Floquet multipliers."""
+
+_EXIT_CODES = """exit status:
+  0  success
+  1  the solver failed: no convergence, a failed integration, or a result that is not finite
+  2  bad command-line arguments"""
+
+_EPILOG = f"""`%(prog)s hover --help` describes hover, its options and the units of its output.
+
+{_EXIT_CODES}
+
+Units are SI (m, s, kg, rad), except keys and labels that say deg.
+example: %(prog)s hover --json"""
+
+_HOVER_DESCRIPTION = """\
+Find the hover orbit of a preset insect (Elsadek, El-Bayoumi & Taha, Sec. IV): the initial state
+u, w [m/s], q [rad/s], theta [rad] and the stroke amplitude Phi [deg] of the periodic orbit of
+period T = 1/f [s] whose mean climb rate is zero. Then integrate the variational equations over
+one period: the monodromy matrix, its Floquet multipliers (dimensionless; hover is stable if all
+four lie inside the unit circle), the Floquet exponents ln(mu)/T [1/s], the Liouville check
+det M = exp(int_0^T trace J dt), and the eigenvalues of the cycle-averaged system [1/s]."""
+
+_HOVER_EPILOG = f"""\
+--json prints one JSON object with the keys amplitude_deg, alpha_m_deg, initial_state, period_s,
+residual_norm, mean_inertial_velocity, multipliers, floquet_exponents, det_monodromy,
+liouville_det, averaged_eigenvalues, stable, and version, insect, insect_parameters,
+aerodynamics, mean_horizontal_velocity, mean_vertical_velocity, is_hover, liouville_error,
+solver (settings and iteration counts); `units` gives the unit of every key. Complex numbers are
+{{"re": ..., "im": ...}}. NaN and infinity are never printed: a non-finite result exits with 1.
+
+{_EXIT_CODES}"""
+
+
+class NonFiniteResultError(ValueError):
+    """A number of the report is NaN or infinite, so it cannot be reported as JSON."""
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # one line, no usage dump
+    def error(self, message: str) -> NoReturn:  # one line, no usage dump
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
+def _prog() -> str:
+    """``flapping`` when run as the console script, else ``python -m flapping``."""
+    return "flapping" if Path(sys.argv[0]).name == "flapping" else "python -m flapping"
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="python -m flapping", description=__doc__.splitlines()[0])
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    hover = sub.add_parser("hover", help="hovering orbit and its Floquet multipliers")
+    raw = argparse.RawDescriptionHelpFormatter
+    parser = _Parser(prog=_prog(), description=_DESCRIPTION, epilog=_EPILOG, formatter_class=raw)
+    parser.add_argument("--version", action="version", version=f"flapping {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser,
+                                metavar="command")
+    hover = sub.add_parser("hover", help="hover orbit and its Floquet stability",
+                           description=_HOVER_DESCRIPTION, epilog=_HOVER_EPILOG,
+                           formatter_class=raw)
     hover.add_argument("--insect", default="hawkmoth", choices=sorted(PRESETS),
-                       help="preset insect (default: hawkmoth)")
+                       help="preset insect (default: %(default)s, the paper's Manduca sexta)")
     hover.add_argument("--aerodynamics", default="linear", choices=AERODYNAMIC_MODELS,
-                       help="aerodynamic model (default: linear, the paper's eq. 29)")
-    hover.add_argument("--json", action="store_true", help="print one JSON object")
+                       help="loads model (default: %(default)s, the paper's eq. 29; small-angle "
+                            "and exact: the blade-element loads)")
+    hover.add_argument("--json", action="store_true",
+                       help="print one JSON object (SI units, a `units` map) instead of text")
     return parser
 
 
@@ -40,30 +154,107 @@ def _complex_list(values) -> list[dict[str, float]]:
     return [{"re": float(v.real), "im": float(v.imag)} for v in values]
 
 
-def hover_report(insect_name: str, aerodynamics: str) -> dict:
-    """The hover orbit and its stability as a JSON-ready dict (SI units, theta in rad)."""
-    from flapping.hover import find_hover_orbit
-    from flapping.stability import hover_stability
+def _defaults(function: Callable, *names: str) -> dict[str, Any]:
+    """The default values of some keyword arguments of ``function``."""
+    parameters = inspect.signature(function).parameters
+    return {name: parameters[name].default for name in names}
 
-    insect = PRESETS[insect_name]()
-    orbit = find_hover_orbit(insect, aerodynamics=aerodynamics)
-    stab = hover_stability(orbit)
+
+def _solver_report(orbit: HoverOrbit, shooting: dict, stability: dict) -> dict[str, dict]:
+    result = orbit.shooting
     return {
-        "insect": insect.name,
-        "aerodynamics": aerodynamics,
+        "shooting": {**shooting, "jacobian": result.jacobian, "success": bool(result.success),
+                     "nit": int(result.nit), "nfev": int(result.nfev),
+                     "njev": int(result.njev)},
+        "stability": dict(stability),
+    }
+
+
+def _insect_parameters(insect: Insect) -> dict[str, Any]:
+    return {f.name: getattr(insect, f.name) for f in dataclasses.fields(insect) if f.init}
+
+
+def _orbit_report(orbit: HoverOrbit) -> dict[str, Any]:
+    velocity = orbit.mean_inertial_velocity
+    return {
         "amplitude_deg": orbit.amplitude_deg,
         "alpha_m_deg": math.degrees(orbit.model.alpha_m),
-        "initial_state": {k: float(v) for k, v in zip(STATE_NAMES, orbit.x0)},
+        "initial_state": {k: float(v) for k, v in zip(STATE_NAMES, orbit.x0, strict=True)},
         "period_s": orbit.period,
         "residual_norm": orbit.residual_norm,
-        "mean_inertial_velocity": orbit.mean_inertial_velocity,
+        "mean_inertial_velocity": velocity,
+        "mean_horizontal_velocity": velocity["forward"],
+        "mean_vertical_velocity": velocity["climb"],
+        "is_hover": orbit.is_hover,
+    }
+
+
+def _stability_report(stab: HoverStability) -> dict[str, Any]:
+    return {
         "multipliers": _complex_list(stab.multipliers),
         "floquet_exponents": _complex_list(stab.exponents),
         "det_monodromy": stab.det,
         "liouville_det": stab.liouville_det,
+        "liouville_error": stab.liouville_error,
         "averaged_eigenvalues": _complex_list(stab.averaged_eigenvalues),
         "stable": stab.is_stable,
     }
+
+
+def _non_finite(value: Any, path: str = "") -> list[str]:
+    """Paths (``key.sub[i].re = nan``) of every NaN or infinity in a JSON-ready object."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return [f"{path} = {value}"]
+    if isinstance(value, dict):
+        return [p for k, v in value.items() for p in _non_finite(v, f"{path}.{k}" if path else k)]
+    if isinstance(value, list):
+        return [p for i, v in enumerate(value) for p in _non_finite(v, f"{path}[{i}]")]
+    return []
+
+
+def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str = "linear") -> dict:
+    """The hover orbit and its stability as a JSON-ready dict (SI units; see :data:`UNITS`).
+
+    Parameters
+    ----------
+    insect : str or Insect
+        A key of :data:`PRESETS`, or an :class:`~flapping.model.morphology.Insect`.
+    aerodynamics : {"linear", "small-angle", "exact"}
+        Loads model.
+
+    Returns
+    -------
+    dict
+        The keys of :data:`UNITS` and ``units`` (that map). Every number is finite.
+
+    Raises
+    ------
+    ValueError
+        For an unknown preset or bad arguments.
+    ConvergenceError
+        If the shooting or an integration fails.
+    NonFiniteResultError
+        If a reported number is NaN or infinite (e.g. a Floquet exponent of a multiplier that
+        underflows to 0); the message lists which.
+    """
+    if isinstance(insect, str):
+        if insect not in PRESETS:
+            raise ValueError(f"`insect` must be one of {tuple(PRESETS)}; got {insect!r}")
+        insect = PRESETS[insect]()
+    shooting = _defaults(find_hover_orbit, "method", "rtol", "atol", "tol")
+    stability = _defaults(hover_stability, "method", "rtol", "atol", "rk4_steps", "n_average")
+    orbit = find_hover_orbit(insect, aerodynamics=aerodynamics, **shooting)
+    stab = hover_stability(orbit, **stability)
+    report = {"version": __version__, "insect": insect.name,
+              "insect_parameters": _insect_parameters(insect), "aerodynamics": aerodynamics,
+              **_orbit_report(orbit), **_stability_report(stab),
+              "solver": _solver_report(orbit, shooting, stability), "units": UNITS}
+    bad = _non_finite(report)
+    if bad:
+        raise NonFiniteResultError(
+            f"the result for {insect.name} is not finite ({', '.join(bad)}): the orbit or its "
+            "stability is out of floating-point range, so it is not reported")
+    return report
 
 
 def _text(report: dict) -> str:
@@ -75,27 +266,58 @@ def _text(report: dict) -> str:
         f"  initial state: u = {x0['u']:.6g} m/s, w = {x0['w']:.6g} m/s, "
         f"q = {x0['q']:.6g} rad/s, theta = {x0['theta']:.6g} rad",
         f"  shooting residual {report['residual_norm']:.2e}",
+        f"  mean inertial velocity: forward {report['mean_horizontal_velocity']:.3g} m/s, "
+        f"climb {report['mean_vertical_velocity']:.3g} m/s"
+        + ("" if report["is_hover"] else " (NOT hover: the orbit drifts)"),
         "  Floquet multipliers:",
     ]
     for mu in report["multipliers"]:
-        lines.append(f"    {mu['re']:+.6f} {mu['im']:+.6f}i   |mu| = {math.hypot(mu['re'], mu['im']):.6f}")
+        lines.append(f"    {mu['re']:+.6f} {mu['im']:+.6f}i   "
+                     f"|mu| = {math.hypot(mu['re'], mu['im']):.6f}")
     lines.append(f"  det M = {report['det_monodromy']:.10g}, Liouville exp(int tr J) = "
-                 f"{report['liouville_det']:.10g}")
+                 f"{report['liouville_det']:.10g} (relative error "
+                 f"{report['liouville_error']:.1e})")
     lines.append("  averaged-system eigenvalues [1/s]: " + ", ".join(
         f"{e['re']:+.4g}{e['im']:+.4g}i" for e in report["averaged_eigenvalues"]))
     lines.append("  hover is " + ("stable" if report["stable"] else "UNSTABLE"))
     return "\n".join(lines)
 
 
+def _one_line(text: object) -> str:
+    return " ".join(str(text).split())
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point; returns the exit status."""
-    args = _parser().parse_args(argv)
+    """Entry point of ``flapping`` and ``python -m flapping``; returns the exit status.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        0 on success, 1 if the solver fails or its result is not finite. Bad arguments exit
+        (SystemExit) with status 2; ``--help`` and ``--version`` with 0.
+    """
+    parser = _parser()
+    args = parser.parse_args(argv)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            report = hover_report(args.insect, args.aerodynamics)
+            text = json.dumps(report, allow_nan=False) if args.json else _text(report)
+        except (ValueError, ConvergenceError, ArithmeticError) as exc:
+            print(f"{parser.prog}: error: {_one_line(exc)}", file=sys.stderr)
+            return 1
+    for message in dict.fromkeys(_one_line(w.message) for w in caught):
+        print(f"{parser.prog}: warning: {message}", file=sys.stderr)
     try:
-        report = hover_report(args.insect, args.aerodynamics)
-    except (ValueError, ConvergenceError) as exc:
-        print(f"python -m flapping: error: {exc}", file=sys.stderr)
+        print(text, flush=True)
+    except BrokenPipeError:  # the reader left early (`flapping hover | head`): no traceback
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
-    print(json.dumps(report) if args.json else _text(report))
     return 0
 
 

@@ -1,4 +1,9 @@
-"""Exceptions shared by the solvers of :mod:`flapping`."""
+"""Exceptions and warnings shared by the solvers of :mod:`flapping`.
+
+- :class:`ConvergenceError`: a solver or an integration did not reach its answer;
+  :func:`require_success` raises it for an integration result that failed.
+- :class:`HoverDriftWarning`: a "hover" orbit that flies away horizontally (an offset hinge).
+"""
 
 from __future__ import annotations
 
@@ -6,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["ConvergenceError"]
+__all__ = ["ConvergenceError", "HoverDriftWarning", "require_success"]
 
 
 class ConvergenceError(RuntimeError):
@@ -48,3 +53,39 @@ class ConvergenceError(RuntimeError):
         self.residual = residual
         self.iterations = iterations
         self.result = result
+
+
+class HoverDriftWarning(UserWarning):
+    """An orbit found as hover has a non-zero mean horizontal speed: it is not hover.
+
+    The hover condition fixes the mean *vertical* speed only; with the half-period symmetry
+    broken (a non-zero ``hinge_offset``) the orbit may fly forwards or backwards on average.
+    Emitted by :func:`flapping.hover.find_hover_orbit`; see
+    :attr:`flapping.hover.HoverOrbit.is_hover` for the tolerance.
+    """
+
+
+def require_success(result: Any, what: str) -> Any:
+    """``result`` if the integration it reports reached its end, else a ConvergenceError.
+
+    Parameters
+    ----------
+    result : object
+        An integration result with ``success`` and ``message`` attributes (e.g. of
+        :func:`flapping.periodic.integrate.flow`).
+    what : str
+        What was being integrated, for the message (e.g. ``"the averaged Jacobian"``).
+
+    Returns
+    -------
+    object
+        ``result`` itself.
+
+    Raises
+    ------
+    ConvergenceError
+        If ``result.success`` is false; the message names ``what`` and the solver's message.
+    """
+    if not result.success:
+        raise ConvergenceError(f"{what}: the integration failed ({result.message})", result=result)
+    return result

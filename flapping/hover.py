@@ -15,27 +15,40 @@ periodic) is examined by :func:`paper_hover_problem`: h is a function of the sta
 follows from periodicity of u, w, theta and adds no equation; Phi is then left undetermined and the
 solver returns one member of a family of climbing or sinking periodic orbits.
 
+The hover condition fixes the mean *vertical* speed only. With the half-period symmetry of the
+stroke broken (a wing hinge offset from the centre of gravity) the orbit it finds may fly forwards
+or backwards on average: :attr:`HoverOrbit.is_hover` says whether it does, and
+:func:`find_hover_orbit` warns (:class:`~flapping.errors.HoverDriftWarning`) when it does.
+
 The stability of the orbit (Floquet multipliers, averaging, perturbation growth, sensitivity to
 the modelling choices) is in :mod:`flapping.stability`.
+
+Conventions: SI units inside (angles in rad); sampled trajectories have time along the last axis
+(``x[i, k]`` is state i at ``t[k]``), as ``solve_ivp``'s ``y``.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import numpy as np
 
+from flapping import _validation
+from flapping.errors import ConvergenceError, HoverDriftWarning, require_success
 from flapping.model.dynamics import STATE_NAMES, LongitudinalDynamics
-from flapping.errors import ConvergenceError
-from flapping.periodic.integrate import flow, variational_flow
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
+from flapping.periodic.integrate import flow, variational_flow
 from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
 
 __all__ = [
+    "ANALYSIS_ATOL",
+    "ANALYSIS_RTOL",
     "HALF_PERIOD_SYMMETRY",
+    "HOVER_SPEED_RTOL",
     "HoverOrbit",
     "find_hover_orbit",
     "forced_orbit",
@@ -45,6 +58,19 @@ __all__ = [
 
 #: x(t + T/2) = S x(t) for the symmetric stroke (x_h = 0): u, q, theta change sign, w does not.
 HALF_PERIOD_SYMMETRY = np.diag([-1.0, 1.0, -1.0, -1.0])
+
+#: Largest cycle-mean inertial speed (horizontal and vertical) of an orbit still called hover,
+#: relative to the mean wingtip speed 4 Phi f R (~5.8 m/s for the hawkmoth, so ~6 um/s). A hover
+#: orbit with the half-period symmetry (x_h = 0) drifts only at round-off (~1e-12 m/s); a hinge
+#: 1 mm off the centre of gravity makes it fly at ~0.4 m/s.
+HOVER_SPEED_RTOL = 1e-6
+
+#: Default tolerances (relative; absolute in the states' SI units) of the integrations that
+#: analyse a found orbit (its force budget here; its averaged Jacobian, Floquet modes and
+#: perturbations in :mod:`flapping.stability`): a decade tighter than the orbit's own (rtol
+#: 1e-11), so that the analysis adds no error of its own.
+ANALYSIS_RTOL = 1e-12
+ANALYSIS_ATOL = 1e-12
 
 
 # =========================================================================== results
@@ -65,7 +91,9 @@ class HoverOrbit:
     t, x : ndarray
         One period sampled uniformly (``x`` has shape (4, len(t))), for plots and statistics.
     z_drift : float
-        Net descent z(T) - z(0) over one period [m] (0 on a hover orbit).
+        Net descent z(T) - z(0) over one period [m]: for :func:`find_hover_orbit` the altitude
+        component of the shooting residual (0 to the solver's tolerance), for
+        :func:`forced_orbit` the descent integrated along the orbit.
     shooting : PeriodicOrbit
         The shooting solver's result, with its diagnostics.
     """
@@ -97,7 +125,8 @@ class HoverOrbit:
     @property
     def state_range(self) -> dict[str, tuple[float, float]]:
         """(min, max) of each state over the period."""
-        return {k: (float(self.x[i].min()), float(self.x[i].max())) for i, k in enumerate(STATE_NAMES)}
+        return {k: (float(self.x[i].min()), float(self.x[i].max()))
+                for i, k in enumerate(STATE_NAMES)}
 
     @property
     def mean_inertial_velocity(self) -> dict[str, float]:
@@ -107,8 +136,31 @@ class HoverOrbit:
                 "climb": float(np.mean(u * np.sin(th) - w * np.cos(th)))}
 
     @property
+    def mean_horizontal_speed(self) -> float:
+        """Magnitude of the cycle-mean inertial horizontal velocity [m/s]: 0 on a hover orbit."""
+        return abs(self.mean_inertial_velocity["forward"])
+
+    @property
+    def wingtip_speed(self) -> float:
+        """Mean wingtip speed 4 Phi f R [m/s], the scale of :attr:`is_hover`'s tolerance."""
+        insect = self.model.insect
+        return 4.0 * self.amplitude * insect.frequency * insect.semi_span
+
+    @property
+    def is_hover(self) -> bool:
+        """True if the orbit stays in place on average.
+
+        That is, if both cycle-mean inertial speeds (:attr:`mean_inertial_velocity`) are at most
+        :data:`HOVER_SPEED_RTOL` times the :attr:`wingtip_speed`. False for an orbit that drifts
+        horizontally (a hinge offset, see :class:`~flapping.errors.HoverDriftWarning`) or climbs
+        or sinks (an orbit of :func:`forced_orbit` away from the hover amplitude).
+        """
+        v = self.mean_inertial_velocity
+        return max(abs(v["forward"]), abs(v["climb"])) <= HOVER_SPEED_RTOL * self.wingtip_speed
+
+    @property
     def half_period_symmetry_error(self) -> float:
-        """max |x(t + T/2) - S x(t)| / max|x| over the period: 0 if the orbit has the symmetry."""
+        """``max |x(t + T/2) - S x(t)| / max |x|`` over the period: 0 with the symmetry."""
         n = self.x.shape[1] - 1
         if n % 2:
             raise ValueError("needs an even number of samples per period")
@@ -119,7 +171,7 @@ class HoverOrbit:
 
 # =========================================================================== vector fields
 def _hover_fields(model: LongitudinalDynamics):
-    """Per-half-stroke (rhs, jac, param_jac) of the state augmented with the descent z, p = [Phi]."""
+    """Per-half-stroke (rhs, jac, param_jac) of the state with the descent z appended; p = [Phi]."""
     rhs, jac, pjac = [], [], []
     for k in range(len(model.breakpoints) + 1):
         s = segment_stroke_sign(k)
@@ -161,21 +213,15 @@ def _check_iterate_amplitude(amplitude: float) -> None:
             "from this guess")
 
 
-def _checked(result, what: str):
-    """Raise ConvergenceError if an integration did not reach its end."""
-    if not result.success:
-        raise ConvergenceError(f"{what}: the integration failed ({result.message})")
-    return result
-
-
 def _sample(model: LongitudinalDynamics, x0: np.ndarray, n_samples: int, method: str, **tol):
     """One period from x0 with the descent z alongside: (t, x (4 rows), z(T) - z(0))."""
     rhs = _hover_fields(model)[0]
     t = np.linspace(0.0, model.period, n_samples + 1)
-    res = _checked(flow(rhs, (0.0, model.period), np.append(x0, 0.0),
-                        breakpoints=model.breakpoints, period=model.period, method=method,
-                        t_eval=t if method != "RK4" else None, args=([model.amplitude],), **tol),
-                   "sampling the orbit")
+    res = require_success(
+        flow(rhs, (0.0, model.period), np.append(x0, 0.0), breakpoints=model.breakpoints,
+             period=model.period, method=method, t_eval=t if method != "RK4" else None,
+             args=([model.amplitude],), **tol),
+        "sampling the orbit")
     return (res.t if method == "RK4" else t), res.x[:4], float(res.x[4, -1])
 
 
@@ -204,7 +250,8 @@ def find_hover_orbit(
     ----------
     insect : Insect
     aerodynamics : {"linear", "small-angle", "exact"}
-        Loads model (:class:`~flapping.model.dynamics.LongitudinalDynamics`); ``"linear"`` is eq. (29).
+        Loads model (:class:`~flapping.model.dynamics.LongitudinalDynamics`); ``"linear"`` is
+        eq. (29).
     alpha_m : float, optional
         Mean geometric angle of attack [rad]; default the trim of eq. (40).
     amplitude_guess : float, optional
@@ -221,11 +268,12 @@ def find_hover_orbit(
         Passed to :func:`flapping.periodic.shooting.find_periodic_orbit` (``tol``: largest accepted
         residual norm).
     n_samples : int
-        Samples of the orbit over one period in the result (even).
+        Samples of the orbit over one period in the result (even, >= 2).
 
     Returns
     -------
     HoverOrbit
+        Check :attr:`HoverOrbit.is_hover`: with a hinge offset the orbit may drift horizontally.
 
     Raises
     ------
@@ -234,23 +282,20 @@ def find_hover_orbit(
     ConvergenceError
         If the shooting does not converge, or converges to a stroke amplitude outside
         (0, 90 deg]: then no hover orbit exists for this insect with wings that do not cross.
+
+    Warns
+    -----
+    HoverDriftWarning
+        If the orbit's mean horizontal speed exceeds :data:`HOVER_SPEED_RTOL` times the mean
+        wingtip speed (the orbit holds its altitude but is not hover; see
+        :attr:`HoverOrbit.is_hover`).
     """
     model = LongitudinalDynamics(insect, alpha_m=alpha_m, aerodynamics=aerodynamics)
     amplitude = insect.stroke_amplitude if amplitude_guess is None else amplitude_guess
     model.with_amplitude(amplitude)  # validates the guess
-    # Eq. (40) solved for the amplitude at this alpha_m: the stroke a body at rest needs. If even
-    # that exceeds 90 deg, no hover orbit exists with wings that do not cross.
-    k21 = 0.5 * insect.air_density * insect.lift_slope * insect.span_integral(2, 1)
-    needed = math.sqrt(insect.weight / (2.0 * math.pi**2 * insect.frequency**2 * k21
-                                        * math.sin(2.0 * model.alpha_m)))
-    if needed > math.pi / 2:
-        raise ValueError(
-            f"{insect.name} cannot hover with alpha_m = {math.degrees(model.alpha_m):.4g} deg: "
-            f"eq. (40) needs a stroke amplitude of {math.degrees(needed):.4g} deg > 90 deg "
-            f"(mass {insect.mass!r} kg); raise alpha_m towards 45 deg or lower the mass")
+    _check_trim(insect, model.alpha_m)
     x0 = _state_guess(x0_guess)
-    if n_samples < 2 or n_samples % 2:
-        raise ValueError(f"n_samples must be an even integer >= 2; got {n_samples!r}")
+    n_samples = _even_samples(n_samples)
     if jacobian is None:
         jacobian = "variational" if aerodynamics == "linear" else "finite-difference"
     rhs, jac, pjac = _hover_fields(model)
@@ -259,17 +304,41 @@ def find_hover_orbit(
         free_params=[amplitude], fixed=(4,), breakpoints=model.breakpoints,
         jacobian=jacobian, method=method, rtol=rtol, atol=atol, tol=tol,
     )
+    assert result.params is not None  # the amplitude is a free parameter
     phi = float(result.params[0])
     if not 0.0 < phi <= math.pi / 2:
         raise ConvergenceError(
             f"no hover orbit for {insect.name} with a stroke amplitude in (0, 90] deg: the "
             f"shooting converged to Phi = {math.degrees(phi):.4g} deg",
             x=np.append(result.x0, phi), residual=result.residual_norm,
-            iterations=result.iterations, result=result)
+            iterations=result.nit, result=result)
     hover_model = model.with_amplitude(phi)
     x0 = np.asarray(result.x0[:4], dtype=float)
     t, x, _ = _sample(hover_model, x0, n_samples, method, rtol=rtol, atol=atol)
-    return HoverOrbit(hover_model, x0, phi, model.period, t, x, float(result.residual[4]), result)
+    orbit = HoverOrbit(hover_model, x0, phi, model.period, t, x, float(result.residual[4]), result)
+    if not orbit.is_hover:
+        warnings.warn(
+            f"the orbit found for {insect.name} holds its altitude but is not hover: it flies "
+            f"{'forwards' if orbit.mean_inertial_velocity['forward'] > 0 else 'backwards'} at a "
+            f"mean {orbit.mean_horizontal_speed:.3g} m/s (tolerance "
+            f"{HOVER_SPEED_RTOL:g} x the wingtip speed {orbit.wingtip_speed:.3g} m/s), as the "
+            f"hinge offset x_h = {insect.hinge_offset:g} m breaks the half-period symmetry",
+            HoverDriftWarning, stacklevel=2)
+    return orbit
+
+
+def _check_trim(insect: Insect, alpha_m: float) -> None:
+    """Refuse at once an insect that cannot hover even at rest (eq. 40 needs Phi > 90 deg)."""
+    # Eq. (40) solved for the amplitude at this alpha_m: the stroke a body at rest needs. If even
+    # that exceeds 90 deg, no hover orbit exists with wings that do not cross.
+    k21 = 0.5 * insect.air_density * insect.lift_slope * insect.span_integral(2, 1)
+    needed = math.sqrt(insect.weight / (2.0 * math.pi**2 * insect.frequency**2 * k21
+                                        * math.sin(2.0 * alpha_m)))
+    if needed > math.pi / 2:
+        raise ValueError(
+            f"{insect.name} cannot hover with alpha_m = {math.degrees(alpha_m):.4g} deg: "
+            f"eq. (40) needs a stroke amplitude of {math.degrees(needed):.4g} deg > 90 deg "
+            f"(mass {insect.mass!r} kg); raise alpha_m towards 45 deg or lower the mass")
 
 
 def forced_orbit(
@@ -313,6 +382,7 @@ def forced_orbit(
     model = LongitudinalDynamics(insect, amplitude=amplitude, alpha_m=alpha_m,
                                  aerodynamics=aerodynamics)
     x0 = _state_guess(x0_guess)
+    n_samples = _even_samples(n_samples)
     rhs, jac = model.segment_functions()
     result = find_periodic_orbit(rhs, x0, model.period, autonomous=False, jac=jac,
                                  breakpoints=model.breakpoints, method=method, rtol=rtol,
@@ -339,6 +409,18 @@ def paper_hover_problem(
     h is integrated as a fifth state (h' = d/dt of its definition) with its own unknown initial
     value, and required to be periodic with the other states; Phi is a free parameter. Defaults
     are the paper's Table 1 guess.
+
+    Parameters
+    ----------
+    insect : Insect
+    x0_guess : sequence of 4 floats
+        Guess of (u, w, q, theta) [m/s, m/s, rad/s, rad].
+    h0_guess : float
+        Guess of h(0) [m/s].
+    amplitude_guess : float, optional
+        Guess of Phi [rad]; default ``insect.stroke_amplitude``.
+    aerodynamics, method, rtol, atol, tol
+        As for :func:`find_hover_orbit`.
 
     Returns
     -------
@@ -367,7 +449,7 @@ def paper_hover_problem(
         return f
 
     rhs = [field(k) for k in range(len(base))]
-    y0 = np.append(_state_guess(x0_guess), h0_guess)
+    y0 = np.append(_state_guess(x0_guess), _validation.real("h0_guess", h0_guess, unit="m/s"))
     result = find_periodic_orbit(rhs, y0, model.period, autonomous=False,
                                  free_params=[amplitude], breakpoints=model.breakpoints,
                                  n_points=3,  # three points per state, as in eq. (41)
@@ -375,21 +457,38 @@ def paper_hover_problem(
                                  atol=atol, tol=tol)
 
     # Jacobian of the one-period residual y(T) - y(0) in (y0, Phi) from the variational equations.
-    var = _checked(variational_flow(rhs, None, (0.0, model.period), result.x0,
-                                    breakpoints=model.breakpoints, period=model.period,
-                                    method=method, rtol=rtol, atol=atol, params=result.params),
-                   "the paper problem's Jacobian")
-    J = np.hstack([var.stm_end - np.eye(5), var.sensitivity[-1]])
+    var = require_success(
+        variational_flow(rhs, None, (0.0, model.period), result.x0,
+                         breakpoints=model.breakpoints, period=model.period, method=method,
+                         rtol=rtol, atol=atol, params=result.params),
+        "the paper problem's Jacobian")
+    J = np.hstack([var.stm_end - np.eye(5), var.sensitivity_end])
     return result, np.linalg.svd(J, compute_uv=False)
 
 
 # =========================================================================== stability
-def force_budget(orbit: HoverOrbit, n_samples: int = 4096) -> dict[str, dict[str, float]]:
+def force_budget(
+    orbit: HoverOrbit,
+    n_samples: int = 4096,
+    *,
+    rtol: float = ANALYSIS_RTOL,
+    atol: float = ANALYSIS_ATOL,
+) -> dict[str, dict[str, float]]:
     """Cycle means of every term of the linear model's equations (2)/(29) along the orbit.
 
     On a periodic orbit each equation's terms average to zero (the mean of x' vanishes); the
     budget shows which terms carry the weight, e.g. why the hover amplitude differs from the trim
     of eq. (40), which balances the weight by Z0 alone.
+
+    Parameters
+    ----------
+    orbit : HoverOrbit
+        An orbit of the linear model.
+    n_samples : int
+        Uniform samples over one period (>= 2) for the cycle means (trapezoid rule).
+    rtol, atol : float
+        Tolerances of the integration of the orbit (default :data:`ANALYSIS_RTOL`,
+        :data:`ANALYSIS_ATOL`).
 
     Returns
     -------
@@ -403,15 +502,18 @@ def force_budget(orbit: HoverOrbit, n_samples: int = 4096) -> dict[str, dict[str
     ValueError
         If the orbit's model is not the linear one (the budget is of eq. 29's terms).
     """
+    orbit = _validation.instance("orbit", orbit, HoverOrbit)
+    n_samples = _validation.integer("n_samples", n_samples, low=2)
+    rtol, atol = _validation.tolerances(rtol, atol)
     model = orbit.model
     if model.aerodynamics != "linear":
         raise ValueError("force_budget needs an orbit of the linear model (aerodynamics='linear')")
-    if not (isinstance(n_samples, int) and n_samples >= 2):
-        raise ValueError(f"n_samples must be an integer >= 2; got {n_samples!r}")
     rhs, _ = model.segment_functions()
     t = np.linspace(0.0, orbit.period, n_samples, endpoint=False)
-    x = _checked(flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
-                      period=orbit.period, t_eval=t, rtol=1e-12, atol=1e-12), "the budget").x
+    x = require_success(
+        flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
+             period=orbit.period, t_eval=t, rtol=rtol, atol=atol),
+        "the budget").x
     u, w, q, th = x
     d = np.array([model.derivatives(ti) for ti in t]).T
     g, m, Iy = model.insect.gravity, model.insect.mass, model.insect.pitch_inertia
@@ -428,7 +530,13 @@ def force_budget(orbit: HoverOrbit, n_samples: int = 4096) -> dict[str, dict[str
 def _state_guess(x0_guess) -> np.ndarray:
     if x0_guess is None:
         return np.zeros(4)
-    x0 = np.asarray(x0_guess, dtype=float)
-    if x0.shape != (4,) or not np.all(np.isfinite(x0)):
-        raise ValueError(f"x0_guess must be 4 finite numbers (u, w, q, theta); got {x0_guess!r}")
-    return x0
+    return _validation.vector("x0_guess", x0_guess, size=4)
+
+
+def _even_samples(n_samples) -> int:
+    """The number of samples per period of an orbit: an even integer >= 2 (for the symmetry)."""
+    n = _validation.integer("n_samples", n_samples, low=2)
+    if n % 2:
+        raise ValueError(f"`n_samples` must be an even integer >= 2; got {n_samples!r}")
+    return n
+

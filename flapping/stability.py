@@ -5,19 +5,28 @@ over one period for the monodromy matrix and its Floquet multipliers (eqs. 42-49
 Liouville check, compares them with the first-order averaged system (the cycle-averaged Jacobian
 along the orbit, and its speed-pitch cubic), follows small perturbations with the full nonlinear
 dynamics, and repeats the analysis for the modelling choices the paper leaves open.
+
+Every function that integrates takes ``rtol`` and ``atol``; the defaults are
+:data:`~flapping.hover.ANALYSIS_RTOL` and :data:`~flapping.hover.ANALYSIS_ATOL` (one decade tighter
+than the orbit's own), and :data:`PERTURBATION_ATOL` for the simulations of a perturbed orbit.
+Sampled trajectories have time along the last axis, as ``solve_ivp``'s ``y``.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field, fields
+from typing import Any
 
 import numpy as np
 
-from flapping.periodic.floquet import monodromy
-from flapping.hover import HoverOrbit, _checked, find_hover_orbit
-from flapping.periodic.integrate import flow, variational_flow
+from flapping import _validation
+from flapping.errors import HoverDriftWarning, require_success
+from flapping.hover import ANALYSIS_ATOL, ANALYSIS_RTOL, HoverOrbit, find_hover_orbit
 from flapping.model.morphology import Insect
+from flapping.periodic.floquet import monodromy
+from flapping.periodic.integrate import flow, variational_flow
 
 __all__ = [
     "HoverStability",
@@ -33,7 +42,13 @@ __all__ = [
     "OPEN_CHOICES",
     "SensitivityRow",
     "hover_sensitivity",
+    "PERTURBATION_ATOL",
 ]
+
+#: Absolute tolerance of the simulations of a perturbed orbit (SI units of the states): two
+#: decades below :data:`~flapping.hover.ANALYSIS_ATOL`, so that perturbations down to 1e-8 are
+#: followed accurately from the first step.
+PERTURBATION_ATOL = 1e-14
 
 
 @dataclass(frozen=True)
@@ -48,15 +63,20 @@ class HoverStability:
     multipliers : ndarray
         Floquet multipliers, sorted by modulus (descending).
     exponents : ndarray
-        Floquet exponents log(mu)/T [1/s] (principal branch).
+        Floquet exponents log(mu)/T [1/s] (principal branch); -inf for a multiplier that is 0
+        in floating point (a mode damped below ~1e-308 in one period).
     eigenvectors : ndarray, shape (4, 4)
         Column k is the eigenvector of the monodromy for ``multipliers[k]``.
     det, liouville_det : float
-        det M and exp(int_0^T trace J dt); equal by Liouville's formula.
+        det M and exp(int_0^T trace J dt); equal by Liouville's formula (either may under- or
+        overflow to 0 or inf for a strongly damped or unstable orbit).
     averaged_jacobian : ndarray, shape (4, 4)
         (1/T) int_0^T J(t, x(t)) dt along the orbit: the first-order averaged system.
     averaged_eigenvalues : ndarray
         Its eigenvalues [1/s], sorted by real part (descending).
+    trace_integral : float
+        int_0^T trace J dt along the orbit, the logarithm of ``liouville_det`` (finite when
+        that is not).
     """
 
     orbit: HoverOrbit
@@ -68,11 +88,27 @@ class HoverStability:
     liouville_det: float
     averaged_jacobian: np.ndarray
     averaged_eigenvalues: np.ndarray
+    trace_integral: float = math.nan
 
     @property
     def liouville_error(self) -> float:
-        """|det M - exp(int trace J)| / |exp(int trace J)|."""
-        return abs(self.det - self.liouville_det) / abs(self.liouville_det)
+        """Relative disagreement of det M and exp(int_0^T trace J dt) (Liouville's formula).
+
+        ``|det M - L| / |L|`` with L = exp(int trace J) when both are finite and L is not 0.
+        When they are not representable (under- or overflow), the same relative error from the
+        logarithms, ``|exp(sum log|mu_k| - int trace J) - 1|``; ``nan`` if even that cannot be
+        formed (a multiplier that is 0 or infinite in floating point): the check is impossible,
+        not passed.
+        """
+        det, ref = self.det, self.liouville_det
+        if math.isfinite(det) and math.isfinite(ref) and ref != 0.0:
+            return abs(det - ref) / abs(ref)
+        modulus = np.abs(self.multipliers)
+        if not (np.all(np.isfinite(modulus)) and np.all(modulus > 0.0)
+                and math.isfinite(self.trace_integral)):
+            return math.nan
+        log_ratio = float(np.sum(np.log(modulus))) - self.trace_integral
+        return math.inf if log_ratio > 700.0 else abs(math.expm1(log_ratio))
 
     @property
     def is_stable(self) -> bool:
@@ -99,7 +135,7 @@ class PerturbationGrowth:
     cycles : ndarray
         0, 1, ..., n.
     deviation : ndarray
-        |x(kT) - x_orbit(0)| after k periods (Euclidean norm, SI units).
+        ``|x(kT) - x_orbit(0)|`` after k periods (Euclidean norm, SI units).
     growth_per_cycle : float
         Fitted deviation ratio per period over cycles ``fit_start`` ... n, where the growth is
         exponential (the decaying modes have died out).
@@ -120,12 +156,16 @@ def hover_stability(
     orbit: HoverOrbit,
     *,
     method: str = "DOP853",
-    rtol: float = 1e-12,
-    atol: float = 1e-12,
+    rtol: float = ANALYSIS_RTOL,
+    atol: float = ANALYSIS_ATOL,
     rk4_steps: int = 1024,
     n_average: int = 64,
 ) -> HoverStability:
     """Monodromy matrix, Floquet multipliers and the averaged system of a periodic orbit.
+
+    The monodromy is Phi(T) of the variational equations (eqs. 42-49), its eigenvalues the
+    Floquet multipliers, their logarithms over T the exponents (eq. 67); det M is checked against
+    Liouville's formula exp(int_0^T trace J dt).
 
     Parameters
     ----------
@@ -133,11 +173,28 @@ def hover_stability(
     method : str
         ``"DOP853"`` (default) or ``"RK4"`` (the paper's fixed step, ``rk4_steps`` per period).
     rtol, atol : float
-        Tolerances of the adaptive integrator.
+        Tolerances of the adaptive integrations (the monodromy and the orbit for the averaged
+        Jacobian).
+    rk4_steps : int
+        Steps per period when ``method="RK4"``.
     n_average : int
         Gauss-Legendre nodes per half-stroke for the cycle-averaged Jacobian (the integrand is
         smooth within a half-stroke, so the rule converges spectrally).
+
+    Returns
+    -------
+    HoverStability
+
+    Raises
+    ------
+    ValueError
+        For bad arguments.
+    ConvergenceError
+        If an integration fails.
     """
+    orbit = _validation.instance("orbit", orbit, HoverOrbit)
+    n_average = _validation.integer("n_average", n_average, low=1)
+    rtol, atol = _validation.tolerances(rtol, atol)
     model = orbit.model
     rhs, jac = model.segment_functions()
     mon = monodromy(rhs, orbit.x0, orbit.period, jac=jac, breakpoints=model.breakpoints,
@@ -148,26 +205,36 @@ def hover_stability(
     eig_values, eig_vectors = np.linalg.eig(mon.matrix)
     match = [int(np.argmin(np.abs(eig_values - mu))) for mu in values]
     vectors = eig_vectors[:, match].astype(complex)
-    averaged = _averaged_jacobian(orbit, n_average)
+    averaged = _averaged_jacobian(orbit, n_average, rtol, atol)
     avg_eig = np.linalg.eigvals(averaged).astype(complex)  # always complex: one dtype for all
     avg_eig = avg_eig[np.argsort(-avg_eig.real, kind="stable")]
-    return HoverStability(orbit, mon.matrix, values, np.log(values) / orbit.period, vectors,
-                          float(mon.det), float(mon.liouville_det), averaged, avg_eig)
+    return HoverStability(orbit, mon.matrix, values, _exponents(values, orbit.period), vectors,
+                          float(mon.det), float(mon.liouville_det), averaged, avg_eig,
+                          float(mon.trace_integral))
 
 
-def _averaged_jacobian(orbit: HoverOrbit, n_nodes: int) -> np.ndarray:
+def _exponents(multipliers: np.ndarray, period: float) -> np.ndarray:
+    """log(mu) / T, with -inf (not -inf + nan i) for a multiplier that is exactly 0."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        exponents = np.log(multipliers) / period
+    exponents[multipliers == 0] = complex(-math.inf, 0.0)
+    return exponents
+
+
+def _averaged_jacobian(orbit: HoverOrbit, n_nodes: int, rtol: float, atol: float) -> np.ndarray:
     model = orbit.model
     rhs, jac = model.segment_functions()
     nodes, weights = np.polynomial.legendre.leggauss(n_nodes)  # ascending nodes
     bounds = np.array((0.0,) + tuple(model.breakpoints) + (1.0,)) * orbit.period
     half = 0.5 * np.diff(bounds)
     # Gauss-Legendre nodes of every segment, in time order: one integration of the orbit.
-    t_all = np.concatenate([h * nodes + a + h for a, h in zip(bounds[:-1], half)])
-    res = _checked(flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
-                        period=orbit.period, t_eval=t_all, rtol=1e-12, atol=1e-12),
-                   "the averaged Jacobian")
+    t_all = np.concatenate([h * nodes + a + h for a, h in zip(bounds[:-1], half, strict=True)])
+    res = require_success(
+        flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
+             period=orbit.period, t_eval=t_all, rtol=rtol, atol=atol),
+        "the averaged Jacobian")
     total = np.zeros((4, 4))
-    for i, (t, x) in enumerate(zip(res.t, res.x.T)):
+    for i, (t, x) in enumerate(zip(res.t, res.x.T, strict=True)):
         k = i // n_nodes
         total += half[k] * weights[i % n_nodes] * jac[k](t, x)
     return total / orbit.period
@@ -179,6 +246,8 @@ def mode_response(
     mode: int = 0,
     n_periods: int = 1,
     samples_per_period: int = 48,
+    rtol: float = ANALYSIS_RTOL,
+    atol: float = ANALYSIS_ATOL,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Time history of a Floquet mode along the orbit: delta x(t) = Phi(t, 0) v_k.
 
@@ -191,6 +260,8 @@ def mode_response(
         Number of periods to follow (>= 1).
     samples_per_period : int
         Output samples per period (>= 2).
+    rtol, atol : float
+        Tolerances of the variational equations' integration.
 
     Returns
     -------
@@ -198,13 +269,19 @@ def mode_response(
     delta : ndarray, shape (4, m)
         The linearised response to a disturbance equal to the eigenvector (scaled to max 1);
         after k periods it equals mu_k^k v_k.
+
+    Raises
+    ------
+    ValueError
+        For bad arguments.
+    ConvergenceError
+        If the integration fails.
     """
-    if not (isinstance(n_periods, int) and n_periods >= 1):
-        raise ValueError(f"n_periods must be an integer >= 1; got {n_periods!r}")
-    if not (isinstance(samples_per_period, int) and samples_per_period >= 2):
-        raise ValueError(f"samples_per_period must be an integer >= 2; got {samples_per_period!r}")
-    if not (isinstance(mode, int) and 0 <= mode < stability.multipliers.size):
-        raise ValueError(f"mode must lie in [0, {stability.multipliers.size - 1}]; got {mode!r}")
+    stability = _validation.instance("stability", stability, HoverStability)
+    n_periods = _validation.integer("n_periods", n_periods, low=1)
+    samples_per_period = _validation.integer("samples_per_period", samples_per_period, low=2)
+    mode = _validation.integer("mode", mode, low=0, high=stability.multipliers.size - 1)
+    rtol, atol = _validation.tolerances(rtol, atol)
     orbit = stability.orbit
     model = orbit.model
     v = stability.eigenvectors[:, mode]
@@ -213,10 +290,11 @@ def mode_response(
         v = np.real(v)
     t = np.linspace(0.0, n_periods * orbit.period, samples_per_period * n_periods + 1)
     rhs, jac = model.segment_functions()
-    var = _checked(variational_flow(rhs, jac, (0.0, t[-1]), orbit.x0,
-                                    breakpoints=model.breakpoints, period=orbit.period,
-                                    t_out=t[1:], rtol=1e-12, atol=1e-12), "the mode's response")
-    delta = np.column_stack([v, np.einsum("kij,j->ik", var.stm, v)])
+    var = require_success(
+        variational_flow(rhs, jac, (0.0, t[-1]), orbit.x0, breakpoints=model.breakpoints,
+                         period=orbit.period, t_out=t[1:], rtol=rtol, atol=atol),
+        "the mode's response")
+    delta = np.column_stack([v, np.einsum("ijk,j->ik", var.stm, v)])
     return t, delta
 
 
@@ -225,9 +303,10 @@ DEFAULT_PERTURBATION = (1.0, -0.7, 3.0, 0.2)
 
 
 def _unit_direction(direction) -> np.ndarray:
-    direction = np.asarray(DEFAULT_PERTURBATION if direction is None else direction, dtype=float)
-    if direction.shape != (4,) or not np.all(np.isfinite(direction)) or not np.any(direction):
-        raise ValueError(f"direction must be 4 finite numbers, not all zero; got {direction!r}")
+    direction = _validation.vector(
+        "direction", DEFAULT_PERTURBATION if direction is None else direction, size=4)
+    if not np.any(direction):
+        raise ValueError(f"`direction` must not be all zero; got {direction!r}")
     return direction / np.linalg.norm(direction)
 
 
@@ -237,27 +316,53 @@ def perturbation_growth(
     epsilon: float = 1e-6,
     n_cycles: int = 30,
     direction: np.ndarray | None = None,
+    rtol: float = ANALYSIS_RTOL,
+    atol: float = PERTURBATION_ATOL,
 ) -> PerturbationGrowth:
     """Simulate the full nonlinear dynamics from the orbit plus a small perturbation.
 
     The perturbation (default: a generic direction, not an eigenvector) grows, after a transient, by
     the largest multiplier per period; the growth is fitted over the last third of the cycles.
+
+    Parameters
+    ----------
+    stability : HoverStability
+    epsilon : float
+        Size of the initial perturbation (Euclidean, SI units), in (0, 1e-3 max|x|] so that it
+        stays linear over the fit.
+    n_cycles : int
+        Periods simulated (>= 3).
+    direction : array_like of 4 floats, optional
+        Direction of the perturbation in (u, w, q, theta); default :data:`DEFAULT_PERTURBATION`.
+    rtol, atol : float
+        Tolerances of the simulation (default atol :data:`PERTURBATION_ATOL`).
+
+    Returns
+    -------
+    PerturbationGrowth
+
+    Raises
+    ------
+    ValueError
+        For bad arguments.
+    ConvergenceError
+        If the integration fails.
     """
+    stability = _validation.instance("stability", stability, HoverStability)
     orbit = stability.orbit
     model = orbit.model
     scale = float(np.abs(orbit.x).max())
-    if not (isinstance(epsilon, (int, float)) and 0.0 < epsilon <= 1e-3 * scale):
-        raise ValueError(
-            f"epsilon must lie in (0, 1e-3 max|x|] = (0, {1e-3 * scale:.3g}] so that the "
-            f"perturbation stays linear over the fit; got {epsilon!r}")
-    if not (isinstance(n_cycles, int) and n_cycles >= 3):
-        raise ValueError(f"n_cycles must be an integer >= 3; got {n_cycles!r}")
+    epsilon = _validation.real("epsilon", epsilon, low=0.0, low_open=True, high=1e-3 * scale)
+    n_cycles = _validation.integer("n_cycles", n_cycles, low=3)
+    rtol, atol = _validation.tolerances(rtol, atol)
     direction = _unit_direction(direction)
     rhs, _ = model.segment_functions()
     times = orbit.period * np.arange(n_cycles + 1)
-    res = _checked(flow(rhs, (0.0, times[-1]), orbit.x0 + epsilon * direction,
-                        breakpoints=model.breakpoints, period=orbit.period, t_eval=times,
-                        rtol=1e-12, atol=1e-14), "the perturbed simulation")
+    res = require_success(
+        flow(rhs, (0.0, times[-1]), orbit.x0 + epsilon * direction,
+             breakpoints=model.breakpoints, period=orbit.period, t_eval=times, rtol=rtol,
+             atol=atol),
+        "the perturbed simulation")
     deviation = np.linalg.norm(res.x - orbit.x0[:, None], axis=0)
     start = (2 * n_cycles) // 3  # after the transient of the decaying modes
     slope = np.polyfit(np.arange(start, n_cycles + 1), np.log(deviation[start:]), 1)[0]
@@ -272,8 +377,24 @@ def simulate_perturbation(
     n_cycles: int = 30,
     direction=None,
     samples_per_cycle: int = 64,
+    rtol: float = ANALYSIS_RTOL,
+    atol: float = PERTURBATION_ATOL,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The full nonlinear dynamics from x0 + epsilon * direction, beside the unperturbed orbit.
+
+    Parameters
+    ----------
+    orbit : HoverOrbit
+    epsilon : float
+        Size of the perturbation (Euclidean, SI units), > 0.
+    n_cycles : int
+        Periods simulated (>= 1).
+    direction : array_like of 4 floats, optional
+        As for :func:`perturbation_growth`.
+    samples_per_cycle : int
+        Output samples per period (>= 1).
+    rtol, atol : float
+        Tolerances of both simulations (default atol :data:`PERTURBATION_ATOL`).
 
     Returns
     -------
@@ -282,20 +403,30 @@ def simulate_perturbation(
     x_perturbed, x_orbit : ndarray, shape (4, m)
         The perturbed trajectory and the orbit integrated from x0 (which itself departs from the
         orbit eventually, the orbit being unstable, from its round-off-level closure error).
+
+    Raises
+    ------
+    ValueError
+        For bad arguments.
+    ConvergenceError
+        If an integration fails.
     """
-    if not (math.isfinite(epsilon) and epsilon > 0):
-        raise ValueError(f"epsilon must be a positive number; got {epsilon!r}")
-    if not (isinstance(n_cycles, int) and n_cycles >= 1):
-        raise ValueError(f"n_cycles must be an integer >= 1; got {n_cycles!r}")
+    orbit = _validation.instance("orbit", orbit, HoverOrbit)
+    epsilon = _validation.positive("epsilon", epsilon)
+    n_cycles = _validation.integer("n_cycles", n_cycles, low=1)
+    samples_per_cycle = _validation.integer("samples_per_cycle", samples_per_cycle, low=1)
+    rtol, atol = _validation.tolerances(rtol, atol)
+    start = orbit.x0 + epsilon * _unit_direction(direction)
     model = orbit.model
     rhs, _ = model.segment_functions()
     t = np.linspace(0.0, n_cycles * orbit.period, samples_per_cycle * n_cycles + 1)
-    kw = dict(breakpoints=model.breakpoints, period=orbit.period, t_eval=t, rtol=1e-12,
-              atol=1e-14)
-    x_pert = _checked(flow(rhs, (0.0, t[-1]), orbit.x0 + epsilon * _unit_direction(direction),
-                           **kw), "the perturbed simulation").x
-    x_orb = _checked(flow(rhs, (0.0, t[-1]), orbit.x0, **kw), "the orbit's simulation").x
-    return t, x_pert, x_orb
+
+    def simulate(x0: np.ndarray, what: str) -> np.ndarray:
+        return require_success(flow(rhs, (0.0, t[-1]), x0, breakpoints=model.breakpoints,
+                                    period=orbit.period, t_eval=t, rtol=rtol, atol=atol), what).x
+
+    return (t, simulate(start, "the perturbed simulation"),
+            simulate(orbit.x0, "the orbit's simulation"))
 
 
 @dataclass(frozen=True)
@@ -318,7 +449,7 @@ class SpeedPitchCubic:
         Roots of p, sorted by real part (descending).
     quasi_static_root : float
         Positive root of lambda^2 - Xu lambda - g Mu / Mq = 0, the approximation in which the
-        pitch rate follows the speed at once (|Mq| large): a negative pitch stiffness.
+        pitch rate follows the speed at once (large ``|Mq|``): a negative pitch stiffness.
     routh_hurwitz : tuple of float
         (a2 a1, a0) of p = lambda^3 + a2 lambda^2 + a1 lambda + a0; all roots in the left
         half-plane iff a2, a1, a0 > 0 and a2 a1 > a0.
@@ -345,6 +476,15 @@ def speed_pitch_cubic(averaged_jacobian: np.ndarray, *, flip_mu: bool = False) -
         :meth:`~flapping.model.derivatives.StabilityDerivatives.averaged_jacobian`.
     flip_mu : bool
         Reverse the sign of Mu (a what-if: the speed-pitch coupling of wings above the CG).
+
+    Returns
+    -------
+    SpeedPitchCubic
+
+    Raises
+    ------
+    ValueError
+        If ``averaged_jacobian`` is not a finite 4x4 array.
     """
     J = np.asarray(averaged_jacobian, dtype=float)
     if J.shape != (4, 4) or not np.all(np.isfinite(J)):
@@ -366,8 +506,17 @@ def describe_changes(changes: dict) -> str:
 
     Built from the values themselves, so that a table of variants never repeats a number by hand:
     ``{"hinge_offset": 1e-3}`` -> ``"x_h = +1 mm"``; ``{}`` -> the defaults of :class:`Insect`.
+
+    Parameters
+    ----------
+    changes : dict
+        :class:`Insect` field name -> new value.
+
+    Returns
+    -------
+    str
     """
-    defaults = {f.name: f.default for f in fields(Insect) if f.init}
+    defaults: dict[str, Any] = {f.name: f.default for f in fields(Insect) if f.init}
     if not changes:
         return (f"defaults (AR = 2R^2/S, x_hat = {defaults['center_of_pressure']:g}, "
                 f"x0_hat = {defaults['pitch_axis']:g}, x_h = {defaults['hinge_offset'] * 1e3:g} mm)"
@@ -387,7 +536,8 @@ def describe_changes(changes: dict) -> str:
             if key == "mu1":
                 parts.append("no rotational damping (mu1 = mu2 = 0)")
         else:
-            parts.append(f"{key} = {value:g}" if isinstance(value, (int, float)) else f"{key} = {value}")
+            parts.append(f"{key} = {value:g}" if isinstance(value, (int, float))
+                         else f"{key} = {value}")
     return ", ".join(parts)
 
 
@@ -431,6 +581,11 @@ class SensitivityRow:
         """Modulus of the largest Floquet multiplier."""
         return float(np.abs(self.multipliers[0]))
 
+    @property
+    def is_hover(self) -> bool:
+        """Whether the variant's orbit is hover (:attr:`flapping.hover.HoverOrbit.is_hover`)."""
+        return self.orbit.is_hover
+
 
 def hover_sensitivity(
     insect: Insect,
@@ -442,7 +597,9 @@ def hover_sensitivity(
 
     Each variant is re-trimmed (eq. 40) and its hover orbit found from the default guess. With
     x_h != 0 the half-period symmetry is lost, and the hover orbit (which fixes only the vertical
-    drift) may drift horizontally: its mean forward velocity is reported.
+    drift) may drift horizontally: its mean forward velocity and ``is_hover`` are reported in its
+    row, and the :class:`~flapping.errors.HoverDriftWarning` of :func:`find_hover_orbit` is not
+    repeated.
 
     Parameters
     ----------
@@ -463,11 +620,14 @@ def hover_sensitivity(
     ValueError, ConvergenceError
         As :func:`find_hover_orbit` for any variant.
     """
+    insect = _validation.instance("insect", insect, Insect)
     variations = OPEN_CHOICES if variations is None else variations
     rows = []
     for label, changes in variations.items():
         variant = insect.with_(**changes)
-        orbit = find_hover_orbit(variant, aerodynamics=aerodynamics)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", HoverDriftWarning)  # reported in the row instead
+            orbit = find_hover_orbit(variant, aerodynamics=aerodynamics)
         stab = hover_stability(orbit)
         rows.append(SensitivityRow(label, dict(changes), math.degrees(orbit.model.alpha_m),
                                    orbit.amplitude_deg, stab.multipliers,

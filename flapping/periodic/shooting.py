@@ -144,21 +144,6 @@ class PeriodicOrbit:
     unknowns: np.ndarray
     phase_condition: str
 
-    @property
-    def iterations(self) -> int:
-        """Alias of :attr:`nit` (the name used before the counters followed scipy)."""
-        return self.nit
-
-    @property
-    def n_rhs_evals(self) -> int:
-        """Alias of :attr:`nfev` (the name used before the counters followed scipy)."""
-        return self.nfev
-
-    @property
-    def n_jac_evals(self) -> int:
-        """Alias of :attr:`njev` (the name used before the counters followed scipy)."""
-        return self.njev
-
 
 @dataclass(frozen=True)
 class _Stopping:
