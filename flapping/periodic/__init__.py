@@ -6,6 +6,8 @@
 - :mod:`~flapping.periodic.shooting`: periodic orbits by the optimized (Levenberg-Marquardt)
   shooting method;
 - :mod:`~flapping.periodic.floquet`: monodromy matrices and Floquet multipliers;
+- :mod:`~flapping.periodic.continuation`: branches of orbits as a parameter changes
+  (pseudo-arclength), with folds, period doublings and Neimark-Sacker points located;
 - :mod:`~flapping.periodic.testproblems`: Lorenz, Roessler and a forced oscillator.
 
 Conventions, the same in every module: time along the last axis (as ``solve_ivp``'s ``y``);
@@ -16,10 +18,12 @@ checks that ``fun`` and ``jac`` return finite values and has a step budget, so a
 problem fails with a message instead of hanging.
 
 This subpackage imports nothing from :mod:`flapping.model`; other projects can reuse it alone.
-(``_segments`` and ``_problem`` are package-internal modules: the integration driver and the
-shooting problem that the public modules share.)
+(``_segments``, ``_problem``, ``_branchflow``, ``_bifurcation`` and ``_branchplot`` are
+package-internal modules: the integration driver, the shooting problem, the continuation's
+shooting map, its bifurcation tests and its plot.)
 """
 
+from flapping.periodic.continuation import Bifurcation, Branch, continue_orbit
 from flapping.periodic.floquet import Monodromy, monodromy
 from flapping.periodic.integrate import FlowResult, VariationalFlow, flow, variational_flow
 from flapping.periodic.rk4 import RK4
@@ -27,5 +31,5 @@ from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
 
 __all__ = [
     "find_periodic_orbit", "PeriodicOrbit", "monodromy", "Monodromy", "flow", "FlowResult",
-    "variational_flow", "VariationalFlow", "RK4",
+    "variational_flow", "VariationalFlow", "RK4", "continue_orbit", "Branch", "Bifurcation",
 ]

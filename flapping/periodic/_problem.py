@@ -11,14 +11,16 @@ Levenberg-Marquardt. It owns
   differences of the residual (the paper's method),
 * the counters and histories reported in :class:`~flapping.periodic.shooting.PeriodicOrbit`.
 
-Extension to multiple shooting. The problem is single shooting: one integration over the
-period. Multiple shooting (M segments, each started from its own unknown state) changes three
-things, each in one place here: the layout (:meth:`unpack`: M states instead of one), the
-integration (:meth:`_integrate` and :meth:`_integrate_variational`: one call of
-:func:`~flapping.periodic._segments.propagate` / :func:`~flapping.periodic._segments.variational`
-per segment), and the assembly (:meth:`_assemble` and :meth:`_assemble_jacobian`: continuity
-blocks ``x_k(end) - s_{k+1}`` and a block-bidiagonal Jacobian ``[Phi_k, -I]``). The caching,
-counting and histories that Levenberg-Marquardt relies on stay as they are.
+Multiple shooting (:class:`MultipleShootingProblem`, ``segments = M > 1``). The period is cut
+into M equal segments, each integrated from its own unknown state ``s_k`` (``s_0 = x0``); the
+residual is the continuity blocks ``x_k(end) - s_{k+1}`` (``s_M = s_0``: periodicity), and the
+Jacobian is assembled block by block from the per-segment variational integrations: a
+block-bidiagonal matrix ``[Phi_k, -I]`` with the period and parameter columns beside it. A long
+or strongly unstable orbit whose single-shooting residual is too nonlinear for Newton or
+Levenberg-Marquardt (the state-transition matrix over the whole period is huge) is then a
+well-conditioned problem: each segment's matrix is moderate. The monodromy matrix is the product
+``Phi_{M-1} ... Phi_0``, independent of M. The caching, counting and histories that
+Levenberg-Marquardt relies on stay as they are.
 
 Inputs are trusted: :mod:`flapping.periodic.shooting` checks them at the public boundary.
 """
@@ -34,7 +36,7 @@ import numpy as np
 from flapping._numdiff import central_jacobian, forward_jacobian
 from flapping.periodic import _segments as seg
 
-__all__ = ["ShootingSetup", "ShootingProblem", "IntegrationFailed"]
+__all__ = ["ShootingSetup", "ShootingProblem", "MultipleShootingProblem", "IntegrationFailed"]
 
 
 
@@ -74,6 +76,8 @@ class ShootingSetup:
         Length of the extra residual.
     jacobian : str
         ``"variational"`` or ``"finite-difference"``.
+    segments : int
+        Number M of shooting segments (1: single shooting).
     """
 
     funs: tuple[Callable[..., Any], ...]
@@ -92,17 +96,19 @@ class ShootingSetup:
     extra_residual: Callable[..., Any] | None
     n_extra: int
     jacobian: str
+    segments: int = 1
 
     @property
     def n_unknowns(self) -> int:
-        """Free components of x0, plus T if autonomous, plus the parameters."""
+        """Free components of x0, the other segments' states, T if autonomous, the parameters."""
         n_p = 0 if self.p_init is None else self.p_init.size
-        return self.x_init.size - len(self.fixed) + int(self.autonomous) + n_p
+        n = self.x_init.size
+        return n - len(self.fixed) + (self.segments - 1) * n + int(self.autonomous) + n_p
 
     @property
     def n_residuals(self) -> int:
-        """Periodicity residuals (``n * n_points``) plus the extra ones."""
-        return self.x_init.size * self.n_points + self.n_extra
+        """Periodicity (continuity) residuals (``n * n_points * segments``) plus the extra ones."""
+        return self.x_init.size * self.n_points * self.segments + self.n_extra
 
 
 class ShootingProblem:
@@ -155,6 +161,10 @@ class ShootingProblem:
         p = z[self.free.size + int(s.autonomous):].copy() if self.n_p else None
         return x, T, p
 
+    def segment_states(self, z: np.ndarray) -> np.ndarray:
+        """States at the segment starts, time along the last axis: shape (n, segments)."""
+        return self.unpack(z)[0][:, None]
+
     # ---- counters --------------------------------------------------------------------------------
 
     @property
@@ -186,9 +196,10 @@ class ShootingProblem:
         if self._r_cache is not None and np.array_equal(z, self._r_cache[0]):
             return self._r_cache[1]  # scipy re-requests points it has seen; do not integrate twice
         s = self.setup
-        if s.autonomous and not z[self.free.size] > 0.0:
+        i_T = self.free.size + (s.segments - 1) * s.x_init.size
+        if s.autonomous and not z[i_T] > 0.0:
             raise IntegrationFailed(
-                f"the period left (0, inf) (T = {z[self.free.size]:.3e}): the iteration is "
+                f"the period left (0, inf) (T = {z[i_T]:.3e}): the iteration is "
                 f"heading for the trivial solution T -> 0 of the autonomous residual (no "
                 f"periodic orbit near the guess, or an equilibrium)")
         if s.jacobian == "variational":
@@ -328,3 +339,120 @@ class ShootingProblem:
             raise ValueError(f"`extra_residual` returned a non-finite value at x0 = {x!r}, "
                              f"T = {T!r}, p = {p!r}: {e!r}")
         return e
+
+
+class MultipleShootingProblem(ShootingProblem):
+    """Multiple shooting: M segments of the period, each from its own unknown state.
+
+    Unknowns ``z = (x0[free], s_1, ..., s_{M-1}, T if autonomous, p)``; residual blocks
+    ``x_k(t_{k+1}) - s_{k+1}``, ``t_k = k T / M``, ``s_M = s_0 = x0``. The initial segment states
+    are the guess's own trajectory at ``t_k`` (as multiflap starts), or ``x0`` repeated when that
+    integration fails.
+
+    Parameters
+    ----------
+    setup : ShootingSetup
+        The checked inputs, with ``segments >= 2`` and ``n_points == 1``.
+    """
+
+    def __init__(self, setup: ShootingSetup) -> None:
+        self.M = setup.segments
+        self._guess = np.repeat(setup.x_init[None, :], setup.segments - 1, axis=0)
+        super().__init__(setup)
+        T = setup.T_init
+        out = seg.propagate(self.bind(setup.p_init), 0.0, T, setup.x_init, period=T,
+                            breakpoints=setup.breakpoints, settings=setup.settings,
+                            h=self._step(T), t_out=tuple(self._times(T)[1:-1]))
+        if out.success:
+            self._guess = np.array(out.y_out)
+        self.last_good = self.z0.copy()
+
+    def _times(self, T: float) -> np.ndarray:
+        """Segment boundaries ``t_k = k T / M``, k = 0 .. M."""
+        return np.arange(self.M + 1) * (T / self.M)
+
+    def _step(self, T: float) -> float | None:
+        return T / self.setup.settings.rk4_steps if self.setup.settings.fixed_step else None
+
+    @property
+    def z0(self) -> np.ndarray:
+        """The initial unknowns (the guess's trajectory as the segment states)."""
+        s = self.setup
+        return np.concatenate([s.x_init[self.free], self._guess.ravel(),
+                               [s.T_init] if s.autonomous else [],
+                               s.p_init if self.n_p else []])
+
+    def unpack(self, z: np.ndarray) -> tuple[np.ndarray, float, np.ndarray | None]:
+        """``(x0, T, p)`` of the unknowns ``z``."""
+        s, nf, n = self.setup, self.free.size, self.setup.x_init.size
+        x = s.x_init.copy()
+        x[self.free] = z[:nf]
+        i = nf + (self.M - 1) * n
+        T = float(z[i]) if s.autonomous else s.T_init
+        p = z[i + int(s.autonomous):].copy() if self.n_p else None
+        return x, T, p
+
+    def segment_states(self, z: np.ndarray) -> np.ndarray:
+        """States at the segment starts, time along the last axis: shape (n, M)."""
+        x = self.unpack(z)[0]
+        n, nf = x.size, self.free.size
+        return np.vstack([x[None, :], z[nf:nf + (self.M - 1) * n].reshape(-1, n)]).T
+
+    def _plain_residual(self, z: np.ndarray) -> np.ndarray:
+        """Continuity blocks, one integration of the state per segment."""
+        x, T, p = self.unpack(z)
+        states, t, g = self.segment_states(z).T, self._times(T), self.bind(p)
+        ends = []
+        for k in range(self.M):
+            out = seg.propagate(g, float(t[k]), float(t[k + 1]), states[k], period=T,
+                                breakpoints=self.setup.breakpoints, settings=self.setup.settings,
+                                h=self._step(T))
+            if not out.success:
+                raise IntegrationFailed(f"segment {k}: {out.message}")
+            ends.append(out.y_end)
+        return self._assemble(z, np.roll(states, -1, axis=0), np.array(ends))
+
+    def _variational_residual(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Continuity blocks and their block-bidiagonal Jacobian (per-segment variations)."""
+        s = self.setup
+        x, T, p = self.unpack(z)
+        states, t = self.segment_states(z).T, self._times(T)
+        flows = []
+        for k in range(self.M):
+            var = seg.variational(s.funs, s.jacs, s.pjacs, float(t[k]), float(t[k + 1]),
+                                  states[k], args=s.args, params=p, trace=False,
+                                  settings=s.settings, h=self._step(T), period=T,
+                                  breakpoints=s.breakpoints, t_out=(float(t[k + 1]),))
+            self.counter.n += var.nfev
+            self.jcounter.n += var.njev
+            if not var.success:
+                raise IntegrationFailed(f"segment {k}: {var.message}")
+            flows.append(var)
+        ends = np.array([v.x_end for v in flows])
+        r = self._assemble(z, np.roll(states, -1, axis=0), ends)
+        return r, self._block_jacobian(z, flows, states, ends, T, p)
+
+    def _block_jacobian(self, z: np.ndarray, flows: list[seg.VariationalFlow],
+                        states: np.ndarray, ends: np.ndarray, T: float,
+                        p: np.ndarray | None) -> np.ndarray:
+        """``d r_k / d s_k = Phi_k``, ``d r_k / d s_{k+1} = -I``, then the T and p columns."""
+        s, n, M, nf = self.setup, self.setup.x_init.size, self.M, self.free.size
+        J = np.zeros((n * M, z.size))
+        cols = [np.arange(nf)] + [nf + (k - 1) * n + np.arange(n) for k in range(1, M)]
+        for k, var in enumerate(flows):
+            rows = slice(k * n, (k + 1) * n)
+            J[rows, cols[k]] = var.stm_end[:, self.free] if k == 0 else var.stm_end
+            nxt = (k + 1) % M
+            J[rows, cols[nxt]] -= np.eye(n)[:, self.free] if nxt == 0 else np.eye(n)
+        i = nf + (M - 1) * n
+        if s.autonomous:
+            # x_k(end) = phi_{T/M}(s_k): d/dT = f(x_k(end)) / M
+            g = self.bind(p)[0]
+            J[:, i] = np.concatenate([g(0.0, e) for e in ends]) / M
+        if self.n_p:
+            sens = [v.sensitivity_end for v in flows]
+            assert all(v is not None for v in sens)
+            J[:, i + int(s.autonomous):] = np.vstack(sens)  # type: ignore[arg-type]
+        if s.n_extra:
+            J = np.vstack([J, central_jacobian(self._extra, z)])
+        return J

@@ -59,7 +59,12 @@ from scipy.optimize import least_squares
 import flapping._validation as check
 from flapping.errors import ConvergenceError
 from flapping.periodic import _segments as seg
-from flapping.periodic._problem import IntegrationFailed, ShootingProblem, ShootingSetup
+from flapping.periodic._problem import (
+    IntegrationFailed,
+    MultipleShootingProblem,
+    ShootingProblem,
+    ShootingSetup,
+)
 
 __all__ = [
     "PeriodicOrbit",
@@ -123,6 +128,9 @@ class PeriodicOrbit:
     phase_condition : str
         What fixed the phase of an autonomous orbit (see the module notes), or why none was
         needed.
+    segment_states : ndarray, shape (n, M) or None
+        Multiple shooting: the state at the start of each of the M segments (time along the last
+        axis; the first column is ``x0``). Single shooting: ``x0`` as one column.
     """
 
     x0: np.ndarray
@@ -143,6 +151,12 @@ class PeriodicOrbit:
     autonomous: bool
     unknowns: np.ndarray
     phase_condition: str
+    segment_states: np.ndarray | None = None
+
+    @property
+    def segments(self) -> int:
+        """Number M of shooting segments (1: single shooting)."""
+        return 1 if self.segment_states is None else int(self.segment_states.shape[1])
 
 
 @dataclass(frozen=True)
@@ -205,6 +219,18 @@ def _check_shape_options(settings: seg.Settings, n_points: Any, delta: Any
             f"with method='RK4', `delta` must be a multiple of 1/rk4_steps = 1/{steps} so that "
             f"the residual points fall on the step grid, got delta={delta!r}")
     return n_points, delta
+
+
+def _check_segments(settings: seg.Settings, segments: Any, n_points: int) -> int:
+    segments = check.integer("segments", segments, low=1)
+    if segments > 1 and n_points > 1:
+        raise ValueError(f"`segments` > 1 (multiple shooting) needs n_points = 1, got "
+                         f"n_points={n_points}: the continuity conditions replace eq. (38)'s "
+                         f"extra residual blocks")
+    if settings.fixed_step and settings.rk4_steps % segments:
+        raise ValueError(f"with method='RK4', `rk4_steps` ({settings.rk4_steps}) must be a "
+                         f"multiple of `segments` ({segments})")
+    return segments
 
 
 def _check_callables(fun: Any, jac: Any, param_jac: Any, n_seg: int, has_params: bool
@@ -340,6 +366,7 @@ def _result(problem: ShootingProblem, outcome: _Outcome, stopping: _Stopping,
         n_residual_evals=len(problem.residual_history), nfev=problem.nfev, njev=problem.njev,
         jacobian=s.jacobian, method=s.settings.method, autonomous=s.autonomous,
         unknowns=np.array(outcome.z, dtype=float), phase_condition=phase,
+        segment_states=problem.segment_states(np.asarray(outcome.z, dtype=float)),
     )
 
 
@@ -359,6 +386,7 @@ def find_periodic_orbit(
     method: str | type[OdeSolver] = "DOP853",
     n_points: int = 1,
     delta: float = 2.0**-10,
+    segments: int = 1,
     rtol: float = 1e-11,
     atol: float = 1e-12,
     rk4_steps: int = 1024,
@@ -422,6 +450,13 @@ def find_periodic_orbit(
         Number ``p`` of residual blocks in eq. (38) (>= 1).
     delta : float, optional
         Spacing of the residual blocks in normalised time (paper: ``2**-10``), in (0, 1).
+    segments : int, optional
+        Number M of shooting segments (>= 1). ``1`` (default) is single shooting. With M > 1 the
+        period is cut into M equal segments, each integrated from its own unknown state (started
+        on the guess's trajectory); the residual is the M continuity conditions and its Jacobian
+        is assembled from the per-segment variational integrations (block-bidiagonal). Long or
+        strongly unstable orbits, out of reach of single shooting, converge (multiflap's Roessler
+        example). Needs ``n_points == 1``; with RK4, ``rk4_steps`` a multiple of M.
     rtol, atol : float, optional
         Integration tolerances (adaptive methods).
     rk4_steps : int, optional
@@ -452,8 +487,8 @@ def find_periodic_orbit(
     ValueError
         Bad arguments: non-positive or non-finite period, x0 not a finite 1-D array, wrong output
         shape or non-finite output of ``fun``/``jac``/``extra_residual``, ``fixed`` out of
-        range, ``n_points < 1``, fewer residuals than unknowns, breakpoints with an autonomous
-        system, RK4 grid mismatch.
+        range, ``n_points < 1``, ``segments < 1`` or ``segments > 1`` with ``n_points > 1``,
+        fewer residuals than unknowns, breakpoints with an autonomous system, RK4 grid mismatch.
     ConvergenceError
         Levenberg-Marquardt stopped without reaching ``residual_norm <= tol``, the integration
         failed (or ran out of its step budget), the period collapsed, or the answer is an
@@ -473,6 +508,7 @@ def find_periodic_orbit(
     seg.fixed_step(settings, 0.0, T_init, T_init, b)
     jacobian = check.choice("jacobian", jacobian, JACOBIANS)
     n_points, delta = _check_shape_options(settings, n_points, delta)
+    segments = _check_segments(settings, segments, n_points)
     stopping = _check_stopping(tol, xtol, ftol, max_nfev, min_period, T_init)
     fixed_given = _check_fixed(fixed, x_init.size)
     p_init = None if free_params is None else check.real_vector("free_params",
@@ -480,13 +516,13 @@ def find_periodic_orbit(
     funs, jacs, pjacs = _check_callables(fun, jac, param_jac, len(b) + 1, p_init is not None)
     setup = ShootingSetup(funs, jacs, pjacs, tuple(args), x_init, T_init, p_init, fixed_given,
                           bool(autonomous), b, settings, n_points, delta, extra_residual, 0,
-                          jacobian)
+                          jacobian, segments)
     counter = seg.Counter()
     f0, n_extra = _probe(setup, counter)
     setup, phase = _phase_condition(replace(setup, n_extra=n_extra),
                                     f0, bool(fixed_given))
     _check_size(setup)
-    problem = ShootingProblem(setup)
+    problem = ShootingProblem(setup) if segments == 1 else MultipleShootingProblem(setup)
     problem.counter.n = counter.n  # the probe's evaluations count
     orbit = _result(problem, _solve(problem, stopping), stopping, phase)
     if not orbit.success:

@@ -323,3 +323,80 @@ def test_numpy_float32_inputs_are_converted():
     assert orbit.x0.dtype == np.float64 and isinstance(orbit.period, float)
     # the guess's x3 was rounded to float32, so compare with a looser 1e-6 (float32 eps ~ 6e-8)
     assert abs(orbit.period / T_DEDNAM - 1.0) <= 1e-6
+
+
+# ---- multiple shooting (issue 8) ---------------------------------------------------------------
+
+MULTIFLAP_GUESS = [0.1, 5.0, 3.6]  # multiflap's Roessler example: T = 5, c = 5.7
+
+
+def test_multiple_shooting_converges_from_multiflaps_roessler_guess():
+    # 30 segments started on the guess's own trajectory: the ChaosBook orbit (rtol = 1e-11 gives
+    # periods to ~1e-12, margin 1000)
+    orbit = find_periodic_orbit(rossler, MULTIFLAP_GUESS, 5.0, jac=rossler_jac, segments=30)
+    assert orbit.success and orbit.segments == 30
+    assert orbit.segment_states.shape == (3, 30)
+    assert abs(orbit.period / T_ROSSLER - 1.0) <= 1e-9
+    np.testing.assert_array_equal(orbit.segment_states[:, 0], orbit.x0)
+
+
+def test_single_shooting_with_fixed_x0_stalls_from_multiflaps_guess():
+    # the failure multiple shooting is compared with in the chapter: a local minimum ~7e-2
+    with pytest.raises(ConvergenceError) as info:
+        find_periodic_orbit(rossler, MULTIFLAP_GUESS, 5.0, jac=rossler_jac, fixed=[0])
+    assert 1e-2 < info.value.residual < 0.2
+
+
+def test_one_segment_is_single_shooting_bit_for_bit():
+    a = find_periodic_orbit(rossler, [0.0, -6.8, 0.03], 5.9, fixed=[0], jac=rossler_jac)
+    b = find_periodic_orbit(rossler, [0.0, -6.8, 0.03], 5.9, fixed=[0], jac=rossler_jac,
+                            segments=1)
+    assert a.period == b.period and np.array_equal(a.x0, b.x0) and a.nfev == b.nfev
+
+
+def test_multipliers_do_not_depend_on_the_number_of_segments():
+    # BifurcationKit.jl issue 343: stable with 3 segments, unstable with 5. Here the orbit and
+    # its multipliers agree for M = 1, 5, 30 to the integration accuracy (~1e-10).
+    mus = []
+    for M in (1, 5, 30):
+        orbit = find_periodic_orbit(rossler, [0.0, -6.8, 0.03], 5.9, fixed=[0], jac=rossler_jac,
+                                    segments=M)
+        assert abs(orbit.period / T_ROSSLER - 1.0) <= 1e-9
+        mus.append(monodromy(rossler, orbit.x0, orbit.period, jac=rossler_jac).multipliers)
+    np.testing.assert_allclose(mus[1], mus[0], rtol=1e-7, atol=1e-9)
+    np.testing.assert_allclose(mus[2], mus[0], rtol=1e-7, atol=1e-9)
+
+
+@pytest.mark.parametrize("jacobian", ["variational", "finite-difference"])
+def test_multiple_shooting_forced_oscillator_closed_form(jacobian):
+    args = (0.1, 1.0, 1.3, 0.7)
+    x_exact, _ = forced_oscillator_orbit(*args)
+    orbit = find_periodic_orbit(forced_oscillator, [0.0, 0.0], 2 * math.pi / 1.3,
+                                autonomous=False, jac=forced_oscillator_jac, args=args,
+                                segments=4, jacobian=jacobian)
+    np.testing.assert_allclose(orbit.x0, x_exact, atol=1e-9)
+
+
+def test_multiple_shooting_jacobian_matches_finite_differences():
+    from flapping._numdiff import central_jacobian
+    from flapping.periodic import _segments as seg
+    from flapping.periodic._problem import MultipleShootingProblem, ShootingSetup
+    settings_ = seg.check_settings("DOP853", 1e-12, 1e-12, 1024, None)
+    setup = ShootingSetup((rossler,), (rossler_jac,), (None,), (), np.array(MULTIFLAP_GUESS),
+                          5.0, None, (0,), True, (), settings_, 1, 2**-10, None, 0,
+                          "variational", 4)
+    problem = MultipleShootingProblem(setup)
+    z = problem.z0 + 0.01
+    _, J = problem._variational_residual(z)
+    # central differences of an rtol=1e-12 residual: error ~ 1e-12 / 6e-6 + h^2 ~ 1e-6
+    np.testing.assert_allclose(J, central_jacobian(problem._plain_residual, z), atol=1e-5)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"segments": 0}, "segments"),
+    ({"segments": 3, "n_points": 2}, "n_points"),
+    ({"segments": 3, "method": "RK4"}, "multiple of `segments`"),
+])
+def test_bad_segments_are_valueerrors(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        find_periodic_orbit(rossler, MULTIFLAP_GUESS, 5.0, **kwargs)

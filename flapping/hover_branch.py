@@ -1,0 +1,145 @@
+"""The hover orbit followed as an insect parameter changes (issue 8), with its Floquet multipliers.
+
+:func:`continue_hover` continues the hover problem of :func:`flapping.hover.find_hover_orbit`
+(unknowns: the initial state and the stroke amplitude Phi; equations: periodicity of
+(u, w, q, theta) and zero net change of altitude over a period) in one field of
+:class:`~flapping.model.morphology.Insect`, e.g. the flapping frequency or the centre-of-pressure
+position, with :func:`flapping.periodic.continuation.continue_orbit`:
+
+* the state is augmented with the descent z (z' = -u sin theta + w cos theta) and z(0) = 0 held
+  (``fixed=(4,)``), the amplitude Phi is the free parameter that this costs (``free_params``), so
+  the orbit *and* the amplitude are re-solved at every step;
+* the multipliers are those of the (u, w, q, theta) block (``floquet_states``): z does not feed
+  back, its own multiplier is exactly 1 and says nothing about stability;
+* at every parameter value the insect is rebuilt (``dataclasses.replace``) and the model made as
+  :func:`~flapping.hover.find_hover_orbit` makes it, with the mean angle of attack at the trim of
+  eq. (40) for that insect, so that each point of the branch is the hover orbit
+  ``find_hover_orbit(replace(insect, name=p))`` finds;
+* the period is ``1 / frequency``: a forced system whose period may change with the parameter.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import OrderedDict
+from dataclasses import fields, replace
+from typing import Any
+
+import numpy as np
+
+from flapping.hover import find_hover_orbit
+from flapping.model.dynamics import LongitudinalDynamics
+from flapping.model.kinematics import segment_stroke_sign
+from flapping.model.morphology import Insect
+from flapping.periodic.continuation import Branch, continue_orbit
+
+__all__ = ["continue_hover", "HoverFields"]
+
+#: Insect models kept per parameter value (the variational equations difference in p).
+_CACHE = 8
+
+
+class HoverFields:
+    """The hover problem's right-hand sides and Jacobians as functions of one insect field.
+
+    ``funs[k](t, y, p, q)`` and ``jacs[k](t, y, p, q)`` on half-stroke k, y = (u, w, q, theta, z),
+    p the field's value, ``q = [Phi]``; :meth:`period` gives the flapping period at p.
+
+    Parameters
+    ----------
+    insect : Insect
+        The insect at the start of the branch.
+    name : str
+        The :class:`Insect` field that is the parameter.
+    aerodynamics : str
+        As for :class:`~flapping.model.dynamics.LongitudinalDynamics`.
+    """
+
+    def __init__(self, insect: Insect, name: str, aerodynamics: str = "linear") -> None:
+        numeric = [f.name for f in fields(Insect) if f.name != "name"]
+        if name not in numeric:
+            raise ValueError(f"`parameter_name` must be a numeric field of Insect, one of "
+                             f"{numeric}; got {name!r}")
+        self.insect, self.name, self.aerodynamics = insect, name, aerodynamics
+        self.models: OrderedDict[float, LongitudinalDynamics] = OrderedDict()
+        first = self.model(float(getattr(insect, name)))
+        self.breakpoints = first.breakpoints
+        self.funs = [self._rhs(segment_stroke_sign(k)) for k in range(len(self.breakpoints) + 1)]
+        self.jacs = [self._jac(segment_stroke_sign(k)) for k in range(len(self.breakpoints) + 1)]
+
+    def model(self, p: float) -> LongitudinalDynamics:
+        """The model of the insect with the field at p (cached)."""
+        model = self.models.get(p)
+        if model is None:
+            changed: dict[str, Any] = {self.name: p}
+            model = LongitudinalDynamics(replace(self.insect, **changed),
+                                         aerodynamics=self.aerodynamics)
+            self.models[p] = model
+            if len(self.models) > _CACHE:
+                self.models.popitem(last=False)
+        return model
+
+    def period(self, p: float) -> float:
+        """Flapping period at p [s]."""
+        return self.model(float(p)).period
+
+    def _rhs(self, s: float) -> Any:
+        def f(t: float, y: np.ndarray, p: float, q: np.ndarray) -> np.ndarray:
+            out = np.empty(5)
+            out[:4] = self.model(p).rhs(t, y[:4], s, float(q[0]))
+            out[4] = -y[0] * math.sin(y[3]) + y[1] * math.cos(y[3])
+            return out
+        return f
+
+    def _jac(self, s: float) -> Any:
+        def J(t: float, y: np.ndarray, p: float, q: np.ndarray) -> np.ndarray:
+            out = np.zeros((5, 5))
+            out[:4, :4] = self.model(p).jac(t, y[:4], s, float(q[0]))
+            u, w, th = y[0], y[1], y[3]
+            out[4, 0], out[4, 1] = -math.sin(th), math.cos(th)
+            out[4, 3] = -u * math.cos(th) - w * math.sin(th)
+            return out
+        return J
+
+
+def continue_hover(insect: Insect, parameter_name: str, end: float, *,
+                   aerodynamics: str = "linear", **options: Any) -> Branch:
+    """Continue the hover orbit and its stroke amplitude in one insect field.
+
+    Parameters
+    ----------
+    insect : Insect
+        The insect at the start (the field's start value is ``getattr(insect, parameter_name)``).
+    parameter_name : str
+        An :class:`Insect` field, e.g. ``"frequency"`` [Hz] or ``"center_of_pressure"`` (x_hat,
+        a fraction of the chord).
+    end : float
+        Where to stop.
+    aerodynamics : str, optional
+        Loads model (``"linear"``: eq. 29).
+    **options
+        Passed to :func:`~flapping.periodic.continuation.continue_orbit` (``ds``, ``ds_max``,
+        ``max_points``, tolerances, ...).
+
+    Returns
+    -------
+    Branch
+        ``x0`` rows are (u, w, q, theta, z=0) [m/s, m/s, rad/s, rad, m], ``params[:, 0]`` the
+        hover stroke amplitude Phi [rad], ``p`` the field's values, ``multipliers`` those of the
+        (u, w, q, theta) block.
+
+    Raises
+    ------
+    ValueError
+        For an unknown field or a bad value.
+    ConvergenceError
+        If the hover orbit cannot be found at the start.
+    """
+    problem = HoverFields(insect, parameter_name, aerodynamics)
+    p0 = float(getattr(insect, parameter_name))
+    start = find_hover_orbit(insect, aerodynamics=aerodynamics)
+    defaults: dict[str, Any] = {"rtol": 1e-10, "atol": 1e-12, "tol": 1e-9}
+    return continue_orbit(
+        problem.funs, np.append(start.x0, 0.0), problem.period, p0, end, autonomous=False,
+        jac=problem.jacs, breakpoints=problem.breakpoints, fixed=(4,),
+        free_params=(start.amplitude,), floquet_states=(0, 1, 2, 3), **{**defaults, **options})
