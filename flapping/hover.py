@@ -33,11 +33,13 @@ import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
 from flapping import _validation
 from flapping.errors import ConvergenceError, HoverDriftWarning, require_success
+from flapping.fast import kernel as _kernel
 from flapping.model.dynamics import STATE_NAMES, LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
@@ -47,6 +49,8 @@ from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
 __all__ = [
     "ANALYSIS_ATOL",
     "ANALYSIS_RTOL",
+    "BACKENDS",
+    "DEFAULT_BACKEND",
     "HALF_PERIOD_SYMMETRY",
     "HOVER_SPEED_RTOL",
     "HoverOrbit",
@@ -70,7 +74,23 @@ HOVER_SPEED_RTOL = 1e-6
 #: perturbations in :mod:`flapping.stability`): a decade tighter than the orbit's own (rtol
 #: 1e-11), so that the analysis adds no error of its own.
 ANALYSIS_RTOL = 1e-12
+#: Default absolute tolerance of those analysis integrations (see :data:`ANALYSIS_RTOL`).
 ANALYSIS_ATOL = 1e-12
+
+#: How the orbit and the monodromy are integrated: ``"compiled"``, the numba kernel of
+#: :mod:`flapping.fast` (eq. 29's linear loads only: fixed-step 8th-order Runge-Kutta per
+#: half-stroke, Newton, Phi to 1e-9 deg and the multipliers to 1e-8, ~1 ms); ``"adaptive"``, the
+#: scipy path (adaptive DOP853, the reference, ~0.3 s); ``"auto"``, the kernel where it applies
+#: (linear loads, the default ``method`` and ``jacobian``, numba installed), else adaptive.
+BACKENDS: tuple[str, ...] = ("auto", "compiled", "adaptive")
+
+#: The default backend of :func:`find_hover_orbit` and :func:`flapping.stability.hover_stability`.
+#: ``"adaptive"`` for now, although the kernel agrees to 1e-10 deg in Phi and 1e-10 in the
+#: multipliers (the same printed digits): the book shows the adaptive path's own diagnostics
+#: (Levenberg-Marquardt's iteration history, a Liouville error of 5e-14 where the kernel's is
+#: 2e-11, a half-period symmetry error of 1e-10 where its own is 2e-9). Use ``backend="auto"`` (or
+#: :mod:`flapping.sweep`) for speed.
+DEFAULT_BACKEND = "adaptive"
 
 
 # =========================================================================== results
@@ -96,6 +116,8 @@ class HoverOrbit:
         :func:`forced_orbit` the descent integrated along the orbit.
     shooting : PeriodicOrbit
         The shooting solver's result, with its diagnostics.
+    kernel : HoverSolution or None
+        The compiled kernel's result (monodromy, error estimates) when it found the orbit.
     """
 
     model: LongitudinalDynamics
@@ -106,6 +128,7 @@ class HoverOrbit:
     x: np.ndarray
     z_drift: float
     shooting: PeriodicOrbit = field(repr=False)
+    kernel: Any = field(default=None, repr=False, compare=False)
 
     @property
     def amplitude_deg(self) -> float:
@@ -239,6 +262,7 @@ def find_hover_orbit(
     atol: float = 1e-12,
     tol: float = 1e-10,
     n_samples: int = 512,
+    backend: str = DEFAULT_BACKEND,
 ) -> HoverOrbit:
     """Find the hovering periodic orbit: initial state and stroke amplitude.
 
@@ -269,6 +293,9 @@ def find_hover_orbit(
         residual norm).
     n_samples : int
         Samples of the orbit over one period in the result (even, >= 2).
+    backend : {"auto", "compiled", "adaptive"}
+        The integration path (see :data:`BACKENDS`); ``method``, ``jacobian``, ``rtol``,
+        ``atol`` and ``tol`` belong to the adaptive one.
 
     Returns
     -------
@@ -296,6 +323,10 @@ def find_hover_orbit(
     _check_trim(insect, model.alpha_m)
     x0 = _state_guess(x0_guess)
     n_samples = _even_samples(n_samples)
+    if use_kernel(backend, model, method == "DOP853" and jacobian in (None, "variational")):
+        orbit = _kernel_orbit(model, amplitude, x0, n_samples)
+        _warn_if_drifting(orbit)
+        return orbit
     if jacobian is None:
         jacobian = "variational" if aerodynamics == "linear" else "finite-difference"
     rhs, jac, pjac = _hover_fields(model)
@@ -316,15 +347,88 @@ def find_hover_orbit(
     x0 = np.asarray(result.x0[:4], dtype=float)
     t, x, _ = _sample(hover_model, x0, n_samples, method, rtol=rtol, atol=atol)
     orbit = HoverOrbit(hover_model, x0, phi, model.period, t, x, float(result.residual[4]), result)
+    _warn_if_drifting(orbit)
+    return orbit
+
+
+def _warn_if_drifting(orbit: HoverOrbit) -> None:
     if not orbit.is_hover:
+        insect = orbit.model.insect
         warnings.warn(
             f"the orbit found for {insect.name} holds its altitude but is not hover: it flies "
             f"{'forwards' if orbit.mean_inertial_velocity['forward'] > 0 else 'backwards'} at a "
             f"mean {orbit.mean_horizontal_speed:.3g} m/s (tolerance "
             f"{HOVER_SPEED_RTOL:g} x the wingtip speed {orbit.wingtip_speed:.3g} m/s), as the "
             f"hinge offset x_h = {insect.hinge_offset:g} m breaks the half-period symmetry",
-            HoverDriftWarning, stacklevel=2)
-    return orbit
+            HoverDriftWarning, stacklevel=3)
+
+
+# =========================================================================== compiled backend
+def use_kernel(backend: str, model: LongitudinalDynamics, default_settings: bool = True) -> bool:
+    """Whether ``backend`` means the compiled kernel for this model (see :data:`BACKENDS`).
+
+    Parameters
+    ----------
+    backend : {"auto", "compiled", "adaptive"}
+    model : LongitudinalDynamics
+        The kernel applies to ``aerodynamics="linear"`` (eq. 29) only.
+    default_settings : bool
+        False if the caller asked for adaptive-path settings (another ``method``): then
+        ``"auto"`` means the adaptive path.
+
+    Raises
+    ------
+    ValueError
+        For an unknown backend, or ``"compiled"`` with a blade-element model.
+    ImportError
+        For ``"compiled"`` without numba.
+
+    Warns
+    -----
+    RuntimeWarning
+        ``"auto"`` where the kernel applies but numba is missing: the adaptive path runs.
+    """
+    backend = _validation.choice("backend", backend, BACKENDS)
+    if backend == "adaptive":
+        return False
+    if backend == "compiled":
+        if model.aerodynamics != "linear":
+            raise ValueError("backend='compiled' needs aerodynamics='linear' (eq. 29); the "
+                             "blade-element models run on backend='adaptive'")
+        if not _kernel.numba_available():
+            raise ImportError("backend='compiled' needs numba: pip install flapping[fast]")
+        return True
+    if model.aerodynamics != "linear" or not default_settings:
+        return False
+    if not _kernel.numba_available():
+        warnings.warn("numba is not installed: the hover orbit is computed by the adaptive "
+                      "scipy path (~300 times slower; pip install flapping[fast])",
+                      RuntimeWarning, stacklevel=3)
+        return False
+    return True
+
+
+def _kernel_orbit(model: LongitudinalDynamics, amplitude: float, x0: np.ndarray,
+                  n_samples: int) -> HoverOrbit:
+    """find_hover_orbit on the compiled kernel, its answer in the adaptive path's result types."""
+    problem = _kernel.KernelProblem.of(model.insect, model.alpha_m)
+    sol = _kernel.solve_hover(problem, amplitude_guess=amplitude, x0_guess=x0)
+    t, x, _ = _kernel.sample_orbit(problem, sol.x0, sol.amplitude, n_samples)
+    norm = sol.residual_norm
+    shooting = PeriodicOrbit(
+        x0=np.append(sol.x0, 0.0), period=sol.period, params=np.array([sol.amplitude]),
+        success=True, message=(f"compiled kernel: Newton converged with {sol.n_steps} fixed "
+                               f"8th-order steps per half-stroke (estimated errors: Phi "
+                               f"{math.degrees(sol.amplitude_error):.1e} deg, multipliers "
+                               f"{sol.multiplier_error:.1e})"),
+        residual=sol.residual, residual_norm=norm, residual_history=np.array([norm]),
+        iteration_history=np.array([norm]), nit=sol.nit, n_residual_evals=sol.nit,
+        nfev=sol.nfev, njev=sol.nfev, jacobian="variational",
+        method=f"DOP853 tableau, fixed step ({sol.n_steps} per half-stroke)", autonomous=False,
+        unknowns=np.append(sol.x0, sol.amplitude),
+        phase_condition="none: the period is known (forced system)")
+    return HoverOrbit(model.with_amplitude(sol.amplitude), sol.x0, sol.amplitude, sol.period, t,
+                      x, sol.z_drift, shooting, sol)
 
 
 def _check_trim(insect: Insect, alpha_m: float) -> None:

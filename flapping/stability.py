@@ -23,7 +23,15 @@ import numpy as np
 
 from flapping import _validation
 from flapping.errors import HoverDriftWarning, require_success
-from flapping.hover import ANALYSIS_ATOL, ANALYSIS_RTOL, HoverOrbit, find_hover_orbit
+from flapping.fast import kernel as _kernel
+from flapping.hover import (
+    ANALYSIS_ATOL,
+    ANALYSIS_RTOL,
+    DEFAULT_BACKEND,
+    HoverOrbit,
+    find_hover_orbit,
+    use_kernel,
+)
 from flapping.model.morphology import Insect
 from flapping.periodic.floquet import monodromy
 from flapping.periodic.integrate import flow, variational_flow
@@ -160,6 +168,7 @@ def hover_stability(
     atol: float = ANALYSIS_ATOL,
     rk4_steps: int = 1024,
     n_average: int = 64,
+    backend: str = DEFAULT_BACKEND,
 ) -> HoverStability:
     """Monodromy matrix, Floquet multipliers and the averaged system of a periodic orbit.
 
@@ -180,6 +189,11 @@ def hover_stability(
     n_average : int
         Gauss-Legendre nodes per half-stroke for the cycle-averaged Jacobian (the integrand is
         smooth within a half-stroke, so the rule converges spectrally).
+    backend : {"auto", "compiled", "adaptive"}
+        The integration path (:data:`flapping.hover.BACKENDS`): the compiled kernel gives the
+        monodromy to 1e-8 in every multiplier (reusing the one of the orbit's last Newton
+        integration when the kernel found the orbit); ``method``, ``rtol``, ``atol`` and
+        ``rk4_steps`` belong to the adaptive path.
 
     Returns
     -------
@@ -196,21 +210,43 @@ def hover_stability(
     n_average = _validation.integer("n_average", n_average, low=1)
     rtol, atol = _validation.tolerances(rtol, atol)
     model = orbit.model
-    rhs, jac = model.segment_functions()
-    mon = monodromy(rhs, orbit.x0, orbit.period, jac=jac, breakpoints=model.breakpoints,
-                    method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps)
-    # Multipliers from the monodromy's product-QR iteration (accurate even when small); the
-    # eigenvectors from eig(M), matched to them by nearest eigenvalue.
-    values = np.asarray(mon.multipliers, dtype=complex)
-    eig_values, eig_vectors = np.linalg.eig(mon.matrix)
+    compiled = use_kernel(backend, model, method == "DOP853")
+    if compiled:
+        matrix, values, det, liouville, trace = _kernel_monodromy(orbit)
+    else:
+        rhs, jac = model.segment_functions()
+        mon = monodromy(rhs, orbit.x0, orbit.period, jac=jac, breakpoints=model.breakpoints,
+                        method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps)
+        # Multipliers from the monodromy's product-QR iteration (accurate even when small).
+        matrix, values = mon.matrix, np.asarray(mon.multipliers, dtype=complex)
+        det, liouville, trace = mon.det, mon.liouville_det, mon.trace_integral
+    # The eigenvectors from eig(M), matched to the multipliers by nearest eigenvalue.
+    eig_values, eig_vectors = np.linalg.eig(matrix)
     match = [int(np.argmin(np.abs(eig_values - mu))) for mu in values]
     vectors = eig_vectors[:, match].astype(complex)
-    averaged = _averaged_jacobian(orbit, n_average, rtol, atol)
+    averaged = _averaged_jacobian(orbit, n_average, rtol, atol, compiled)
     avg_eig = np.linalg.eigvals(averaged).astype(complex)  # always complex: one dtype for all
     avg_eig = avg_eig[np.argsort(-avg_eig.real, kind="stable")]
-    return HoverStability(orbit, mon.matrix, values, _exponents(values, orbit.period), vectors,
-                          float(mon.det), float(mon.liouville_det), averaged, avg_eig,
-                          float(mon.trace_integral))
+    return HoverStability(orbit, matrix, values, _exponents(values, orbit.period), vectors,
+                          float(det), float(liouville), averaged, avg_eig, float(trace))
+
+
+def _kernel_monodromy(orbit: HoverOrbit) -> tuple[np.ndarray, np.ndarray, float, float, float]:
+    """(M, multipliers, det M, exp(int trace J), int trace J) from the compiled kernel."""
+    sol = orbit.kernel
+    if (isinstance(sol, _kernel.HoverSolution) and np.array_equal(sol.x0, orbit.x0)
+            and sol.amplitude == orbit.amplitude):
+        matrix, trace = sol.monodromy, sol.trace_integral  # the last Newton integration's
+    else:
+        problem = _kernel.KernelProblem.of(orbit.model.insect, orbit.model.alpha_m)
+        matrix, trace, _, _ = _kernel.monodromy_at(problem, orbit.x0, orbit.amplitude)
+    values = np.linalg.eigvals(matrix).astype(complex)
+    values = values[np.argsort(-np.abs(values), kind="stable")]
+    log_det = float(np.sum(np.log(np.abs(values))))
+    det = float(np.linalg.det(matrix)) if abs(log_det) < 700 else math.copysign(
+        math.inf if log_det > 0 else 0.0, float(np.prod(np.sign(values.real))))
+    liouville = math.exp(trace) if trace < 700 else math.inf
+    return matrix, values, det, liouville, trace
 
 
 def _exponents(multipliers: np.ndarray, period: float) -> np.ndarray:
@@ -221,7 +257,8 @@ def _exponents(multipliers: np.ndarray, period: float) -> np.ndarray:
     return exponents
 
 
-def _averaged_jacobian(orbit: HoverOrbit, n_nodes: int, rtol: float, atol: float) -> np.ndarray:
+def _averaged_jacobian(orbit: HoverOrbit, n_nodes: int, rtol: float, atol: float,
+                       compiled: bool = False) -> np.ndarray:
     model = orbit.model
     rhs, jac = model.segment_functions()
     nodes, weights = np.polynomial.legendre.leggauss(n_nodes)  # ascending nodes
@@ -229,12 +266,16 @@ def _averaged_jacobian(orbit: HoverOrbit, n_nodes: int, rtol: float, atol: float
     half = 0.5 * np.diff(bounds)
     # Gauss-Legendre nodes of every segment, in time order: one integration of the orbit.
     t_all = np.concatenate([h * nodes + a + h for a, h in zip(bounds[:-1], half, strict=True)])
-    res = require_success(
-        flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
-             period=orbit.period, t_eval=t_all, rtol=rtol, atol=atol),
-        "the averaged Jacobian")
+    if compiled:
+        problem = _kernel.KernelProblem.of(model.insect, model.alpha_m)
+        x_all = _kernel.states_at(problem, orbit.x0, orbit.amplitude, t_all)
+    else:
+        x_all = require_success(
+            flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
+                 period=orbit.period, t_eval=t_all, rtol=rtol, atol=atol),
+            "the averaged Jacobian").x
     total = np.zeros((4, 4))
-    for i, (t, x) in enumerate(zip(res.t, res.x.T, strict=True)):
+    for i, (t, x) in enumerate(zip(t_all, x_all.T, strict=True)):
         k = i // n_nodes
         total += half[k] * weights[i % n_nodes] * jac[k](t, x)
     return total / orbit.period

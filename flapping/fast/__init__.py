@@ -1,0 +1,33 @@
+"""flapping.fast: the compiled hover kernel (numba), for sweeps of thousands of orbits.
+
+:func:`solve_hover` finds the hover orbit of eq. (29)'s linear model and its Floquet multipliers
+in about a millisecond, with an error estimate and an automatic step count
+(:mod:`flapping.fast.kernel`). The sweeps over insect parameters built on it are in
+:mod:`flapping.sweep`; :func:`flapping.hover.find_hover_orbit` can use it as its backend.
+
+Importing this package does not import numba: the kernel is compiled (or loaded from numba's
+on-disk cache) the first time it runs. numba is the optional ``fast`` extra
+(``pip install flapping[fast]``); :func:`numba_available` says whether it is installed.
+"""
+
+from flapping.fast.kernel import (
+    AMPLITUDE_TOL_DEG,
+    MULTIPLIER_TOL,
+    HoverSolution,
+    KernelProblem,
+    monodromy_at,
+    numba_available,
+    sample_orbit,
+    solve_hover,
+)
+
+__all__ = [
+    "AMPLITUDE_TOL_DEG",
+    "MULTIPLIER_TOL",
+    "HoverSolution",
+    "KernelProblem",
+    "monodromy_at",
+    "numba_available",
+    "sample_orbit",
+    "solve_hover",
+]

@@ -1,0 +1,244 @@
+"""The numba-compiled parts of the hover kernel (imported only when the kernel is first used).
+
+Everything here runs inside ``numba.njit(cache=True)`` and trusts its inputs; the checks, the
+choice of step count and the error estimate are in :mod:`flapping.fast.kernel`.
+
+State layouts (float64 arrays):
+
+- the plain state ``x`` (5): u, w, q, theta and the descent z of :mod:`flapping.hover`;
+- the variational state ``y`` (31): ``x``; the 5 x 4 matrix ``Y = dx(t)/d(u0, w0, q0, theta0)``
+  row-major in ``y[5:25]``; the sensitivity ``s = dx(t)/dPhi`` in ``y[25:30]``; and the integral
+  of trace J (the 4 x 4 Jacobian of eq. 2 with eq. 29's loads) in ``y[30]`` for Liouville's formula.
+
+``k`` is the constants array of :mod:`flapping.fast._generated` (``CONSTANTS``); ``p`` holds
+(g [m/s^2], omega = 2 pi f [rad/s], 1/m [1/kg], 1/I_y [1/(kg m^2)]).
+
+Integration: the 12-stage, 8th-order Runge-Kutta formula of Dormand and Prince (the tableau of
+scipy's DOP853) at a fixed step, ``n`` steps per half-stroke, restarted at stroke reversal where the
+right-hand side jumps (eq. 11): each half-stroke is smooth, so the global error is O(h^8).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+from scipy.integrate._ivp import dop853_coefficients as _dop853
+
+from flapping.fast import _generated
+
+# The generated formulas (plain Python, from the SymPy derivation), compiled here.
+derivatives = numba.njit(cache=True)(_generated.derivatives)
+derivatives_and_amplitude = numba.njit(cache=True)(_generated.derivatives_and_amplitude)
+
+N_STAGES = _dop853.N_STAGES
+RK_A = np.ascontiguousarray(_dop853.A[:N_STAGES, :N_STAGES])
+RK_B = np.ascontiguousarray(_dop853.B)
+RK_C = np.ascontiguousarray(_dop853.C[:N_STAGES])
+
+N_PLAIN = 5
+N_VAR = 31
+
+# Newton's outcomes (status codes returned to the Python wrapper).
+CONVERGED = 0
+MAX_ITERATIONS = 1
+AMPLITUDE_OUT_OF_RANGE = 2
+NOT_FINITE = 3
+SINGULAR = 4
+
+
+@numba.njit(cache=True)
+def _phase(t, amp, sign, p):  # pragma: no cover - compiled
+    """phi, phi_dot, |phi_dot| and the sines and cosines of phi and 2 phi at time t (eq. 39)."""
+    wt = p[1] * t
+    phi = amp * math.cos(wt)
+    phidot = -p[1] * amp * math.sin(wt)
+    sphi, cphi = math.sin(phi), math.cos(phi)
+    return phi, phidot, sign * phidot, sphi, cphi, 2.0 * sphi * cphi, cphi * cphi - sphi * sphi
+
+
+@numba.njit(cache=True)
+def plain_rhs(t, x, amp, sign, k, p, d, out):  # pragma: no cover - compiled
+    """dx/dt of eq. (2) with eq. (29)'s loads, and z' = -u sin(theta) + w cos(theta)."""
+    phi, phidot, absphidot, sphi, cphi, s2phi, c2phi = _phase(t, amp, sign, p)
+    derivatives(phi, phidot, absphidot, sphi, cphi, s2phi, c2phi, k, d)
+    u, w, q, th = x[0], x[1], x[2], x[3]
+    sth, cth = math.sin(th), math.cos(th)
+    out[0] = -q * w - p[0] * sth + d[0] * p[2] + d[3] * u + d[4] * w + d[5] * q
+    out[1] = q * u + p[0] * cth + d[1] * p[2] + d[6] * u + d[7] * w + d[8] * q
+    out[2] = d[2] * p[3] + d[9] * u + d[10] * w + d[11] * q
+    out[3] = q
+    out[4] = -u * sth + w * cth
+
+
+@numba.njit(cache=True)
+def variational_rhs(t, y, amp, sign, k, p, d, out):  # pragma: no cover - compiled
+    """d/dt of the variational state: x, Y' = J Y, s' = J s + df/dPhi, and trace J."""
+    phi, phidot, absphidot, sphi, cphi, s2phi, c2phi = _phase(t, amp, sign, p)
+    derivatives_and_amplitude(phi, phidot, absphidot, sphi, cphi, s2phi, c2phi, k, d)
+    g, im, ii = p[0], p[2], p[3]
+    u, w, q, th = y[0], y[1], y[2], y[3]
+    sth, cth = math.sin(th), math.cos(th)
+    out[0] = -q * w - g * sth + d[0] * im + d[3] * u + d[4] * w + d[5] * q
+    out[1] = q * u + g * cth + d[1] * im + d[6] * u + d[7] * w + d[8] * q
+    out[2] = d[2] * ii + d[9] * u + d[10] * w + d[11] * q
+    out[3] = q
+    out[4] = -u * sth + w * cth
+    # The Jacobian of the augmented field (its z column is zero: z feeds back into nothing).
+    j00, j01, j02, j03 = d[3], d[4] - q, d[5] - w, -g * cth
+    j10, j11, j12, j13 = d[6] + q, d[7], d[8] + u, -g * sth
+    j20, j21, j22 = d[9], d[10], d[11]
+    j40, j41, j43 = -sth, cth, -u * cth - w * sth
+    for c in range(5):  # the 4 columns of Y, then s
+        b = 5 + c if c < 4 else 25
+        step = 4 if c < 4 else 1
+        y0, y1, y2, y3 = y[b], y[b + step], y[b + 2 * step], y[b + 3 * step]
+        out[b] = j00 * y0 + j01 * y1 + j02 * y2 + j03 * y3
+        out[b + step] = j10 * y0 + j11 * y1 + j12 * y2 + j13 * y3
+        out[b + 2 * step] = j20 * y0 + j21 * y1 + j22 * y2
+        out[b + 3 * step] = y2
+        out[b + 4 * step] = j40 * y0 + j41 * y1 + j43 * y3
+    inv = 1.0 / amp  # the generated amplitude derivatives are Phi d/dPhi
+    out[25] += inv * (d[12] * im + d[15] * u + d[16] * w + d[17] * q)
+    out[26] += inv * (d[13] * im + d[18] * u + d[19] * w + d[20] * q)
+    out[27] += inv * (d[14] * ii + d[21] * u + d[22] * w + d[23] * q)
+    out[30] = d[3] + d[7] + d[11]
+
+
+@numba.njit(cache=True)
+def _rk_step(variational, t, h, y, amp, sign, k, p, d, stages, tmp):  # pragma: no cover
+    """One fixed step of the 8th-order Dormand-Prince formula, in place on y."""
+    n = y.size
+    for s in range(N_STAGES):
+        for i in range(n):
+            acc = y[i]
+            for j in range(s):
+                acc += h * RK_A[s, j] * stages[j, i]
+            tmp[i] = acc
+        if variational:
+            variational_rhs(t + RK_C[s] * h, tmp, amp, sign, k, p, d, stages[s])
+        else:
+            plain_rhs(t + RK_C[s] * h, tmp, amp, sign, k, p, d, stages[s])
+    for i in range(n):
+        acc = 0.0
+        for s in range(N_STAGES):
+            acc += RK_B[s] * stages[s, i]
+        y[i] += h * acc
+
+
+@numba.njit(cache=True)
+def integrate_period(variational, y, amp, n_steps, k, p, samples):  # pragma: no cover
+    """Integrate y in place over one period, ``n_steps`` per half-stroke; returns the RHS count.
+
+    Segment 0 is the backward stroke (|phi_dot| = -phi_dot), segment 1 the forward stroke. If
+    ``samples`` has more than one row, the state after every step is stored in it (row 0 is the
+    initial state; row i the state at t = i h).
+    """
+    period = 2.0 * math.pi / p[1]
+    h = 0.5 * period / n_steps
+    d = np.empty(24)
+    stages = np.empty((N_STAGES, y.size))
+    tmp = np.empty(y.size)
+    store = samples.shape[0] > 1
+    if store:
+        samples[0, :] = y
+    row = 1
+    for segment in range(2):
+        sign = -1.0 if segment == 0 else 1.0
+        t0 = 0.5 * period * segment
+        for i in range(n_steps):
+            _rk_step(variational, t0 + i * h, h, y, amp, sign, k, p, d, stages, tmp)
+            if store:
+                samples[row, :] = y
+                row += 1
+    return 2 * n_steps * N_STAGES
+
+
+@numba.njit(cache=True)
+def variational_period(z, n_steps, k, p):  # pragma: no cover - compiled
+    """The variational state after one period from x0 = z[:4] (z = 0) at Phi = z[4]."""
+    y = np.zeros(N_VAR)
+    y[:4] = z[:4]
+    for j in range(4):
+        y[5 + 5 * j] = 1.0  # Y = [I; 0] (row-major 5 x 4: element (j, j) at 5 + 4 j + j)
+    integrate_period(True, y, z[4], n_steps, k, p, np.empty((1, 1)))
+    return y
+
+
+@numba.njit(cache=True)
+def residual_and_jacobian(y, z):  # pragma: no cover - compiled
+    """The hover residual x(T) - x(0) (z(0) = 0) and its Jacobian in (u0, w0, q0, theta0, Phi)."""
+    r = np.empty(5)
+    J = np.empty((5, 5))
+    for i in range(5):
+        r[i] = y[i] - (z[i] if i < 4 else 0.0)
+        for j in range(4):
+            J[i, j] = y[5 + 4 * i + j] - (1.0 if i == j else 0.0)
+        J[i, 4] = y[25 + i]
+    return r, J
+
+
+@numba.njit(cache=True)
+def newton(z, n_steps, k, p, max_iter, xtol):  # pragma: no cover - compiled
+    """Newton's method on the hover residual, from z = (u0, w0, q0, theta0, Phi), in place.
+
+    Stops when the next Newton step would be below ``xtol`` (relative to max(1, |z_i|)) in every
+    unknown, leaving z at the last integrated point, to which the returned variational state
+    belongs. Returns (status, iterations, residual norm, y).
+    """
+    y = np.zeros(N_VAR)
+    norm = math.inf
+    for it in range(1, max_iter + 1):
+        if not (0.0 < z[4] <= 0.5 * math.pi):
+            return AMPLITUDE_OUT_OF_RANGE, it - 1, norm, y
+        y = variational_period(z, n_steps, k, p)
+        r, J = residual_and_jacobian(y, z)
+        norm = math.sqrt(np.sum(r * r))
+        if not (np.all(np.isfinite(r)) and np.all(np.isfinite(J))):
+            return NOT_FINITE, it, norm, y
+        if abs(np.linalg.det(J)) == 0.0:
+            return SINGULAR, it, norm, y
+        dz = np.linalg.solve(J, -r)
+        # Keep the amplitude step within a third of the way to either end of (0, pi/2].
+        limit = min(z[4], 0.5 * math.pi - z[4] + 1e-3) / 3.0
+        scale = min(1.0, limit / abs(dz[4])) if dz[4] != 0.0 else 1.0
+        small = True
+        for i in range(5):
+            if abs(dz[i]) > xtol * max(1.0, abs(z[i])):
+                small = False
+        if small:  # z is the root to rounding level; y and the residual belong to it
+            return CONVERGED, it, norm, y
+        z += scale * dz
+    return MAX_ITERATIONS, max_iter, norm, y
+
+
+@numba.njit(cache=True)
+def sample_period(x0, amp, n_steps, k, p):  # pragma: no cover - compiled
+    """The plain state (u, w, q, theta, z) after each of 2 n_steps steps over one period."""
+    y = np.zeros(N_PLAIN)
+    y[:4] = x0
+    samples = np.empty((2 * n_steps + 1, N_PLAIN))
+    integrate_period(False, y, amp, n_steps, k, p, samples)
+    return samples
+
+
+@numba.njit(cache=True)
+def states_at(x0, amp, n_steps, k, p, times):  # pragma: no cover - compiled
+    """The plain state at sorted ``times`` in (0, T): the step grid, then one shorter step."""
+    samples = sample_period(x0, amp, n_steps, k, p)
+    half = np.pi / p[1]
+    h = half / n_steps
+    out = np.empty((times.size, N_PLAIN))
+    d = np.empty(24)
+    stages = np.empty((N_STAGES, N_PLAIN))
+    tmp = np.empty(N_PLAIN)
+    for i in range(times.size):
+        segment = 0 if times[i] < half else 1
+        j = min(int((times[i] - segment * half) / h), n_steps - 1)
+        t_grid = segment * half + j * h
+        y = samples[segment * n_steps + j].copy()
+        sign = -1.0 if segment == 0 else 1.0
+        _rk_step(False, t_grid, times[i] - t_grid, y, amp, sign, k, p, d, stages, tmp)
+        out[i] = y
+    return out

@@ -1,0 +1,408 @@
+"""Sweeps: the hover orbit and its Floquet multipliers over a grid of insect parameters.
+
+:func:`sweep_hover` evaluates hover (Phi, x0) and the multipliers at every point of a grid of
+:class:`~flapping.model.morphology.Insect` fields (one, two or more at a time, as a full grid), or
+over an explicit list of insects, and returns a tidy :class:`pandas.DataFrame`: one row per point,
+failures included as rows that say why (a sweep never aborts on one bad point).
+
+How it runs:
+
+- with the compiled kernel (:mod:`flapping.fast`, eq. 29's linear loads) when numba is installed,
+  else with the adaptive scipy path (:func:`~flapping.hover.find_hover_orbit` and
+  :func:`~flapping.stability.hover_stability`; a warning says so: it is ~1000 times slower);
+- the points are visited in a boustrophedon ("snake") order through the grid, split into chunks
+  of consecutive points; within a chunk each solve starts from its neighbour's answer (x0, Phi
+  and the step count), so most take three Newton iterations instead of five;
+- the chunks run in this process by default, or on any :class:`concurrent.futures.Executor`:
+  a ``ProcessPoolExecutor`` for local cores, or ``dask.distributed.Client.get_executor()`` for a
+  cluster. The chunks are the same whichever runs them, so the table is identical.
+
+pandas and tqdm (the ``sweep`` extra) are imported when a sweep runs, not with this module.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import warnings
+from collections.abc import Iterator, Mapping, Sequence
+from concurrent.futures import Executor, as_completed
+from dataclasses import dataclass, fields
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+import flapping._validation as _validation
+from flapping.errors import ConvergenceError
+from flapping.fast import kernel
+from flapping.model.morphology import Insect
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas
+
+__all__ = ["SWEEPABLE", "COLUMNS", "sweep_hover", "grid_points", "add_sweep_parser",
+           "run_sweep_command"]
+
+#: Insect fields a grid may vary (the numeric ones).
+SWEEPABLE: tuple[str, ...] = tuple(
+    f.name for f in fields(Insect)
+    if f.init and f.name not in ("name", "aspect_ratio_convention"))
+
+#: Result columns after the parameter columns, in order.
+COLUMNS: tuple[str, ...] = (
+    "amplitude_deg", "alpha_m_deg", "u0", "w0", "q0", "theta0",
+    "mu1_real", "mu1_imag", "mu2_real", "mu2_imag", "mu3_real", "mu3_imag", "mu4_real",
+    "mu4_imag", "max_abs_mu", "stable", "converged", "amplitude_error_deg", "multiplier_error",
+    "nit", "n_steps", "backend", "message",
+)
+
+#: Points per chunk: the unit of work sent to an executor (warm starts run within a chunk).
+DEFAULT_CHUNK = 50
+
+
+@dataclass(frozen=True)
+class _Settings:
+    """What every chunk needs besides its points (picklable)."""
+
+    backend: str
+    amplitude_tol_deg: float
+    multiplier_tol: float
+
+
+def grid_points(grid: Mapping[str, Sequence[float]]) -> list[dict[str, float]]:
+    """The points of a full grid in C order (the last parameter varies fastest).
+
+    Parameters
+    ----------
+    grid : mapping of str to sequence of float
+        Insect field name -> values (1-D, finite).
+
+    Returns
+    -------
+    list of dict
+
+    Raises
+    ------
+    ValueError
+        If a name is not a numeric :class:`Insect` field or its values are not a non-empty
+        finite 1-D sequence.
+    """
+    axes = _axes(grid)
+    return [dict(zip(axes, combo, strict=True)) for combo in itertools.product(*axes.values())]
+
+
+def _axes(grid: Mapping[str, Sequence[float]]) -> dict[str, list[float]]:
+    """The grid's values per field, checked."""
+    if not isinstance(grid, Mapping) or not grid:
+        raise ValueError(f"`grid` must be a non-empty mapping of Insect fields to values; "
+                         f"got {grid!r}")
+    axes = {}
+    for name, values in grid.items():
+        _validation.choice("grid key", name, SWEEPABLE)
+        arr = _validation.array(f"grid[{name!r}]", values)
+        if arr.ndim != 1 or arr.size == 0:
+            raise ValueError(f"`grid[{name!r}]` must be a non-empty 1-D sequence of numbers")
+        axes[name] = [float(v) for v in arr]
+    return axes
+
+
+def _snake(shape: tuple[int, ...]) -> list[int]:
+    """Flat C-order indices of a grid visited so that consecutive points are neighbours."""
+    if len(shape) == 1:
+        return list(range(shape[0]))
+    inner = _snake(shape[1:])
+    size = len(inner)
+    order = []
+    for i in range(shape[0]):
+        order += [i * size + j for j in (inner if i % 2 == 0 else inner[::-1])]
+    return order
+
+
+# =========================================================================== one point
+def _row(solution: kernel.HoverSolution | None, message: str, backend: str) -> dict[str, Any]:
+    """The result columns of one point (NaN where there is no answer)."""
+    row: dict[str, Any] = dict.fromkeys(COLUMNS, math.nan)
+    row.update(converged=False, stable=False, nit=0, n_steps=0, backend=backend, message=message)
+    if solution is None:
+        return row
+    mu = solution.multipliers
+    row.update(amplitude_deg=solution.amplitude_deg, alpha_m_deg=math.degrees(solution.alpha_m),
+               max_abs_mu=solution.max_modulus, stable=solution.is_stable, converged=True,
+               amplitude_error_deg=math.degrees(solution.amplitude_error),
+               multiplier_error=solution.multiplier_error, nit=solution.nit,
+               n_steps=solution.n_steps)
+    row.update(zip(("u0", "w0", "q0", "theta0"), map(float, solution.x0), strict=True))
+    for i in range(4):
+        row[f"mu{i + 1}_real"], row[f"mu{i + 1}_imag"] = float(mu[i].real), float(mu[i].imag)
+    return row
+
+
+def _adaptive(insect: Insect) -> kernel.HoverSolution:
+    """The reference: the adaptive scipy path, in the kernel's result type."""
+    from flapping.hover import find_hover_orbit
+    from flapping.stability import hover_stability
+
+    orbit = find_hover_orbit(insect, **_ADAPTIVE)
+    stab = hover_stability(orbit, **_ADAPTIVE)
+    return kernel.HoverSolution(
+        x0=orbit.x0, amplitude=orbit.amplitude, alpha_m=orbit.model.alpha_m,
+        period=orbit.period, monodromy=stab.monodromy, multipliers=stab.multipliers,
+        trace_integral=stab.trace_integral, residual=np.asarray(orbit.shooting.residual),
+        nit=orbit.shooting.nit, nfev=orbit.shooting.nfev, n_steps=0, amplitude_error=math.nan,
+        x0_error=math.nan, multiplier_error=math.nan)
+
+
+#: Keywords that select the adaptive path of find_hover_orbit / hover_stability.
+_ADAPTIVE: dict[str, Any] = {}
+
+
+def _solve_point(insect: Insect, settings: _Settings,
+                 start: kernel.HoverSolution | None) -> kernel.HoverSolution:
+    """One point: the kernel warm-started from ``start`` (then cold if that fails), or adaptive."""
+    if settings.backend == "adaptive":
+        return _adaptive(insect)
+    problem = kernel.KernelProblem.of(insect)
+    tol_deg, tol_mu = settings.amplitude_tol_deg, settings.multiplier_tol
+    if start is not None:
+        try:
+            return kernel.solve_hover(problem, amplitude_guess=start.amplitude,
+                                      x0_guess=start.x0, n_steps=start.n_steps,
+                                      amplitude_tol_deg=tol_deg, multiplier_tol=tol_mu)
+        except ConvergenceError:
+            pass  # a neighbour across a fold or a failure: start afresh
+    return kernel.solve_hover(problem, amplitude_tol_deg=tol_deg, multiplier_tol=tol_mu)
+
+
+def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insect],
+                 settings: _Settings) -> list[dict[str, Any]]:
+    """Solve consecutive points, each warm-started from the previous answer; one row each.
+
+    Module-level (picklable) so that executors can run it. A point's failure (bad parameters,
+    no convergence) is its row's message.
+    """
+    rows, start = [], None
+    for point in points:
+        try:
+            insect = point if isinstance(point, Insect) else _with(base, point)
+            solution = _solve_point(insect, settings, start)
+        except (ValueError, ConvergenceError, ArithmeticError, np.linalg.LinAlgError) as exc:
+            rows.append(_row(None, f"{type(exc).__name__}: {exc}", settings.backend))
+            start = None
+            continue
+        rows.append(_row(solution, "", settings.backend))
+        start = solution
+    return rows
+
+
+def _with(base: Insect | None, point: Mapping[str, Any]) -> Insect:
+    assert base is not None
+    return base.with_(**point)
+
+
+# =========================================================================== the sweep
+def _backend(backend: str) -> str:
+    backend = _validation.choice("backend", backend, ("auto", "compiled", "adaptive"))
+    if backend == "adaptive":
+        return backend
+    if kernel.numba_available():
+        return "compiled"
+    if backend == "compiled":
+        raise ImportError("backend='compiled' needs numba: pip install flapping[fast]")
+    warnings.warn("numba is not installed: the sweep uses the adaptive scipy path, ~1000 times "
+                  "slower per point (pip install flapping[fast] for the compiled kernel)",
+                  RuntimeWarning, stacklevel=3)
+    return "adaptive"
+
+
+def _chunks(order: list[int], size: int) -> Iterator[list[int]]:
+    for i in range(0, len(order), size):
+        yield order[i:i + size]
+
+
+def _run(tasks: list[tuple[list[int], list[Any]]], base: Insect | None, settings: _Settings,
+         executor: Executor | None, progress: bool) -> dict[int, dict[str, Any]]:
+    """Solve every chunk (in process or on the executor); rows by flat point index."""
+    from tqdm import tqdm  # the text bar (tqdm.auto's notebook bar needs ipywidgets)
+
+    rows: dict[int, dict[str, Any]] = {}
+    total = sum(len(idx) for idx, _ in tasks)
+    with tqdm(total=total, disable=not progress, unit="orbit", desc="hover sweep") as bar:
+        if executor is None:
+            for idx, points in tasks:
+                rows.update(zip(idx, _solve_chunk(base, points, settings), strict=True))
+                bar.update(len(idx))
+        else:
+            futures = {executor.submit(_solve_chunk, base, points, settings): idx
+                       for idx, points in tasks}
+            for future in as_completed(futures):
+                idx = futures[future]
+                rows.update(zip(idx, future.result(), strict=True))
+                bar.update(len(idx))
+    return rows
+
+
+def sweep_hover(
+    insect: Insect | Sequence[Insect],
+    grid: Mapping[str, Sequence[float]] | None = None,
+    *,
+    executor: Executor | None = None,
+    progress: bool = True,
+    chunk_size: int = DEFAULT_CHUNK,
+    backend: str = "auto",
+    amplitude_tol_deg: float = kernel.AMPLITUDE_TOL_DEG,
+    multiplier_tol: float = kernel.MULTIPLIER_TOL,
+) -> pandas.DataFrame:
+    """Hover orbit and Floquet multipliers (eqs. 29, 42-49) at every point of a parameter grid.
+
+    Parameters
+    ----------
+    insect : Insect or sequence of Insect
+        The base insect whose fields ``grid`` varies; or, without ``grid``, the list of insects
+        to evaluate (one row each).
+    grid : mapping of str to sequence of float, optional
+        Insect field -> values (SI units, e.g. ``{"frequency": np.linspace(20, 32, 100)}``); the
+        sweep covers the full grid of all combinations (C order: last field fastest).
+    executor : concurrent.futures.Executor, optional
+        Where to run the chunks (default: this process). E.g.
+        ``ProcessPoolExecutor(2)`` or ``dask.distributed.Client(...).get_executor()``.
+    progress : bool
+        Show a tqdm progress bar.
+    chunk_size : int
+        Consecutive points per task (warm starts run within a chunk), >= 1.
+    backend : {"auto", "compiled", "adaptive"}
+        ``"auto"``: the compiled kernel if numba is installed, else the adaptive path (with a
+        warning); ``"adaptive"``: the scipy reference path.
+    amplitude_tol_deg, multiplier_tol : float
+        The kernel's accuracy targets for Phi [deg] and every multiplier (absolute).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per point in grid order: the swept fields (or ``insect`` and ``name`` for a list),
+        then :data:`COLUMNS`: ``amplitude_deg``; ``u0, w0, q0, theta0`` (SI); the multipliers
+        ``mu1..mu4`` (real and imaginary parts, by descending modulus); ``max_abs_mu``;
+        ``stable``; ``converged``; the error estimates; ``nit``; ``n_steps`` (per half-stroke);
+        ``backend``; ``message`` (why a point failed; empty otherwise).
+
+    Raises
+    ------
+    ValueError
+        For a bad grid or argument (a bad *point*, e.g. an insect that cannot trim, is a row).
+    ImportError
+        If pandas or tqdm is missing (``pip install flapping[sweep]``).
+    """
+    import pandas
+
+    chunk_size = _validation.integer("chunk_size", chunk_size, low=1)
+    settings = _Settings(_backend(backend),
+                         _validation.positive("amplitude_tol_deg", amplitude_tol_deg),
+                         _validation.positive("multiplier_tol", multiplier_tol))
+    if executor is not None and not isinstance(executor, Executor):
+        raise ValueError(f"`executor` must be a concurrent.futures.Executor; got {executor!r}")
+    base, points, params, shape = _points(insect, grid)
+    order = _snake(shape)
+    tasks = [(idx, [points[i] for i in idx]) for idx in _chunks(order, chunk_size)]
+    rows = _run(tasks, base, settings, executor, progress)
+    table = pandas.DataFrame([rows[i] for i in range(len(points))], columns=list(COLUMNS))
+    return pandas.concat([pandas.DataFrame(params), table], axis=1)
+
+
+def _points(insect: Insect | Sequence[Insect], grid: Mapping[str, Sequence[float]] | None
+            ) -> tuple[Insect | None, list[Any], dict[str, list[Any]], tuple[int, ...]]:
+    """(base insect, points, parameter columns, grid shape) of the sweep's arguments."""
+    if grid is None:
+        if isinstance(insect, Insect) or not isinstance(insect, Sequence) or not insect:
+            raise ValueError("without `grid`, `insect` must be a non-empty sequence of Insect")
+        insects = [_validation.instance(f"insect[{i}]", x, Insect) for i, x in enumerate(insect)]
+        params: dict[str, list[Any]] = {"insect": list(range(len(insects))),
+                                         "name": [x.name for x in insects]}
+        return None, list(insects), params, (len(insects),)
+    if not isinstance(insect, Insect):
+        raise ValueError(f"with `grid`, `insect` must be an Insect; got {type(insect).__name__}")
+    base = insect
+    axes = _axes(grid)
+    points: list[Any] = grid_points(axes)
+    columns: dict[str, list[Any]] = {name: [p[name] for p in points] for name in axes}
+    return base, points, columns, tuple(len(v) for v in axes.values())
+
+
+# =========================================================================== command line
+_CLI_HELP = """\
+Evaluate the hover orbit and its Floquet multipliers (compiled kernel, eq. 29's linear loads) over
+a grid of insect parameters and print one row per point: the swept parameters (SI units), the
+stroke amplitude Phi [deg], the initial state u0, w0 [m/s], q0 [rad/s], theta0 [rad], the four
+multipliers (real and imaginary parts, by descending modulus), max |mu|, stable, converged, the
+error estimates, the Newton iterations and steps per half-stroke, and why a point failed."""
+
+_CLI_EPILOG = """\
+--param NAME=LO:HI:N takes N values from LO to HI inclusive (numpy.linspace) of an Insect field
+(frequency [Hz], center_of_pressure [fraction of the chord], mass [kg], ...); repeat it for a
+full grid. --csv (default) prints a header and one line per point; --json one JSON object per
+line (JSON Lines, null for a missing value). --workers K runs on K local processes.
+example: %(prog)s --insect hawkmoth --param frequency=20:32:1000 --csv"""
+
+
+def _param(text: str) -> tuple[str, np.ndarray]:
+    """Parse NAME=LO:HI:N into (name, values)."""
+    import argparse
+
+    try:
+        name, spec = text.split("=", 1)
+        lo, hi, n = spec.split(":")
+        values = np.linspace(float(lo), float(hi), int(n))
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected NAME=LO:HI:N (e.g. frequency=20:32:100), got {text!r}") from None
+    if name not in SWEEPABLE:
+        raise argparse.ArgumentTypeError(
+            f"unknown Insect field {name!r}; choose from {', '.join(SWEEPABLE)}")
+    if int(n) < 1:
+        raise argparse.ArgumentTypeError(f"N must be >= 1 in {text!r}")
+    return name, values
+
+
+def add_sweep_parser(subparsers: Any, presets: Sequence[str]) -> None:
+    """Add the ``sweep`` subcommand to the CLI's subparsers (see :func:`run_sweep_command`)."""
+    import argparse
+
+    parser = subparsers.add_parser("sweep", help="hover and its multipliers over a parameter grid",
+                                   description=_CLI_HELP, epilog=_CLI_EPILOG,
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--insect", default="hawkmoth", choices=sorted(presets),
+                        help="preset insect whose fields are varied (default: %(default)s)")
+    parser.add_argument("--param", action="append", type=_param, required=True,
+                        metavar="NAME=LO:HI:N", help="a swept Insect field (repeatable)")
+    form = parser.add_mutually_exclusive_group()
+    form.add_argument("--csv", action="store_true", help="CSV with a header (default)")
+    form.add_argument("--json", action="store_true", help="one JSON object per line")
+    parser.add_argument("--workers", type=int, default=1, metavar="K",
+                        help="local worker processes (default: %(default)s, in this process)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def run_sweep_command(args: Any, insect: Insect) -> str:
+    """Run the ``sweep`` subcommand's sweep and return its text (CSV or JSON Lines).
+
+    Raises
+    ------
+    ValueError
+        For a repeated parameter or ``--workers`` < 1.
+    """
+    import json
+    import sys
+    from concurrent.futures import ProcessPoolExecutor
+
+    grid = dict(args.param)
+    if len(grid) != len(args.param):
+        raise ValueError("each --param NAME may be given once")
+    workers = _validation.integer("--workers", args.workers, low=1)
+    progress = not args.quiet and sys.stderr.isatty()
+    if workers == 1:
+        table = sweep_hover(insect, grid, progress=progress)
+    else:
+        with ProcessPoolExecutor(workers) as pool:
+            table = sweep_hover(insect, grid, progress=progress, executor=pool)
+    if args.json:
+        records = table.astype(object).where(table.notna(), None).to_dict("records")
+        return "\n".join(json.dumps(r, allow_nan=False) for r in records)
+    return str(table.to_csv(index=False, float_format="%.17g")).rstrip("\n")
