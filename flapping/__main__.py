@@ -1,7 +1,12 @@
 """Command line: the hovering orbit of a preset insect and its Floquet stability.
 
-``flapping hover [--insect hawkmoth] [--aerodynamics linear] [--json]`` (the console script), or
-the same after ``python -m flapping``. ``flapping --version`` prints the package version.
+``flapping hover [--insect NAME|FILE] [--aerodynamics linear] [--json]`` (the console script), or
+the same after ``python -m flapping``; ``--insect`` takes a preset name or a ``.toml``/``.json``
+file (:mod:`flapping.model.insect_file`), and ``flapping species [--json]`` lists the presets.
+``flapping --version`` prints the package version.
+``flapping sweep --insect hawkmoth --param frequency=LO:HI:N [--param NAME=LO:HI:N] [--csv |
+--json] [--workers K]`` prints hover and its multipliers over a parameter grid, one row per point
+(:mod:`flapping.sweep`).
 
 Exit status: 0 on success; 1 if the solver fails (no convergence, a failed integration, or a result
 that is not a finite number); 2 for bad arguments. Errors are one line on standard error.
@@ -28,14 +33,17 @@ from typing import Any, NoReturn
 from flapping import __version__
 from flapping.errors import ConvergenceError
 from flapping.hover import HoverOrbit, find_hover_orbit
+from flapping.model import presets as species
 from flapping.model.dynamics import AERODYNAMIC_MODELS, STATE_NAMES
-from flapping.model.morphology import Insect, hawkmoth
+from flapping.model.insect_file import resolve_insect
+from flapping.model.morphology import Insect
 from flapping.stability import HoverStability, hover_stability
+from flapping.sweep import add_sweep_parser, run_sweep_command
 
 __all__ = ["PRESETS", "UNITS", "NonFiniteResultError", "hover_report", "main"]
 
-#: Preset insects selectable with ``--insect``.
-PRESETS: dict[str, Callable[[], Insect]] = {"hawkmoth": hawkmoth}
+#: Preset insects selectable with ``--insect`` by name (:mod:`flapping.model.presets`).
+PRESETS: dict[str, Callable[[], Insect]] = {name: p.insect for name, p in species.PRESETS.items()}
 
 _STATE_UNITS = {"u": "m/s", "w": "m/s", "q": "rad/s", "theta": "rad"}
 _COUNT = "1"  # a dimensionless number (a count, a ratio, a multiplier)
@@ -51,10 +59,11 @@ _ATOL_UNIT = "SI units of each state (m/s, rad/s, rad; m for z)"
 _SHOOTING_UNITS: dict[str, str | None] = {
     "method": None, "rtol": _COUNT, "atol": _ATOL_UNIT,
     "tol": "SI units of each state (norm of the residual)", "jacobian": None, "success": None,
-    "nit": _COUNT, "nfev": _COUNT, "njev": _COUNT,
+    "nit": _COUNT, "nfev": _COUNT, "njev": _COUNT, "backend": None,
 }
 _STABILITY_UNITS: dict[str, str | None] = {
     "method": None, "rtol": _COUNT, "atol": _ATOL_UNIT, "rk4_steps": _COUNT, "n_average": _COUNT,
+    "backend": None,
 }
 #: Unit of every key of the JSON report (nested like the report; ``None``: not a quantity;
 #: ``"1"``: dimensionless). Lists of complex numbers ``{"re", "im"}`` share one unit.
@@ -99,12 +108,13 @@ Units are SI (m, s, kg, rad), except keys and labels that say deg.
 example: %(prog)s hover --json"""
 
 _HOVER_DESCRIPTION = """\
-Find the hover orbit of a preset insect (Elsadek, El-Bayoumi & Taha, Sec. IV): the initial state
-u, w [m/s], q [rad/s], theta [rad] and the stroke amplitude Phi [deg] of the periodic orbit of
-period T = 1/f [s] whose mean climb rate is zero. Then integrate the variational equations over
-one period: the monodromy matrix, its Floquet multipliers (dimensionless; hover is stable if all
-four lie inside the unit circle), the Floquet exponents ln(mu)/T [1/s], the Liouville check
-det M = exp(int_0^T trace J dt), and the eigenvalues of the cycle-averaged system [1/s]."""
+Find the hover orbit of an insect, a preset or a file (Elsadek, El-Bayoumi & Taha, Sec. IV): the
+initial state u, w [m/s], q [rad/s], theta [rad] and the stroke amplitude Phi [deg] of the
+periodic orbit of period T = 1/f [s] whose mean climb rate is zero. Then integrate the
+variational equations over one period: the monodromy matrix, its Floquet multipliers
+(dimensionless; hover is stable if all four lie inside the unit circle), the Floquet exponents
+ln(mu)/T [1/s], the Liouville check det M = exp(int_0^T trace J dt), and the eigenvalues of the
+cycle-averaged system [1/s]."""
 
 _HOVER_EPILOG = f"""\
 --json prints one JSON object with the keys amplitude_deg, alpha_m_deg, initial_state, period_s,
@@ -115,6 +125,13 @@ solver (settings and iteration counts); `units` gives the unit of every key. Com
 {{"re": ..., "im": ...}}. NaN and infinity are never printed: a non-finite result exits with 1.
 
 {_EXIT_CODES}"""
+
+
+_SPECIES_DESCRIPTION = """\
+List the preset insects (flapping.model.presets): name, species, body mass, wing length (the
+semi-span R), flapping frequency and main source. Each works with `hover --insect NAME`. With
+--json: a list of objects with the keys name, species, mass_kg, wing_length_m, frequency_hz,
+source."""
 
 
 class NonFiniteResultError(ValueError):
@@ -140,13 +157,20 @@ def _parser() -> argparse.ArgumentParser:
     hover = sub.add_parser("hover", help="hover orbit and its Floquet stability",
                            description=_HOVER_DESCRIPTION, epilog=_HOVER_EPILOG,
                            formatter_class=raw)
-    hover.add_argument("--insect", default="hawkmoth", choices=sorted(PRESETS),
-                       help="preset insect (default: %(default)s, the paper's Manduca sexta)")
+    hover.add_argument("--insect", default="hawkmoth", metavar="NAME|FILE",
+                       help="a preset (" + ", ".join(PRESETS) + "; default: %(default)s, the "
+                            "paper's Manduca sexta; the species command lists them) or a .toml "
+                            "or .json file of Insect fields in SI units")
     hover.add_argument("--aerodynamics", default="linear", choices=AERODYNAMIC_MODELS,
                        help="loads model (default: %(default)s, the paper's eq. 29; small-angle "
                             "and exact: the blade-element loads)")
     hover.add_argument("--json", action="store_true",
                        help="print one JSON object (SI units, a `units` map) instead of text")
+    listing = sub.add_parser("species", help="list the preset insects",
+                             description=_SPECIES_DESCRIPTION, formatter_class=raw)
+    listing.add_argument("--json", action="store_true",
+                         help="print a JSON list of objects (SI units in the key names)")
+    add_sweep_parser(sub, tuple(PRESETS))
     return parser
 
 
@@ -218,7 +242,8 @@ def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str = "linear"
     Parameters
     ----------
     insect : str or Insect
-        A key of :data:`PRESETS`, or an :class:`~flapping.model.morphology.Insect`.
+        A key of :data:`PRESETS`, the path of a ``.toml``/``.json`` insect file
+        (:mod:`flapping.model.insect_file`), or an :class:`~flapping.model.morphology.Insect`.
     aerodynamics : {"linear", "small-angle", "exact"}
         Loads model.
 
@@ -238,11 +263,10 @@ def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str = "linear"
         underflows to 0); the message lists which.
     """
     if isinstance(insect, str):
-        if insect not in PRESETS:
-            raise ValueError(f"`insect` must be one of {tuple(PRESETS)}; got {insect!r}")
-        insect = PRESETS[insect]()
-    shooting = _defaults(find_hover_orbit, "method", "rtol", "atol", "tol")
-    stability = _defaults(hover_stability, "method", "rtol", "atol", "rk4_steps", "n_average")
+        insect = PRESETS[insect]() if insect in PRESETS else resolve_insect(insect)
+    shooting = _defaults(find_hover_orbit, "method", "rtol", "atol", "tol", "backend")
+    stability = _defaults(hover_stability, "method", "rtol", "atol", "rk4_steps", "n_average",
+                          "backend")
     orbit = find_hover_orbit(insect, aerodynamics=aerodynamics, **shooting)
     stab = hover_stability(orbit, **stability)
     report = {"version": __version__, "insect": insect.name,
@@ -287,6 +311,50 @@ def _one_line(text: object) -> str:
     return " ".join(str(text).split())
 
 
+def _sweep(args: argparse.Namespace, prog: str) -> int:
+    """The ``sweep`` subcommand: one row per point on standard output (see flapping.sweep)."""
+    try:
+        text = run_sweep_command(args, PRESETS[args.insect]())
+    except (ValueError, ImportError) as exc:
+        print(f"{prog}: error: {_one_line(exc)}", file=sys.stderr)
+        return 1
+    try:
+        print(text, flush=True)
+    except BrokenPipeError:  # the reader left early (`flapping sweep ... | head`)
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+    return 0
+
+
+def _insect_argument(parser: argparse.ArgumentParser, spec: str) -> Insect:
+    """``--insect`` as an Insect (a preset or a file), or exit 2 with one line saying why."""
+    if spec in PRESETS:
+        return PRESETS[spec]()
+    try:
+        return resolve_insect(spec)
+    except ValueError as exc:
+        parser.error(f"argument --insect: {_one_line(exc)}")
+
+
+def _species(as_json: bool) -> int:
+    """The ``species`` subcommand: the presets, as a table or a JSON list."""
+    rows = species.species_table()
+    if as_json:
+        text = json.dumps(rows, allow_nan=False)
+    else:
+        head = f"{'name':<10} {'species':<30} {'mass [mg]':>10} {'R [mm]':>7} {'f [Hz]':>7}  source"
+        text = "\n".join([head] + [
+            f"{r['name']:<10} {r['species']:<30} {r['mass_kg'] * 1e6:>10.4g} "
+            f"{r['wing_length_m'] * 1e3:>7.4g} {r['frequency_hz']:>7.4g}  {r['source']}"
+            for r in rows])
+    try:
+        print(text, flush=True)
+    except BrokenPipeError:  # the reader left early (`flapping species | head`)
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``flapping`` and ``python -m flapping``; returns the exit status.
 
@@ -303,10 +371,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     """
     parser = _parser()
     args = parser.parse_args(argv)
+    if args.command == "sweep":
+        return _sweep(args, parser.prog)
+    if args.command == "species":
+        return _species(args.json)
+    insect = _insect_argument(parser, args.insect)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            report = hover_report(args.insect, args.aerodynamics)
+            report = hover_report(insect, args.aerodynamics)
             text = json.dumps(report, allow_nan=False) if args.json else _text(report)
         except (ValueError, ConvergenceError, ArithmeticError) as exc:
             print(f"{parser.prog}: error: {_one_line(exc)}", file=sys.stderr)

@@ -2,7 +2,9 @@
 
 Modules, each importing only the ones before it:
 ``kinematics`` (stroke angle, rate and sign of eq. 39; the accepted ranges of the stroke amplitude
-and of alpha_m) -> ``morphology`` (:class:`Insect`) -> ``aerodynamics`` (blade-element loads,
+and of alpha_m) -> ``morphology`` (:class:`Insect`) -> ``presets`` (species from the
+literature, each number with its source) and ``insect_file`` (an insect from a TOML or JSON file)
+-> ``aerodynamics`` (blade-element loads,
 nonlinear in the body states; the trim of eq. 40; the K constants of the linearised loads) ->
 ``derivation`` (SymPy, at derive time only: the stability derivatives, generated into
 ``_derivatives_generated``) -> ``derivatives`` (the time-periodic stability derivatives

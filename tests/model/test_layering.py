@@ -8,8 +8,8 @@ import pytest
 import flapping.model
 
 #: The order of the package docstring: a module may import only the ones before it.
-ORDER = ["kinematics", "morphology", "aerodynamics", "derivation", "_derivatives_generated",
-         "derivatives", "dynamics"]
+ORDER = ["kinematics", "morphology", "presets", "insect_file", "aerodynamics", "derivation",
+         "_derivatives_generated", "derivatives", "dynamics"]
 PACKAGE = Path(flapping.model.__file__).parent
 
 

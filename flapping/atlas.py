@@ -1,0 +1,596 @@
+"""The stability atlas: hover orbits of many insects, found robustly and compared (book/atlas.md).
+
+Application layer: joins the presets (:mod:`flapping.model.presets`), the hover solve
+(:func:`~flapping.hover.find_hover_orbit`) and its Floquet analysis
+(:func:`~flapping.stability.hover_stability`).
+
+- :func:`hover_by_homotopy` finds the hover orbit of an insect by continuation from one whose
+  orbit is known: the morphology moves step by step from one insect to the other, and each step is
+  solved from the previous answer; a step that fails is halved. :func:`robust_hover_orbit` tries
+  the default guess first and falls back on it.
+- :func:`species_stability` reduces an orbit to the atlas's numbers (:class:`SpeciesStability`):
+  multipliers, exponents, doubling time, the averaged system and its error, the unstable mode,
+  and the exponents with the body attitude held on its periodic schedule
+  (:func:`attitude_fixed_exponents`, the constraint of FWUAV's Floquet analysis).
+- :func:`frequency_sweep` follows one insect in flapping frequency at a constant mean wingtip
+  speed Phi f (hence a constant alpha_m), warm-starting each orbit from the previous one.
+- :func:`morphology_sensitivity` recomputes the largest multiplier at the ends of the plausible
+  range of every unverified or estimated number of a preset.
+
+Conventions: SI units (angles in rad) unless a name ends in ``_deg``; rates in 1/s.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from flapping import _validation
+from flapping.errors import ConvergenceError
+from flapping.hover import ANALYSIS_ATOL, ANALYSIS_RTOL, HoverOrbit, find_hover_orbit
+from flapping.model.morphology import Insect, hawkmoth
+from flapping.model.presets import PRESETS, ellington_r1
+from flapping.periodic.floquet import monodromy
+from flapping.stability import HoverStability, hover_stability
+
+__all__ = [
+    "FWUAV_HOVER",
+    "SUN_XIONG_2005",
+    "ZHANG_SUN_2010_DOUBLING_WINGBEATS",
+    "SCALE_FIELDS",
+    "Homotopy",
+    "hover_by_homotopy",
+    "interpolate_insects",
+    "robust_hover_orbit",
+    "SpeciesStability",
+    "species_stability",
+    "attitude_fixed_exponents",
+    "frequency_sweep",
+    "SensitivityBar",
+    "morphology_sensitivity",
+]
+
+#: FWUAV's quasi-steady hovers with the body attitude prescribed (fdcl-gwu/FWUAV, commit 1a25d41,
+#: ``matlab/sim_data/other_insects``): preset name -> (flapping frequency WK.f [Hz], stroke
+#: amplitude WK.phi_m [rad], Floquet exponents of its two longitudinal velocity modes [1/s]),
+#: from ``sim_QS_x_hover_<insect>.mat`` and ``sim_QS_x_hover_conv_rate.mat`` (entries 4 and 5;
+#: ``fig_convergence_rate.m`` labels them "Longitudinal mode 1, 2"; entries 1-3 are the zero
+#: exponents of position, entry 6 the lateral mode).
+FWUAV_HOVER: dict[str, tuple[float, float, tuple[float, float]]] = {
+    "hawkmoth": (30.234258, 0.8267611, (-1.7755204, -4.6284423)),
+    "bumblebee": (126.728507, 1.2540563, (-1.5289432, -2.8919659)),
+    "fruit_fly": (285.239805, 1.1612576, (-3.9368558, -7.0358839)),
+    "monarch": (11.721978, 0.6072701, (-8.4354604, -12.8449206)),
+}
+
+#: Sun & Xiong (2005, J. Exp. Biol. 208:447), bumblebee, CFD derivatives and the averaged model,
+#: attitude free, as stated in their abstract: wingbeat period, the unstable oscillatory mode's
+#: doubling time and period, and the halving times of the fast and slow subsidence modes [s].
+SUN_XIONG_2005 = {"wingbeat": 6.4e-3, "doubling": 0.1, "oscillation_period": 0.32,
+                  "fast_halving": 0.024, "slow_halving": 0.37}
+
+#: Zhang & Sun (2010, Acta Mech. Sin. 26:175), model drone fly, CFD and averaging: the doubling
+#: time of the longitudinal unstable mode [wingbeats], as quoted in their abstract.
+ZHANG_SUN_2010_DOUBLING_WINGBEATS = 14.0
+
+#: Fields interpolated geometrically by :func:`interpolate_insects` (positive scales spanning
+#: decades between species: a fruit fly is 2000 times lighter than a hawkmoth); the others
+#: (r1, r2, chord fractions, hinge offset, damping coefficients) linearly.
+SCALE_FIELDS = ("semi_span", "wing_area", "frequency", "stroke_amplitude", "mass",
+                "pitch_inertia", "air_density", "a0")
+
+_NUMERIC = tuple(f.name for f in dataclasses.fields(Insect)
+                 if f.init and f.name not in ("name", "aspect_ratio_convention"))
+
+
+# =========================================================================== homotopy
+def interpolate_insects(start: Insect, target: Insect, s: float) -> Insect:
+    """The insect a fraction ``s`` of the way from ``start`` to ``target``.
+
+    Fields in :data:`SCALE_FIELDS` are interpolated geometrically (``a**(1-s) * b**s``), the others
+    linearly. The set r1 < r2 < sqrt(r1) is convex, so every intermediate planform exists.
+    ``s = 1`` returns ``target`` itself; gravity is the start's until ``s = 1`` only if both agree.
+
+    Parameters
+    ----------
+    start, target : Insect
+        The ends of the path (same ``aspect_ratio_convention``).
+    s : float
+        Fraction of the way, in [0, 1].
+
+    Returns
+    -------
+    Insect
+        Named ``"<start> -> <target> (s=...)"``.
+
+    Raises
+    ------
+    ValueError
+        If ``s`` is outside [0, 1] or the aspect-ratio conventions differ.
+    """
+    s = _validation.real("s", s, low=0.0, high=1.0)
+    if start.aspect_ratio_convention != target.aspect_ratio_convention:
+        raise ValueError("`start` and `target` must share the aspect_ratio_convention")
+    if s == 1.0:
+        return target
+    values: dict[str, Any] = {}
+    for name in _NUMERIC:
+        a, b = getattr(start, name), getattr(target, name)
+        if name in SCALE_FIELDS:
+            values[name] = a ** (1.0 - s) * b**s
+        else:
+            values[name] = (1.0 - s) * a + s * b
+    return dataclasses.replace(start, name=f"{start.name} -> {target.name} (s={s:.4g})",
+                               **values)
+
+
+@dataclass(frozen=True)
+class Homotopy:
+    """The result of :func:`hover_by_homotopy`.
+
+    Attributes
+    ----------
+    orbit : HoverOrbit
+        The hover orbit of the target insect.
+    start : str
+        Name of the insect the path started from.
+    path : tuple of float
+        The fractions s of the steps solved (the last is 1).
+    nit : tuple of int
+        Shooting iterations at each step.
+    failures : int
+        Steps that failed and were halved.
+    """
+
+    orbit: HoverOrbit
+    start: str
+    path: tuple[float, ...]
+    nit: tuple[int, ...]
+    failures: int
+
+
+def hover_by_homotopy(
+    target: Insect,
+    start: Insect | None = None,
+    *,
+    n_steps: int = 4,
+    max_failures: int = 12,
+    start_orbit: HoverOrbit | None = None,
+    **hover_options: Any,
+) -> Homotopy:
+    """The hover orbit of ``target`` by continuation in the morphology from ``start``.
+
+    The insect moves from ``start`` to ``target`` (:func:`interpolate_insects`) in ``n_steps``
+    equal steps of s; each step solves :func:`~flapping.hover.find_hover_orbit` from the previous
+    steps' answers: the initial state and the ratio of the hover amplitude to the nominal one
+    (which sets alpha_m), extrapolated along the secant through the last two solved steps. A step
+    that fails (no convergence, or an amplitude leaving (0, 90] deg) is halved and retried, at most
+    ``max_failures`` times in all; the steps do not grow again.
+
+    Parameters
+    ----------
+    target : Insect
+    start : Insect, optional
+        An insect whose hover orbit the default guess finds; default the paper's hawkmoth.
+    n_steps : int
+        Initial number of steps, >= 1.
+    max_failures : int
+        Largest number of halvings, >= 0.
+    start_orbit : HoverOrbit, optional
+        The start's hover orbit, if already known (skips its solve).
+    **hover_options
+        Passed to :func:`~flapping.hover.find_hover_orbit` at every step (e.g. ``aerodynamics``);
+        not ``amplitude_guess`` or ``x0_guess``, which the continuation sets.
+
+    Returns
+    -------
+    Homotopy
+
+    Raises
+    ------
+    ValueError
+        For bad arguments.
+    ConvergenceError
+        If the start's orbit cannot be found, or a step fails ``max_failures`` times in all; the
+        message gives the fraction s reached.
+    """
+    target = _validation.instance("target", target, Insect)
+    start = hawkmoth() if start is None else _validation.instance("start", start, Insect)
+    n_steps = _validation.integer("n_steps", n_steps, low=1)
+    max_failures = _validation.integer("max_failures", max_failures, low=0)
+    if {"amplitude_guess", "x0_guess"} & set(hover_options):
+        raise ValueError("the continuation sets `amplitude_guess` and `x0_guess` itself")
+    orbit = find_hover_orbit(start, **hover_options) if start_orbit is None else start_orbit
+    s, step, failures = 0.0, 1.0 / n_steps, 0
+    path: list[float] = []
+    nit: list[int] = []
+    points = [(0.0, _unknowns(orbit, start))]  # (s, (x0, Phi / nominal Phi)) of solved steps
+    while s < 1.0:
+        s_next = 1.0 if s + step > 1.0 - 1e-9 else s + step
+        trial = interpolate_insects(start, target, s_next)
+        x0, ratio = _predict(points, s_next)
+        try:
+            orbit = find_hover_orbit(
+                trial, amplitude_guess=min(ratio * trial.stroke_amplitude, math.pi / 2),
+                x0_guess=x0.tolist(), **hover_options)
+        except (ConvergenceError, ValueError) as exc:
+            failures += 1
+            if failures > max_failures:
+                raise ConvergenceError(
+                    f"the continuation from {start.name} to {target.name} stalled at s = {s:.4g} "
+                    f"after {failures - 1} halvings of the step (last: {exc})") from exc
+            step /= 2.0
+            continue
+        s = s_next
+        points.append((s, _unknowns(orbit, trial)))
+        path.append(s)
+        nit.append(int(orbit.shooting.nit))
+    return Homotopy(orbit, start.name, tuple(path), tuple(nit), failures)
+
+
+def _unknowns(orbit: HoverOrbit, insect: Insect) -> tuple[np.ndarray, float]:
+    """The continued unknowns: the initial state, and Phi over the nominal amplitude."""
+    return np.asarray(orbit.x0, dtype=float), orbit.amplitude / insect.stroke_amplitude
+
+
+def _predict(points: list[tuple[float, tuple[np.ndarray, float]]], s: float
+             ) -> tuple[np.ndarray, float]:
+    """Guess of the unknowns at s: the last solution, or the secant through the last two."""
+    s1, (x1, r1) = points[-1]
+    if len(points) == 1:
+        return x1, r1
+    s0, (x0, r0) = points[-2]
+    k = (s - s1) / (s1 - s0)
+    return x1 + k * (x1 - x0), r1 + k * (r1 - r0)
+
+
+def robust_hover_orbit(insect: Insect, *, start: Insect | None = None,
+                       **hover_options: Any) -> tuple[HoverOrbit, Homotopy | None]:
+    """The hover orbit from the default guess, or by :func:`hover_by_homotopy` if that fails.
+
+    Parameters
+    ----------
+    insect : Insect
+    start : Insect, optional
+        Start of the continuation (default the paper's hawkmoth).
+    **hover_options
+        Passed to :func:`~flapping.hover.find_hover_orbit`.
+
+    Returns
+    -------
+    orbit : HoverOrbit
+    homotopy : Homotopy or None
+        The continuation, if it was needed.
+
+    Raises
+    ------
+    ConvergenceError
+        If both fail.
+    """
+    try:
+        return find_hover_orbit(insect, **hover_options), None
+    except ConvergenceError:
+        result = hover_by_homotopy(insect, start, **hover_options)
+        return result.orbit, result
+
+
+# =========================================================================== per species
+def attitude_fixed_exponents(
+    orbit: HoverOrbit, stab: HoverStability | None = None, *,
+    rtol: float = ANALYSIS_RTOL, atol: float = ANALYSIS_ATOL,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Floquet exponents of the (u, w) subsystem with the body attitude held on its schedule.
+
+    Perturbations of pitch rate and angle are held at zero (q and theta follow the orbit's
+    periodic schedule, as FWUAV prescribes the body attitude): the variational equations keep
+    only the (u, w) block of the Jacobian along the orbit, J_c(t) = J(t)[:2, :2]. Their monodromy
+    gives two multipliers; the averaged counterpart is the (u, w) block of the averaged Jacobian.
+
+    Parameters
+    ----------
+    orbit : HoverOrbit
+    stab : HoverStability, optional
+        The orbit's stability (for the averaged Jacobian); computed if not given.
+    rtol, atol : float
+        Tolerances of the monodromy integration.
+
+    Returns
+    -------
+    floquet : ndarray, shape (2,)
+        Floquet exponents log(mu)/T of the (u, w) subsystem [1/s], by real part (descending).
+    averaged : ndarray, shape (2,)
+        Eigenvalues of the averaged (u, w) block [1/s], by real part (descending).
+    """
+    orbit = _validation.instance("orbit", orbit, HoverOrbit)
+    stab = hover_stability(orbit) if stab is None else stab
+    model = orbit.model
+    rhs, jac = model.segment_functions()
+
+    def constrained(j: Callable[..., np.ndarray]) -> Callable[..., np.ndarray]:
+        def jc(t: float, x: np.ndarray) -> np.ndarray:
+            out = np.zeros((4, 4))
+            out[:2, :2] = j(t, x)[:2, :2]
+            return out
+        return jc
+
+    mon = monodromy(rhs, orbit.x0, orbit.period, jac=[constrained(j) for j in jac],
+                    breakpoints=model.breakpoints, rtol=rtol, atol=atol)
+    mu = np.linalg.eigvals(np.asarray(mon.matrix)[:2, :2]).astype(complex)
+    floquet = np.log(mu) / orbit.period
+    averaged = np.linalg.eigvals(stab.averaged_jacobian[:2, :2]).astype(complex)
+    return floquet[np.argsort(-floquet.real)], averaged[np.argsort(-averaged.real)]
+
+
+@dataclass(frozen=True)
+class SpeciesStability:
+    """The atlas's numbers for one insect (one row of the book's table).
+
+    Attributes
+    ----------
+    name : str
+    frequency : float
+        Flapping frequency f [Hz].
+    amplitude_deg, alpha_m_deg : float
+        Hover stroke amplitude Phi and mean angle of attack [deg].
+    multipliers, exponents : ndarray, shape (4,)
+        Floquet multipliers (by modulus) and exponents [1/s].
+    averaged_eigenvalues : ndarray, shape (4,)
+        Eigenvalues of the averaged system [1/s] (by real part).
+    rate : float
+        Floquet growth rate of the unstable mode, Re of the leading exponent [1/s].
+    averaged_rate : float
+        Largest real part of the averaged eigenvalues [1/s].
+    mode : ndarray, shape (4,)
+        The unstable mode (u, w, q, theta), its largest component 1 (SI units).
+    fixed_attitude, fixed_attitude_averaged : ndarray, shape (2,)
+        Exponents of the (u, w) subsystem with attitude held (:func:`attitude_fixed_exponents`).
+    liouville_error : float
+        Relative error of Liouville's formula for the monodromy.
+    climb_speed : float
+        Cycle-mean inertial climb speed of the orbit [m/s] (0 on hover).
+    nit : int
+        Shooting iterations.
+    """
+
+    name: str
+    frequency: float
+    amplitude_deg: float
+    alpha_m_deg: float
+    multipliers: np.ndarray
+    exponents: np.ndarray
+    averaged_eigenvalues: np.ndarray
+    rate: float
+    averaged_rate: float
+    mode: np.ndarray
+    fixed_attitude: np.ndarray
+    fixed_attitude_averaged: np.ndarray
+    liouville_error: float
+    climb_speed: float
+    nit: int
+
+    @property
+    def doubling_time(self) -> float:
+        """Time for the unstable mode to double, ln 2 / rate [s] (inf if it does not grow)."""
+        return math.log(2.0) / self.rate if self.rate > 0.0 else math.inf
+
+    @property
+    def doubling_wingbeats(self) -> float:
+        """:attr:`doubling_time` in wingbeats."""
+        return self.doubling_time * self.frequency
+
+    @property
+    def mode_per_pitch(self) -> np.ndarray:
+        """The unstable mode per radian of pitch: (u [m/s], w [m/s], q [1/s], 1) / theta."""
+        return self.mode / self.mode[3]
+
+    @property
+    def rate_per_frequency(self) -> float:
+        """rate / f, the growth per wingbeat in e-folds (= ln |mu_1|): the time-scale ratio."""
+        return self.rate / self.frequency
+
+    @property
+    def averaging_error(self) -> float:
+        """Relative error of the averaged unstable rate, (averaged - Floquet) / Floquet."""
+        return (self.averaged_rate - self.rate) / self.rate
+
+
+def species_stability(insect: Insect | None = None, orbit: HoverOrbit | None = None,
+                      **hover_options: Any) -> SpeciesStability:
+    """The atlas's numbers for an insect (its orbit found with :func:`robust_hover_orbit`).
+
+    Parameters
+    ----------
+    insect : Insect, optional
+        The insect; not needed when ``orbit`` is given.
+    orbit : HoverOrbit, optional
+        Its hover orbit, if already known.
+    **hover_options
+        Passed to :func:`robust_hover_orbit`.
+
+    Returns
+    -------
+    SpeciesStability
+
+    Raises
+    ------
+    ValueError
+        If neither ``insect`` nor ``orbit`` is given.
+    ConvergenceError
+        If the orbit or an integration fails.
+    """
+    if orbit is None:
+        if insect is None:
+            raise ValueError("give `insect` or `orbit`")
+        orbit, _ = robust_hover_orbit(insect, **hover_options)
+    stab = hover_stability(orbit)
+    fixed, fixed_avg = attitude_fixed_exponents(orbit, stab)
+    mode = stab.unstable_mode
+    return SpeciesStability(
+        name=orbit.model.insect.name, frequency=orbit.model.insect.frequency,
+        amplitude_deg=orbit.amplitude_deg, alpha_m_deg=math.degrees(orbit.model.alpha_m),
+        multipliers=stab.multipliers, exponents=stab.exponents,
+        averaged_eigenvalues=stab.averaged_eigenvalues,
+        rate=float(np.max(np.real(stab.exponents))),
+        averaged_rate=float(np.max(np.real(stab.averaged_eigenvalues))),
+        mode=np.real(mode) if np.iscomplexobj(mode) else mode,
+        fixed_attitude=fixed, fixed_attitude_averaged=fixed_avg,
+        liouville_error=stab.liouville_error,
+        climb_speed=orbit.mean_inertial_velocity["climb"], nit=int(orbit.shooting.nit))
+
+
+# =========================================================================== sweeps
+def frequency_sweep(insect: Insect, frequencies: Iterable[float],
+                    **hover_options: Any) -> list[SpeciesStability]:
+    """The atlas's numbers along a sweep in flapping frequency at constant wingtip speed.
+
+    At each frequency f the nominal amplitude is ``insect.stroke_amplitude * f0 / f`` (f0 the
+    insect's frequency), so that Phi f, the mean aerodynamic loads and the trimmed alpha_m stay as
+    they are: only the ratio of the body's time scales to the wingbeat changes. Each orbit starts
+    from the secant extrapolation (in log f) of the previous two (as :func:`hover_by_homotopy`);
+    start the sweep at f0 and go outwards in small steps.
+
+    Parameters
+    ----------
+    insect : Insect
+    frequencies : iterable of float
+        Frequencies [Hz], > 0, in the order to solve them; each must keep the nominal amplitude
+        at most pi/2.
+    **hover_options
+        Passed to :func:`~flapping.hover.find_hover_orbit`.
+
+    Returns
+    -------
+    list of SpeciesStability
+        One per frequency, in order.
+
+    Raises
+    ------
+    ValueError
+        For a bad frequency.
+    ConvergenceError
+        If an orbit fails.
+    """
+    f0, phi0 = insect.frequency, insect.stroke_amplitude
+    rows: list[SpeciesStability] = []
+    points: list[tuple[float, tuple[np.ndarray, float]]] = []  # (log f, continued unknowns)
+    for f in frequencies:
+        f = _validation.positive("frequencies", f, unit="Hz")
+        member = insect.with_(frequency=f, stroke_amplitude=phi0 * f0 / f,
+                              name=f"{insect.name} at {f:.4g} Hz")
+        guess: dict[str, Any] = {}
+        if points:
+            x0, ratio = _predict(points, math.log(f))
+            guess = {"amplitude_guess": min(ratio * member.stroke_amplitude, math.pi / 2),
+                     "x0_guess": x0.tolist()}
+        orbit = find_hover_orbit(member, **guess, **hover_options)
+        points.append((math.log(f), _unknowns(orbit, member)))
+        rows.append(species_stability(orbit=orbit))
+    return rows
+
+
+@dataclass(frozen=True)
+class SensitivityBar:
+    """One bar of a tornado chart: the largest multiplier at the ends of one number's range.
+
+    Attributes
+    ----------
+    preset, field : str
+        The preset and the :class:`Insect` field varied.
+    status : str
+        The field's status (``"unverified"``, ``"estimate"``, ...).
+    low, nominal, high : float
+        The field's values [SI].
+    mu_low, mu_nominal, mu_high : float
+        |mu_1| at each; NaN where no hover orbit exists (see ``note``).
+    note : str
+        Why an end has no orbit (e.g. the insect cannot trim, eq. 40), else empty.
+    """
+
+    preset: str
+    field: str
+    status: str
+    low: float
+    nominal: float
+    high: float
+    mu_low: float
+    mu_nominal: float
+    mu_high: float
+    note: str = ""
+
+    @property
+    def spread(self) -> float:
+        """Largest distance of an end from the nominal |mu_1| (NaN ends ignored; 0 if both are)."""
+        ends = [abs(m - self.mu_nominal) for m in (self.mu_low, self.mu_high) if math.isfinite(m)]
+        return max(ends, default=0.0)
+
+
+def _leading_multiplier(insect: Insect, near: HoverOrbit) -> tuple[float, str]:
+    """|mu_1| of the insect's hover orbit (from a nearby one), or NaN and the reason."""
+    try:
+        orbit = find_hover_orbit(insect, amplitude_guess=near.amplitude,
+                                 x0_guess=near.x0.tolist())
+    except (ValueError, ConvergenceError) as exc:
+        return math.nan, str(exc)
+    return float(np.abs(hover_stability(orbit).multipliers[0])), ""
+
+
+def morphology_sensitivity(name: str, fields: Sequence[str] | None = None,
+                           orbit: HoverOrbit | None = None) -> list[SensitivityBar]:
+    """|mu_1| of a preset at both ends of the plausible range of each uncertain number.
+
+    For each field with a range (:meth:`~flapping.model.presets.Preset.ranged`) the preset is
+    re-solved with that field at its low and at its high end, the others nominal. When r2 moves,
+    an estimated r1 moves with it along Ellington's fit (as it was estimated from r2). An end with
+    no hover orbit (the insect cannot trim, or the amplitude would exceed 90 deg) gets NaN and a
+    note, not an error.
+
+    Parameters
+    ----------
+    name : str
+        A preset name.
+    fields : sequence of str, optional
+        The fields to vary; default every field with a range.
+    orbit : HoverOrbit, optional
+        The preset's nominal hover orbit (warm start), if known.
+
+    Returns
+    -------
+    list of SensitivityBar
+        Sorted by spread, largest first.
+
+    Raises
+    ------
+    ValueError
+        For an unknown preset or a field without a range.
+    ConvergenceError
+        If an orbit fails.
+    """
+    preset = PRESETS[_validation.choice("name", name, tuple(PRESETS))]
+    ranged = preset.ranged()
+    fields = tuple(ranged) if fields is None else tuple(fields)
+    for f in fields:
+        _validation.choice("fields", f, tuple(ranged))
+    base = preset.insect()
+    orbit = find_hover_orbit(base) if orbit is None else orbit
+    mu0 = float(np.abs(hover_stability(orbit).multipliers[0]))
+    r1_follows = preset.values["r1"].status == "estimate"
+    bars = []
+    for f in fields:
+        src = ranged[f]
+        assert src.low is not None and src.high is not None
+        ends = []
+        for value in (src.low, src.high):
+            changes = {f: value}
+            if f == "r2" and r1_follows:
+                changes["r1"] = ellington_r1(value)
+            ends.append(_leading_multiplier(base.with_(**changes), orbit))
+        note = "; ".join(f"{which}: {why}" for which, (_, why) in zip(("low", "high"), ends,
+                                                                    strict=True) if why)
+        bars.append(SensitivityBar(name, f, src.status, src.low, src.value, src.high,
+                                   ends[0][0], mu0, ends[1][0], note))
+    return sorted(bars, key=lambda b: -b.spread)
