@@ -41,6 +41,10 @@ __all__ = [
     "plot_relative_difference",
     "plot_agreement",
     "plot_multipliers",
+    "HALF_STROKE_STYLES",
+    "plot_orbit_projections",
+    "plot_stroboscopic",
+    "plot_stroboscopic_map",
 ]
 
 
@@ -473,4 +477,161 @@ def plot_multipliers(mu, ax=None, *, label: str | None = None, color: str = "k",
     ax.set_aspect("equal")
     ax.set_xlabel(r"Re $\mu$ [-]")
     ax.set_ylabel(r"Im $\mu$ [-]")
+    return ax
+
+
+# =========================================================================== orbits and maps
+#: Line style of each half-stroke in phase portraits (neutral, so the state colours stay free):
+#: the backward stroke (phase in [0, 1/2)) pale, the forward stroke dark.
+HALF_STROKE_STYLES: dict[str, dict] = {
+    "backward": {"color": "0.62", "lw": 2.2, "ls": "-"},
+    "forward": {"color": "0.1", "lw": 1.3, "ls": "-"},
+}
+
+
+def plot_orbit_projections(x, *,
+                           pairs: Sequence[tuple[str, str]] = (("theta", "u"), ("theta", "q")),
+                           axes=None, mark_start: bool = True):
+    """A periodic orbit in phase-plane projections, the two half-strokes told apart.
+
+    The first half of the samples is the backward stroke, the second the forward stroke
+    (:mod:`flapping.model.kinematics`: t = 0 at the forward reversal). With the half-period symmetry
+    ``x(t + T/2) = P x(t)``, ``P = diag(-1, 1, -1, -1)``, each projection on two odd states
+    (u, q, theta) is symmetric about the origin: the forward stroke is the backward one turned
+    by 180 degrees.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, n + 1)
+        States over one period on a uniform grid, both ends included (n even).
+    pairs : sequence of (str, str)
+        (horizontal, vertical) state names per panel.
+    axes : sequence of Axes, optional
+        One per pair.
+    mark_start : bool
+        Mark x(0) (filled circle) and x(T/2) (open square).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 2 or x.shape[0] != 4 or (x.shape[1] - 1) % 2:
+        raise ValueError(f"x must have shape (4, n + 1) with n even; got {x.shape}")
+    plt = _pyplot()
+    if axes is None:
+        fig, axes = plt.subplots(1, len(pairs), figsize=(3.4 * len(pairs), 3.2),
+                                 layout="constrained", squeeze=False)
+        axes = axes[0]
+    fig = axes[0].figure
+    index = {name: k for k, name in enumerate(STATE_NAMES)}
+    half = (x.shape[1] - 1) // 2
+    strokes = {"backward": slice(0, half + 1), "forward": slice(half, None)}
+    for ax, (h, v) in zip(axes, pairs, strict=True):
+        xs, ys = (x[index[h]] * STATE_SCALES[h], x[index[v]] * STATE_SCALES[v])
+        for stroke, part in strokes.items():
+            ax.plot(xs[part], ys[part], label=f"{stroke} stroke", **HALF_STROKE_STYLES[stroke])
+        if mark_start:
+            ax.plot(xs[0], ys[0], "o", color="k", ms=6, label="$x(0)$")
+            ax.plot(xs[half], ys[half], "s", color="k", mfc="white", ms=6, label="$x(T/2)$")
+        ax.axhline(0.0, color="0.85", lw=0.6, zorder=0)
+        ax.axvline(0.0, color="0.85", lw=0.6, zorder=0)
+        ax.set_xlabel(STATE_LABELS[h])
+        ax.set_ylabel(STATE_LABELS[v])
+    axes[0].legend(fontsize="x-small", loc="best")
+    return fig
+
+
+def plot_stroboscopic(t, x, *, period: float, names: Sequence[str] = ("u", "q", "theta"),
+                      reference=None, axes=None, label: str | None = None):
+    """States over many periods, pale, with the stroboscopic samples x(kT) on top.
+
+    The fast oscillation within each period is drawn thin and light; the samples at whole
+    periods, where the Floquet map acts, are drawn as joined markers in the state's colour, so
+    that a slow drift shows under the wingbeat.
+
+    Parameters
+    ----------
+    t : array_like, shape (m,)
+        Times [s], including every whole period t = kT.
+    x : array_like, shape (4, m)
+        States (SI; theta plotted in degrees).
+    period : float
+        T [s].
+    names : sequence of str
+        Which states, one panel each (stacked).
+    reference : array_like, shape (4, m), optional
+        An unperturbed trajectory (e.g. the orbit), drawn in grey with its own samples.
+    axes : sequence of Axes, optional
+    label : str, optional
+        Legend text of the samples.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    t = np.asarray(t, dtype=float)
+    x = np.asarray(x, dtype=float)
+    if x.shape != (4, t.size):
+        raise ValueError(f"x must have shape (4, {t.size}); got {x.shape}")
+    phase = t / float(period)
+    whole = np.isclose(phase, np.round(phase), rtol=0.0, atol=1e-9)
+    if whole.sum() < 2:
+        raise ValueError("t must include at least two whole periods t = kT")
+    plt = _pyplot()
+    if axes is None:
+        fig, axes = plt.subplots(len(names), 1, figsize=(6.8, 1.7 * len(names) + 0.6),
+                                 sharex=True, layout="constrained", squeeze=False)
+        axes = axes[:, 0]
+    fig = axes[0].figure
+    index = {name: k for k, name in enumerate(STATE_NAMES)}
+    for ax, name in zip(axes, names, strict=True):
+        scale, colour = STATE_SCALES[name], STATE_COLORS[name]
+        if reference is not None:
+            ref = np.asarray(reference, dtype=float)[index[name]] * scale
+            ax.plot(phase, ref, color="0.8", lw=0.6, zorder=1)
+            ax.plot(phase[whole], ref[whole], "s", color="0.55", ms=3, zorder=2,
+                    label="orbit, $x(kT)$")
+        values = x[index[name]] * scale
+        ax.plot(phase, values, color=colour, lw=0.5, alpha=0.45, zorder=2)
+        ax.plot(phase[whole], values[whole], "o-", color=colour, ms=3.5, lw=1.0, zorder=3,
+                label=label or "$x(kT)$")
+        ax.set_ylabel(STATE_LABELS[name])
+    axes[-1].set_xlabel("time $t/T$ [wingbeats]")
+    axes[0].legend(fontsize="x-small", loc="best")
+    return fig
+
+
+def plot_stroboscopic_map(t, x, *, period: float, ax=None, color: str = "k",
+                          label: str | None = None, ylabel: str = "$x$"):
+    """One scalar over many periods (thin) with its samples x(kT) (markers): the map x_k -> x_k+1.
+
+    Parameters
+    ----------
+    t, x : array_like, shape (m,)
+        Times [s] (including the whole periods) and the scalar.
+    period : float
+        T [s].
+    ax : matplotlib.axes.Axes, optional
+    color : str
+    label : str, optional
+        Legend text of the continuous curve.
+    ylabel : str
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    t = np.asarray(t, dtype=float)
+    x = np.asarray(x, dtype=float)
+    phase = t / float(period)
+    whole = np.isclose(phase, np.round(phase), rtol=0.0, atol=1e-9)
+    plt = _pyplot()
+    if ax is None:
+        _, ax = plt.subplots(figsize=(6.4, 3.0), layout="constrained")
+    ax.plot(phase, x, color=color, lw=0.9, alpha=0.6, label=label)
+    ax.plot(phase[whole], x[whole], "o", color=color, ms=5, zorder=3,
+            label=None if label is None else "samples $x(kT)$")
+    ax.set_xlabel("time $t/T$ [periods]")
+    ax.set_ylabel(ylabel)
     return ax

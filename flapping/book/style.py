@@ -56,9 +56,11 @@ STATE_LABELS: dict[str, str] = {
 STATE_SCALES: dict[str, float] = {"u": 1.0, "w": 1.0, "q": 1.0, "theta": 180.0 / math.pi}
 
 #: One colour per aerodynamic load (body-axis force X, Z and pitching moment M).
+#: Dark, neutral tones chosen far from every state and source colour (the teal and sky blue used
+#: before sat next to q's green and u's blue); tests/book/test_style.py checks the distances.
 LOAD_COLORS: dict[str, str] = {
-    "X": "#44AA99",  # teal (orange is kept for the paper's numbers, see SOURCE_COLORS)
-    "Z": "#56B4E9",  # sky blue
+    "X": "#556B2F",  # dark olive
+    "Z": "#7F7F7F",  # mid grey
     "M": "#332288",  # indigo
 }
 

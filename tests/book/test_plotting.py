@@ -72,3 +72,19 @@ def test_plot_multipliers_keeps_the_unit_circle_in_view():
     assert lo <= -1.0 and hi >= 1.03
     assert plotting.plot_multipliers(2.5, ax=ax, circle=False, marker="x") is ax
     assert ax.get_xlim()[1] >= 2.5
+
+
+def test_orbit_projections_and_stroboscopic_figures():
+    n = 64
+    t = np.linspace(0.0, 3.0, 3 * n + 1)
+    x = np.vstack([np.cos(2 * np.pi * t), 0.1 * np.ones_like(t), np.sin(2 * np.pi * t), 0.01 * t])
+    fig = plotting.plot_orbit_projections(x[:, : n + 1])
+    assert isinstance(fig, Figure) and len(fig.axes) == 2
+    fig = plotting.plot_stroboscopic(t, x, period=1.0, reference=x)
+    assert len(fig.axes) == 3
+    # the samples x(kT): 4 whole periods in [0, 3]
+    assert len(fig.axes[0].lines[-1].get_xdata()) == 4
+    ax = plotting.plot_stroboscopic_map(t, x[0], period=1.0, label="x")
+    assert isinstance(ax, Axes)
+    with pytest.raises(ValueError):
+        plotting.plot_orbit_projections(x[:, :n])

@@ -1,5 +1,6 @@
 """The book's conventions: one colour per quantity, derivatives coloured by their state or load."""
 
+import numpy as np
 import pytest
 
 from flapping.book import style
@@ -26,3 +27,20 @@ def test_every_model_has_a_line_style_and_a_label():
 def test_sources_do_not_reuse_a_quantity_colour():
     quantities = set(style.STATE_COLORS.values()) | set(style.LOAD_COLORS.values())
     assert not quantities & set(style.SOURCE_COLORS.values())
+
+
+def _redmean_distance(a: str, b: str) -> float:
+    """Colour difference weighted for the eye ("redmean"); 0..~765, about 100 is a clear step."""
+    import matplotlib.colors as mcolors
+
+    (r1, g1, b1), (r2, g2, b2) = (255 * np.array(mcolors.to_rgb(c)) for c in (a, b))
+    r = (r1 + r2) / 2
+    return float(np.sqrt((2 + r / 256) * (r1 - r2) ** 2 + 4 * (g1 - g2) ** 2
+                         + (2 + (255 - r) / 256) * (b1 - b2) ** 2))
+
+
+def test_load_colours_are_far_from_state_and_source_colours():
+    others = {**style.STATE_COLORS, **style.SOURCE_COLORS}
+    for load, colour in style.LOAD_COLORS.items():
+        for name, other in others.items():
+            assert _redmean_distance(colour, other) > 130, (load, name)

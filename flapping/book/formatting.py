@@ -1,0 +1,96 @@
+"""Numbers as a reader reads them: 1.2 × 10⁻¹³, not 1.2e-13; and a Sphinx extension doing it.
+
+The chapters glue plain floats and write the format in the text (``{glue:text}`key:.1e```), so
+that the glued *value* stays the number itself (``.ci/glue_dump.py`` diffs the values). Python's
+``e`` format then prints ``1.2e-13``. :func:`scientific` turns such a string into the typeset form,
+and the Sphinx extension (``setup``; listed in ``_config.yml``) applies it at build time to every
+glued number (myst-nb's ``span.pasted-text``) and to every table cell that holds only such a
+number, so the text of the chapters never needs to change for it. Code, math and literals are
+left alone.
+
+Sphinx and docutils are imported by the build only.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+__all__ = ["E_NUMBER", "scientific", "split_scientific", "latex_scientific", "setup"]
+
+#: A number in Python's ``e`` notation, alone in its text: ``1.2e-13``, ``-3e+05``, ``4.0E2``.
+E_NUMBER = re.compile(r"^(?P<sign>[-+−]?)(?P<mantissa>\d+(?:\.\d+)?)[eE](?P<exponent>[-+]?\d+)$")
+
+_SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+
+
+def split_scientific(text: str) -> tuple[str, str] | None:
+    """``"1.2e-13"`` -> ``("1.2 × 10", "−13")``: the base and the exponent to set as superscript.
+
+    A mantissa of exactly one (``"1e-06"``) is dropped: ``("10", "−6")``. The exponent loses its
+    ``+`` and leading zeros and takes a true minus sign. Returns ``None`` if ``text`` (stripped)
+    is not a single number in ``e`` notation.
+    """
+    match = E_NUMBER.match(text.strip())
+    if match is None:
+        return None
+    sign = "−" if match["sign"] in ("-", "−") else ""
+    exponent = int(match["exponent"])
+    power = ("−" if exponent < 0 else "") + str(abs(exponent))
+    mantissa = match["mantissa"]
+    base = "10" if mantissa == "1" else f"{mantissa} × 10"
+    return sign + base, power
+
+
+def scientific(text: str) -> str:
+    """``"1.2e-13"`` -> ``"1.2 × 10⁻¹³"`` in Unicode; any other text unchanged."""
+    parts = split_scientific(text)
+    if parts is None:
+        return text
+    base, power = parts
+    return base + power.replace("−", "-").translate(_SUPERSCRIPT)
+
+
+def latex_scientific(value: float, digits: int = 2) -> str:
+    r"""A float as LaTeX: ``1.2 \times 10^{-13}`` (``digits`` significant digits).
+
+    Numbers between 10⁻² and 10⁴ are written plainly.
+    """
+    if value == 0 or 1e-2 <= abs(value) < 1e4:
+        return f"{value:.{digits}g}"
+    mantissa, exponent = f"{value:.{digits - 1}e}".split("e")
+    base = "" if mantissa in ("1", "1.0") else mantissa + r" \times "
+    return f"{base}10^{{{int(exponent)}}}"
+
+
+# ------------------------------------------------------------------------------ Sphinx extension
+def _typeset(node, nodes) -> bool:
+    """Replace the text of ``node`` (its only child) with base + superscript; True if done."""
+    if len(node.children) != 1 or not isinstance(node.children[0], nodes.Text):
+        return False
+    parts = split_scientific(node.astext())
+    if parts is None:
+        return False
+    base, power = parts
+    node.children = []
+    node += nodes.Text(base)
+    node += nodes.superscript(power, power)
+    return True
+
+
+def _transform(app, doctree, docname) -> None:
+    """``doctree-resolved``: glued numbers and lone numbers in table cells, in 10ⁿ form."""
+    from docutils import nodes
+
+    for node in list(doctree.findall(nodes.inline)):
+        if "pasted-text" in node.get("classes", []):
+            _typeset(node, nodes)
+    for entry in list(doctree.findall(nodes.entry)):
+        for paragraph in entry.findall(nodes.paragraph):
+            _typeset(paragraph, nodes)
+
+
+def setup(app) -> dict[str, Any]:
+    """Register the transform (after myst-nb has pasted the glued values)."""
+    app.connect("doctree-resolved", _transform)
+    return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
