@@ -390,7 +390,7 @@ class SpeciesStability:
 
     @property
     def rate_per_frequency(self) -> float:
-        """rate / f, the growth per wingbeat in e-folds (= ln |mu_1|): the time-scale ratio."""
+        """rate / f, the growth per wingbeat in e-folds (= ln ``|mu_1|``): the time-scale ratio."""
         return self.rate / self.frequency
 
     @property
@@ -506,7 +506,7 @@ class SensitivityBar:
     low, nominal, high : float
         The field's values [SI].
     mu_low, mu_nominal, mu_high : float
-        |mu_1| at each; NaN where no hover orbit exists (see ``note``).
+        ``|mu_1|`` at each; NaN where no hover orbit exists (see ``note``).
     note : str
         Why an end has no orbit (e.g. the insect cannot trim, eq. 40), else empty.
     """
@@ -524,13 +524,14 @@ class SensitivityBar:
 
     @property
     def spread(self) -> float:
-        """Largest distance of an end from the nominal |mu_1| (NaN ends ignored; 0 if both are)."""
+        """Largest distance of an end from the nominal ``|mu_1|`` (NaN ends ignored; 0 if both
+        are)."""
         ends = [abs(m - self.mu_nominal) for m in (self.mu_low, self.mu_high) if math.isfinite(m)]
         return max(ends, default=0.0)
 
 
 def _leading_multiplier(insect: Insect, near: HoverOrbit) -> tuple[float, str]:
-    """|mu_1| of the insect's hover orbit (from a nearby one), or NaN and the reason."""
+    """``|mu_1|`` of the insect's hover orbit (from a nearby one), or NaN and the reason."""
     try:
         orbit = find_hover_orbit(insect, amplitude_guess=near.amplitude,
                                  x0_guess=near.x0.tolist())
@@ -541,7 +542,7 @@ def _leading_multiplier(insect: Insect, near: HoverOrbit) -> tuple[float, str]:
 
 def morphology_sensitivity(name: str, fields: Sequence[str] | None = None,
                            orbit: HoverOrbit | None = None) -> list[SensitivityBar]:
-    """|mu_1| of a preset at both ends of the plausible range of each uncertain number.
+    """``|mu_1|`` of a preset at both ends of the plausible range of each uncertain number.
 
     For each field with a range (:meth:`~flapping.model.presets.Preset.ranged`) the preset is
     re-solved with that field at its low and at its high end, the others nominal. When r2 moves,

@@ -81,7 +81,7 @@ class MonodromyConsistency:
     Attributes
     ----------
     det_eq66 : float
-        det of the printed matrix (with the extracted signs; |det| does not depend on the
+        det of the printed matrix (with the extracted signs; ``|det|`` does not depend on the
         signs of the off-diagonal entries only to first order, see ``det_range``).
     det_range : tuple of float
         (min, max) of det over all 2^12 sign choices of the off-diagonal entries.

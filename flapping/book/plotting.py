@@ -328,7 +328,7 @@ _AXIS_LINESTYLES = {"X": "-", "Z": "--", "M": ":"}
 def plot_relative_difference(t, reference: Mapping[str, np.ndarray],
                              other: Mapping[str, np.ndarray], names: Sequence[str] | None = None,
                              *, period: float | None = None, ax=None, floor: float = 1e-17):
-    """|other - reference| / max|reference| per derivative, on a log axis.
+    """``|other - reference| / max|reference|`` per derivative, on a log axis.
 
     Each curve is normalised by the largest magnitude of its reference over the samples, so a
     derivative that passes through zero does not blow up the relative error. Colours follow
