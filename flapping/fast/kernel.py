@@ -265,7 +265,7 @@ class HoverSolution:
 
     @property
     def max_modulus(self) -> float:
-        """Largest |multiplier|."""
+        """Largest ``|multiplier|``."""
         return float(np.max(np.abs(self.multipliers)))
 
     @property
