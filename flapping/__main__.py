@@ -53,7 +53,7 @@ INSECT_UNITS: dict[str, str | None] = {
     "frequency": "Hz", "stroke_amplitude": "rad", "mass": "kg", "pitch_inertia": "kg m^2",
     "air_density": "kg/m^3", "gravity": "m/s^2", "a0": "1/rad", "aspect_ratio_convention": None,
     "pitch_axis": _COUNT, "center_of_pressure": _COUNT, "hinge_offset": "m", "mu1": _COUNT,
-    "mu2": _COUNT,
+    "mu2": _COUNT, "hinge_height": "m", "stroke_mean": "rad",
 }
 _ATOL_UNIT = "SI units of each state (m/s, rad/s, rad; m for z)"
 _SHOOTING_UNITS: dict[str, str | None] = {

@@ -47,6 +47,7 @@ from flapping.periodic.integrate import flow, variational_flow
 from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
 
 __all__ = [
+    "TRIMS",
     "ANALYSIS_ATOL",
     "ANALYSIS_RTOL",
     "BACKENDS",
@@ -84,6 +85,11 @@ ANALYSIS_ATOL = 1e-12
 #: (linear loads, the default ``method`` and ``jacobian``, numba installed), else adaptive.
 BACKENDS: tuple[str, ...] = ("auto", "compiled", "adaptive")
 
+#: The trim sets of :func:`find_hover_orbit`: the stroke amplitude alone (zero mean vertical
+#: speed, the paper's hover), or the amplitude and the mean stroke angle phi_bar together (zero
+#: mean vertical *and* horizontal speed: a true hover orbit for any hinge offset).
+TRIMS: tuple[tuple[str, ...], ...] = (("amplitude",), ("amplitude", "stroke_mean"))
+
 #: The default backend of :func:`find_hover_orbit` and :func:`flapping.stability.hover_stability`.
 #: ``"adaptive"`` for now, although the kernel agrees to 1e-10 deg in Phi and 1e-10 in the
 #: multipliers (the same printed digits): the book shows the adaptive path's own diagnostics
@@ -101,7 +107,7 @@ class HoverOrbit:
     Attributes
     ----------
     model : LongitudinalDynamics
-        The dynamics at the orbit's amplitude.
+        The dynamics at the orbit's amplitude (and mean stroke angle, in ``model.insect``).
     x0 : ndarray, shape (4,)
         (u, w, q, theta) at t = 0 (stroke reversal at the forward extreme) [m/s, m/s, rad/s, rad].
     amplitude : float
@@ -118,6 +124,9 @@ class HoverOrbit:
         The shooting solver's result, with its diagnostics.
     kernel : HoverSolution or None
         The compiled kernel's result (monodromy, error estimates) when it found the orbit.
+    trims : tuple of str
+        The trim unknowns solved for: ``("amplitude",)`` or ``("amplitude", "stroke_mean")``
+        (see :data:`TRIMS`).
     """
 
     model: LongitudinalDynamics
@@ -129,6 +138,12 @@ class HoverOrbit:
     z_drift: float
     shooting: PeriodicOrbit = field(repr=False)
     kernel: Any = field(default=None, repr=False, compare=False)
+    trims: tuple[str, ...] = ("amplitude",)
+
+    @property
+    def stroke_mean(self) -> float:
+        """Mean stroke angle phi_bar [rad] of the orbit (a trim when ``"stroke_mean"`` in trims)."""
+        return self.model.insect.stroke_mean
 
     @property
     def amplitude_deg(self) -> float:
@@ -227,6 +242,63 @@ def _hover_fields(model: LongitudinalDynamics):
     return rhs, jac, pjac
 
 
+class _TwoTrimFields:
+    """Per-half-stroke (rhs, jac, param_jac) with the descent z and the forward distance x_e
+    appended; p = [Phi, phi_bar]. Models at other mean stroke angles are kept (a few)."""
+
+    def __init__(self, model: LongitudinalDynamics) -> None:
+        self.model = model
+        self.models: dict[float, LongitudinalDynamics] = {}
+
+    def at(self, stroke_mean: float) -> LongitudinalDynamics:
+        """The model at mean stroke angle ``stroke_mean`` (an iterate's; validated)."""
+        stroke_mean = float(stroke_mean)
+        found = self.models.get(stroke_mean)
+        if found is None:
+            if not -math.pi / 2 < stroke_mean < math.pi / 2:
+                raise ConvergenceError(
+                    f"the shooting iteration stepped the mean stroke angle to "
+                    f"{math.degrees(stroke_mean):.4g} deg, outside (-90, 90) deg")
+            if len(self.models) >= 8:
+                del self.models[next(iter(self.models))]
+            found = self.models[stroke_mean] = self.model.with_stroke_mean(stroke_mean)
+        return found
+
+    def fields(self) -> tuple[list[Any], list[Any], list[Any]]:
+        """Lists of f(t, y, p), J(t, y, p), P(t, y, p), one per half-stroke."""
+        rhs, jac, pjac = [], [], []
+        for k in range(len(self.model.breakpoints) + 1):
+            s = segment_stroke_sign(k)
+            rhs.append(lambda t, y, p, _s=s: self.rhs(t, y, p, _s))
+            jac.append(lambda t, y, p, _s=s: self.jac(t, y, p, _s))
+            pjac.append(lambda t, y, p, _s=s: self.param_jac(t, y, p, _s))
+        return rhs, jac, pjac
+
+    def rhs(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
+        _check_iterate_amplitude(p[0])
+        out = np.empty(6)
+        out[:4] = self.at(p[1]).rhs(t, y, s, p[0])
+        u, w, th = y[0], y[1], y[3]
+        out[4] = -u * math.sin(th) + w * math.cos(th)
+        out[5] = u * math.cos(th) + w * math.sin(th)
+        return out
+
+    def jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
+        out = np.zeros((6, 6))
+        out[:4, :4] = self.at(p[1]).jac(t, y, s, p[0])
+        u, w, th = y[0], y[1], y[3]
+        out[4, :4] = [-math.sin(th), math.cos(th), 0.0, -u * math.cos(th) - w * math.sin(th)]
+        out[5, :4] = [math.cos(th), math.sin(th), 0.0, -u * math.sin(th) + w * math.cos(th)]
+        return out
+
+    def param_jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
+        out = np.zeros((6, 2))
+        model = self.at(p[1])
+        out[:4, :1] = model.amplitude_jac(t, y, s, p[0])
+        out[:4, 1:] = model.stroke_mean_jac(t, y, s, p[0])
+        return out
+
+
 def _check_iterate_amplitude(amplitude: float) -> None:
     """Stop the shooting when an iterate's stroke amplitude leaves (0, pi/2]."""
     if not 0.0 < amplitude <= math.pi / 2:
@@ -263,6 +335,7 @@ def find_hover_orbit(
     tol: float = 1e-10,
     n_samples: int = 512,
     backend: str = DEFAULT_BACKEND,
+    trims: Sequence[str] = ("amplitude",),
 ) -> HoverOrbit:
     """Find the hovering periodic orbit: initial state and stroke amplitude.
 
@@ -296,11 +369,18 @@ def find_hover_orbit(
     backend : {"auto", "compiled", "adaptive"}
         The integration path (see :data:`BACKENDS`); ``method``, ``jacobian``, ``rtol``,
         ``atol`` and ``tol`` belong to the adaptive one.
+    trims : ("amplitude",) or ("amplitude", "stroke_mean")
+        The trim unknowns (:data:`TRIMS`). With ``"stroke_mean"`` the mean stroke angle phi_bar
+        of phi = phi_bar + Phi cos(2 pi f t) is solved for too (guess: ``insect.stroke_mean``),
+        and the forward distance flown over a period joins the equations: zero mean vertical and
+        horizontal speed, a true hover orbit for any hinge offset. Adaptive path only (the
+        compiled kernel has no phi_bar; ``backend="auto"`` falls back).
 
     Returns
     -------
     HoverOrbit
-        Check :attr:`HoverOrbit.is_hover`: with a hinge offset the orbit may drift horizontally.
+        Check :attr:`HoverOrbit.is_hover`: with a hinge offset and the amplitude as the only trim
+        the orbit may drift horizontally. :attr:`HoverOrbit.trims` says which trims were used.
 
     Raises
     ------
@@ -323,6 +403,17 @@ def find_hover_orbit(
     _check_trim(insect, model.alpha_m)
     x0 = _state_guess(x0_guess)
     n_samples = _even_samples(n_samples)
+    trims = _check_trims(trims)
+    if len(trims) == 2:
+        if _validation.choice("backend", backend, BACKENDS) == "compiled":
+            raise ValueError("trims=('amplitude', 'stroke_mean') needs the adaptive path: the "
+                             "compiled kernel has no mean stroke angle (use backend='auto')")
+        if jacobian is None:
+            jacobian = "variational" if aerodynamics == "linear" else "finite-difference"
+        orbit = _two_trim_orbit(model.with_amplitude(amplitude), x0, n_samples, method=method,
+                                jacobian=jacobian, rtol=rtol, atol=atol, tol=tol)
+        _warn_if_drifting(orbit)
+        return orbit
     if use_kernel(backend, model, method == "DOP853" and jacobian in (None, "variational")):
         orbit = _kernel_orbit(model, amplitude, x0, n_samples)
         _warn_if_drifting(orbit)
@@ -351,6 +442,45 @@ def find_hover_orbit(
     return orbit
 
 
+def _check_trims(trims: object) -> tuple[str, ...]:
+    """``trims`` as a tuple of :data:`TRIMS`, or a ValueError naming the accepted sets."""
+    value: tuple[Any, ...] = ()
+    if isinstance(trims, str):
+        value = (trims,)
+    elif isinstance(trims, (tuple, list)):
+        value = tuple(trims)
+    if value not in TRIMS:
+        raise ValueError(f"`trims` must be one of {TRIMS}; got {trims!r}")
+    return value
+
+
+def _two_trim_orbit(model: LongitudinalDynamics, x0: np.ndarray, n_samples: int,
+                    **options: Any) -> HoverOrbit:
+    """find_hover_orbit with (Phi, phi_bar) free: six equations, six unknowns."""
+    fields = _TwoTrimFields(model)
+    rhs, jac, pjac = fields.fields()
+    guess = [model.amplitude, model.insect.stroke_mean]
+    result = find_periodic_orbit(
+        rhs, np.concatenate([x0, [0.0, 0.0]]), model.period, autonomous=False, jac=jac,
+        param_jac=pjac, free_params=guess, fixed=(4, 5), breakpoints=model.breakpoints,
+        **options)
+    assert result.params is not None  # (Phi, phi_bar) are free parameters
+    phi, phi_bar = (float(v) for v in result.params)
+    if not (0.0 < phi <= math.pi / 2 and -math.pi / 2 < phi_bar < math.pi / 2):
+        raise ConvergenceError(
+            f"no hover orbit for {model.insect.name} with a stroke amplitude in (0, 90] deg and "
+            f"a mean stroke angle in (-90, 90) deg: the shooting converged to Phi = "
+            f"{math.degrees(phi):.4g} deg, phi_bar = {math.degrees(phi_bar):.4g} deg",
+            x=np.append(result.x0, result.params), residual=result.residual_norm,
+            iterations=result.nit, result=result)
+    hover_model = model.with_amplitude(phi).with_stroke_mean(phi_bar)
+    x_start = np.asarray(result.x0[:4], dtype=float)
+    tol = {"rtol": options["rtol"], "atol": options["atol"]}
+    t, x, _ = _sample(hover_model, x_start, n_samples, options["method"], **tol)
+    return HoverOrbit(hover_model, x_start, phi, model.period, t, x, float(result.residual[4]),
+                      result, trims=TRIMS[1])
+
+
 def _warn_if_drifting(orbit: HoverOrbit) -> None:
     if not orbit.is_hover:
         insect = orbit.model.insect
@@ -359,7 +489,9 @@ def _warn_if_drifting(orbit: HoverOrbit) -> None:
             f"{'forwards' if orbit.mean_inertial_velocity['forward'] > 0 else 'backwards'} at a "
             f"mean {orbit.mean_horizontal_speed:.3g} m/s (tolerance "
             f"{HOVER_SPEED_RTOL:g} x the wingtip speed {orbit.wingtip_speed:.3g} m/s), as the "
-            f"hinge offset x_h = {insect.hinge_offset:g} m breaks the half-period symmetry",
+            f"hinge offset x_h = {insect.hinge_offset:g} m (or a mean stroke angle phi_bar = "
+            f"{insect.stroke_mean:g} rad) breaks the half-period symmetry; "
+            "trims=('amplitude', 'stroke_mean') finds a true hover orbit",
             HoverDriftWarning, stacklevel=3)
 
 
@@ -379,7 +511,8 @@ def use_kernel(backend: str, model: LongitudinalDynamics, default_settings: bool
     Raises
     ------
     ValueError
-        For an unknown backend, or ``"compiled"`` with a blade-element model.
+        For an unknown backend, or ``"compiled"`` with a blade-element model or a non-zero
+        ``insect.stroke_mean`` (``"auto"`` then means the adaptive path).
     ImportError
         For ``"compiled"`` without numba.
 
@@ -397,8 +530,12 @@ def use_kernel(backend: str, model: LongitudinalDynamics, default_settings: bool
                              "blade-element models run on backend='adaptive'")
         if not _kernel.numba_available():
             raise ImportError("backend='compiled' needs numba: pip install flapping[fast]")
+        if model.insect.stroke_mean != 0.0:
+            raise ValueError(
+                f"backend='compiled' has no mean stroke angle: stroke_mean = "
+                f"{model.insect.stroke_mean!r} rad must be 0 (use backend='adaptive' or 'auto')")
         return True
-    if model.aerodynamics != "linear" or not default_settings:
+    if model.aerodynamics != "linear" or not default_settings or model.insect.stroke_mean != 0.0:
         return False
     if not _kernel.numba_available():
         warnings.warn("numba is not installed: the hover orbit is computed by the adaptive "

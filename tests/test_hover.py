@@ -249,3 +249,50 @@ def test_force_budget_takes_tolerances_and_checks_them(orbit):
         force_budget(orbit, rtol=0.0)
     with pytest.raises(ValueError, match="orbit"):
         force_budget("orbit")
+
+
+# --------------------------------------------------------------- two trims: Phi and phi_bar
+@pytest.mark.parametrize("hinge_offset", [2e-3, -2e-3])
+def test_two_trims_find_a_true_hover_orbit_with_a_hinge_offset(hinge_offset):
+    insect = flapping.hawkmoth(hinge_offset=hinge_offset)
+    with pytest.warns(flapping.errors.HoverDriftWarning):
+        drifting = flapping.find_hover_orbit(insect)
+    assert drifting.mean_horizontal_speed > 0.4  # Phi alone cannot cancel the mean moment
+    orbit = flapping.find_hover_orbit(insect, trims=("amplitude", "stroke_mean"))
+    assert orbit.trims == ("amplitude", "stroke_mean") and drifting.trims == ("amplitude",)
+    assert orbit.is_hover
+    assert orbit.mean_horizontal_speed < 1e-9
+    assert abs(orbit.mean_inertial_velocity["climb"]) < 1e-9
+    # The mean stroke leans against the offset: a hinge ahead of the CG strokes further back.
+    assert np.sign(orbit.stroke_mean) == -np.sign(hinge_offset)
+    assert 0.01 < abs(orbit.stroke_mean) < 0.2
+
+
+def test_two_trims_at_zero_offset_keep_the_symmetric_hover():
+    one = flapping.find_hover_orbit(flapping.hawkmoth())
+    two = flapping.find_hover_orbit(flapping.hawkmoth(), trims=("amplitude", "stroke_mean"))
+    assert abs(two.stroke_mean) < 1e-10
+    assert abs(two.amplitude - one.amplitude) < 1e-10
+
+
+@pytest.mark.parametrize("trims", [("stroke_mean",), ("amplitude", "x"), 3, ()])
+def test_bad_trims_are_named(trims):
+    with pytest.raises(ValueError, match="trims"):
+        flapping.find_hover_orbit(flapping.hawkmoth(), trims=trims)
+
+
+def test_two_trims_refuse_the_compiled_kernel():
+    with pytest.raises(ValueError, match="stroke_mean"):
+        flapping.find_hover_orbit(flapping.hawkmoth(), trims=("amplitude", "stroke_mean"),
+                                  backend="compiled")
+
+
+def test_two_trims_with_the_blade_element_loads_agree_with_the_linear_model():
+    # The small-angle loads differ from eq. (29) at second order in the states (~1e-3 of Phi).
+    insect = flapping.hawkmoth(hinge_offset=2e-3)
+    linear = flapping.find_hover_orbit(insect, trims=("amplitude", "stroke_mean"))
+    blade = flapping.find_hover_orbit(insect, aerodynamics="small-angle",
+                                      trims=("amplitude", "stroke_mean"))
+    assert blade.is_hover and blade.mean_horizontal_speed < 1e-9
+    assert abs(blade.stroke_mean - linear.stroke_mean) < 1e-3 * abs(linear.stroke_mean)
+    assert abs(blade.amplitude - linear.amplitude) < 1e-3 * linear.amplitude

@@ -10,25 +10,26 @@ Do not edit: regenerate with
 NAMES = ('X0', 'Z0', 'M0', 'Xu', 'Xw', 'Xq', 'Zu', 'Zw', 'Zq', 'Mu', 'Mw', 'Mq')
 
 #: Layout of the constants array ``k``: the index of each is the constant of its name.
-CONSTANTS = ('COS_ALPHA_M', 'FREQUENCY', 'KROT_12', 'KROT_13', 'KROT_22', 'K_11', 'K_12', 'K_21', 'K_22', 'K_31', 'K_NU', 'MASS', 'MU1', 'PITCH_INERTIA', 'SIN_2ALPHA_M', 'SIN_ALPHA_M', 'X_H', 'X_HAT')
+CONSTANTS = ('COS_ALPHA_M', 'FREQUENCY', 'H_W', 'KROT_12', 'KROT_13', 'KROT_22', 'K_11', 'K_12', 'K_21', 'K_22', 'K_31', 'K_NU', 'MASS', 'MU1', 'PITCH_INERTIA', 'SIN_2ALPHA_M', 'SIN_ALPHA_M', 'X_H', 'X_HAT')
 COS_ALPHA_M = 0
 FREQUENCY = 1
-KROT_12 = 2
-KROT_13 = 3
-KROT_22 = 4
-K_11 = 5
-K_12 = 6
-K_21 = 7
-K_22 = 8
-K_31 = 9
-K_NU = 10
-MASS = 11
-MU1 = 12
-PITCH_INERTIA = 13
-SIN_2ALPHA_M = 14
-SIN_ALPHA_M = 15
-X_H = 16
-X_HAT = 17
+H_W = 2
+KROT_12 = 3
+KROT_13 = 4
+KROT_22 = 5
+K_11 = 6
+K_12 = 7
+K_21 = 8
+K_22 = 9
+K_31 = 10
+K_NU = 11
+MASS = 12
+MU1 = 13
+PITCH_INERTIA = 14
+SIN_2ALPHA_M = 15
+SIN_ALPHA_M = 16
+X_H = 17
+X_HAT = 18
 
 
 def derivatives(phi, phidot, absphidot, sphi, cphi, s2phi, c2phi, k, out):
@@ -65,6 +66,23 @@ def derivatives(phi, phidot, absphidot, sphi, cphi, s2phi, c2phi, k, out):
     out[9] = t17*(s2phi*t4 - k[SIN_ALPHA_M]*t10*t18 + 2*t13*t5)  # Mu
     out[10] = 2*k[COS_ALPHA_M]*t17*(-t1*t18 + t12*t19 + t16*t19)  # Mw
     out[11] = t17*(2*phidot*k[K_12]*k[X_HAT]*k[X_H]*cphi*k[COS_ALPHA_M] + phidot*k[KROT_12]*k[X_H]*cphi + phidot*k[K_22]*k[X_HAT]*s2phi*k[COS_ALPHA_M] + (1/2)*phidot*k[KROT_22]*s2phi - k[K_11]*k[X_H]**2*t15 - k[KROT_13]*k[X_HAT]*t19*t8 - k[K_31]*sphi**2*t15 - k[X_H]*t14*t16*t9 - k[MU1]*k[FREQUENCY]*k[K_NU]*t8)  # Mq
+    if k[H_W] != 0.0:  # the hinge height's terms (none at h_w = 0: the paper's model)
+        h0 = k[SIN_ALPHA_M]**2
+        h1 = 1/k[MASS]
+        h2 = k[K_11]*k[H_W]
+        h3 = cphi**2
+        h4 = 4*absphidot*h0*h3
+        h5 = h2*h4
+        h6 = phidot*k[SIN_2ALPHA_M]
+        h7 = cphi*h6
+        h8 = k[H_W]/k[PITCH_INERTIA]
+        h9 = k[K_11]*h8
+        out[2] += 2*phidot*absphidot*k[K_21]*k[H_W]*cphi*h0  # M0
+        out[5] += h1*h5  # Xq
+        out[8] += 2*h1*h2*h7  # Zq
+        out[9] += h4*h9  # Mu
+        out[10] += h7*h9  # Mw
+        out[11] += h8*(-3*k[K_11]*k[X_H]*h7 + 4*k[K_12]*absphidot*k[X_HAT]*k[SIN_ALPHA_M]*h3 - 3/2*k[K_21]*s2phi*h6 - h5)  # Mq
 
 
 def derivatives_and_amplitude(phi, phidot, absphidot, sphi, cphi, s2phi, c2phi, k, out):
@@ -144,3 +162,38 @@ def derivatives_and_amplitude(phi, phidot, absphidot, sphi, cphi, s2phi, c2phi, 
     out[21] = t29*(-t30*t42 + 8*t32*t49 + t33 + 2*t45*t6)  # Phi dMu/dPhi
     out[22] = t36*(t31*t46 + t34*t50 + t35)  # Phi dMw/dPhi
     out[23] = t29*(2*phi*phidot*k[K_22]*k[X_HAT]*c2phi*k[COS_ALPHA_M] + phi*phidot*k[KROT_22]*c2phi + 2*phi*k[KROT_13]*absphidot*k[X_HAT]*sphi*cphi*k[COS_ALPHA_M] + 2*phi*k[MU1]*k[FREQUENCY]*k[K_NU]*sphi*cphi - phidot*k[X_H]*k[COS_ALPHA_M]*t31*t42 - k[K_31]*t38*t49 - k[X_H]*t47 - t39*t50 - t40)  # Phi dMq/dPhi
+    if k[H_W] != 0.0:  # the hinge height's terms (none at h_w = 0: the paper's model)
+        h0 = 2*cphi
+        h1 = k[SIN_ALPHA_M]**2
+        h2 = k[H_W]*h1
+        h3 = phidot*absphidot*k[K_21]*h2
+        h4 = 1/k[MASS]
+        h5 = cphi**2
+        h6 = 4*absphidot*h5
+        h7 = k[K_11]*h2
+        h8 = h6*h7
+        h9 = phidot*k[SIN_2ALPHA_M]
+        h10 = k[K_11]*h9
+        h11 = k[H_W]*h4
+        h12 = k[H_W]/k[PITCH_INERTIA]
+        h13 = k[K_11]*h1*h12
+        h14 = cphi*h10
+        h15 = k[K_21]*h9
+        h16 = -4*k[K_12]*absphidot*k[X_HAT]*k[SIN_ALPHA_M]*h5 + 3*k[X_H]*h14 + (3/2)*s2phi*h15 + h8
+        h17 = phi*sphi
+        h18 = absphidot*cphi
+        h19 = -cphi
+        h20 = -8*h17 - 4*h19
+        h21 = h10*(-h17 - h19)
+        out[2] += h0*h3  # M0
+        out[5] += h4*h8  # Xq
+        out[8] += h0*h10*h11  # Zq
+        out[9] += h13*h6  # Mu
+        out[10] += h12*h14  # Mw
+        out[11] += -h12*h16  # Mq
+        out[14] += 2*h3*(2*cphi - h17)  # Phi dM0/dPhi
+        out[17] += h18*h20*h4*h7  # Phi dXq/dPhi
+        out[20] += 2*h11*h21  # Phi dZq/dPhi
+        out[21] += h13*h18*h20  # Phi dMu/dPhi
+        out[22] += h12*h21  # Phi dMw/dPhi
+        out[23] += h12*(3*phi*phidot*k[K_11]*k[X_H]*sphi*k[SIN_2ALPHA_M] + 8*phi*k[K_11]*absphidot*k[H_W]*sphi*cphi*h1 - 3*phi*c2phi*h15 - 8*k[K_12]*k[X_HAT]*k[SIN_ALPHA_M]*h17*h18 - h16)  # Phi dMq/dPhi

@@ -33,6 +33,7 @@ import importlib.util
 import math
 import time
 from dataclasses import dataclass
+from pathlib import Path
 from types import ModuleType
 
 import numpy as np
@@ -111,10 +112,37 @@ def load() -> ModuleType:
         If numba is not installed (``pip install flapping[fast]``).
     """
     if not _MODULE:
+        _drop_stale_cache()
         from flapping.fast import _compiled
 
         _MODULE.append(_compiled)
     return _MODULE[0]
+
+
+def _drop_stale_cache(here: Path | None = None) -> None:
+    """Remove numba's on-disk cache of :mod:`flapping.fast._compiled` if ``_generated`` changed.
+
+    numba keys a cached function on the time stamp of its own file only, so the functions of
+    ``_compiled`` that inline the generated derivatives would keep the old arithmetic (and the
+    old layout of the constants) after a regeneration. A stamp of the generated source beside
+    the cache (in ``__pycache__``, numba's default place) detects that. ``here`` is the package
+    directory (default this module's; a test passes another).
+    """
+    import hashlib
+
+    here = Path(__file__).parent if here is None else here
+    cache = here / "__pycache__"
+    digest = hashlib.sha256((here / "_generated.py").read_bytes()).hexdigest()
+    stamp = cache / "_compiled.generated-sha256"
+    try:
+        if stamp.is_file() and stamp.read_text() == digest:
+            return
+        for old in list(cache.glob("_compiled.*.nbi")) + list(cache.glob("_compiled.*.nbc")):
+            old.unlink()
+        cache.mkdir(exist_ok=True)
+        stamp.write_text(digest)
+    except OSError:  # a read-only install: numba then caches elsewhere or not at all
+        pass
 
 
 def warm_up() -> float:
@@ -160,9 +188,15 @@ class KernelProblem:
         Raises
         ------
         ValueError
-            For a bad insect or alpha_m, or an insect too heavy to trim (eq. 40).
+            For a bad insect or alpha_m, an insect too heavy to trim (eq. 40), or a non-zero
+            ``stroke_mean`` (the kernel's stroke is phi = Phi cos(2 pi f t): use the adaptive
+            path).
         """
         _validation.instance("insect", insect, Insect)
+        if insect.stroke_mean != 0.0:
+            raise ValueError(
+                f"the compiled kernel has no mean stroke angle: stroke_mean = "
+                f"{insect.stroke_mean!r} rad must be 0 (use backend='adaptive')")
         if alpha_m is None:
             alpha_m = trim_angle_of_attack(insect, insect.stroke_amplitude)
         alpha_m = check_alpha_m(alpha_m)
@@ -180,7 +214,8 @@ class KernelProblem:
 def _pack(c: AeroConstants, alpha_m: float) -> np.ndarray:
     """The constants array of the generated derivatives (layout :data:`_generated.CONSTANTS`)."""
     values = {"FREQUENCY": c.f, "MASS": c.m, "PITCH_INERTIA": c.Iy, "K_NU": c.Knu,
-              "MU1": c.mu1, "X_H": c.x_h, "X_HAT": c.x_hat, "SIN_ALPHA_M": math.sin(alpha_m),
+              "MU1": c.mu1, "X_H": c.x_h, "H_W": c.h_w, "X_HAT": c.x_hat,
+              "SIN_ALPHA_M": math.sin(alpha_m),
               "COS_ALPHA_M": math.cos(alpha_m), "SIN_2ALPHA_M": math.sin(2.0 * alpha_m)}
     for name in _generated.CONSTANTS:
         if name.startswith(("K_", "KROT_")) and name != "K_NU":

@@ -40,7 +40,7 @@ def stability_derivatives(phi, phidot, absphidot, alpha_m, c):
     t23 = c.Iy**(-1.0)
     t24 = c.K[1, 2]*c.x_hat
     t25 = absphidot*t19
-    return (
+    out = (
         -c.K[2, 1]*t1*t3*t4,  # X0
         -phidot**2*t6,  # Z0
         phidot*(-c.K[2, 2]*c.x_hat*t0*t2*t4 + c.K[3, 1]*t8*t9 + c.x_h*t7),  # M0
@@ -53,6 +53,34 @@ def stability_derivatives(phi, phidot, absphidot, alpha_m, c):
         t23*(-t0*t14*t24 + 2*t17*t9 + t18*t7),  # Mu
         2*t19*t23*(t16*t25 + t22*t25 - t24*t3),  # Mw
         t23*(-c.Knu*c.mu1*c.f*t12 + 2*phidot*c.K[1, 2]*c.x_hat*c.x_h*t19*t2 + phidot*c.Krot[1, 2]*c.x_h*t2 + phidot*c.K[2, 2]*c.x_hat*t18*t19 + (1/2)*phidot*c.Krot[2, 2]*t18 - c.K[1, 1]*c.x_h**2*t21 - c.Krot[1, 3]*c.x_hat*t12*t25 - c.K[3, 1]*t21*t8**2 - c.x_h*t13*t20*t22),  # Mq
+    )
+    if c.h_w == 0.0:
+        return out
+    h0 = numpy.cos(phi)
+    h1 = numpy.sin(alpha_m)
+    h2 = h1**2
+    h3 = c.m**(-1.0)
+    h4 = c.K[1, 1]*c.h_w
+    h5 = h0**2
+    h6 = 4*absphidot*h2*h5
+    h7 = h4*h6
+    h8 = phidot*numpy.sin(2*alpha_m)
+    h9 = h0*h8
+    h10 = c.h_w/c.Iy
+    h11 = c.K[1, 1]*h10
+    return (
+        out[0],  # X0
+        out[1],  # Z0
+        out[2] + 2*phidot*absphidot*c.K[2, 1]*c.h_w*h0*h2,  # M0
+        out[3],  # Xu
+        out[4],  # Xw
+        out[5] + h3*h7,  # Xq
+        out[6],  # Zu
+        out[7],  # Zw
+        out[8] + 2*h3*h4*h9,  # Zq
+        out[9] + h11*h6,  # Mu
+        out[10] + h11*h9,  # Mw
+        out[11] + h10*(-3*c.K[1, 1]*c.x_h*h9 + 4*c.K[1, 2]*absphidot*c.x_hat*h1*h5 - 3/2*c.K[2, 1]*h8*numpy.sin(2*phi) - h7),  # Mq
     )
 
 
@@ -131,7 +159,7 @@ def stability_derivatives_scalar_with_amplitude(phi, phidot, absphidot, alpha_m,
     t70 = t14*t69
     t71 = t0*t57
     t72 = c.x_h*t41*t69
-    return (
+    out = (
         -t2*t5,  # X0
         -t8,  # Z0
         phidot*(t10 + t13 - t15*t2),  # M0
@@ -156,4 +184,135 @@ def stability_derivatives_scalar_with_amplitude(phi, phidot, absphidot, alpha_m,
         t39*(-t40*t57 + 8*t42*t66 + t43 + t65*t9),  # Phi dMu/dPhi
         t46*(t41*t62 + t44*t67 + t45),  # Phi dMw/dPhi
         t39*(-c.K[3, 1]*t52*t66 + c.x_h*t35 - c.x_h*t63 + t1*t72 + t26*t70 + t27*t68 + t47*t71 + t48*t71 - t49 - t50 - t53*t67 - t54 - t55 - t57*t72 + t61*t68 + t65*t70),  # Phi dMq/dPhi
+    )
+    if c.h_w == 0.0:
+        return out
+    h0 = math.cos(phi)
+    h1 = 2*h0
+    h2 = math.sin(alpha_m)
+    h3 = h2**2
+    h4 = c.h_w*h3
+    h5 = phidot*absphidot*c.K[2, 1]*h4
+    h6 = 1/c.m
+    h7 = h0**2
+    h8 = 4*absphidot*h7
+    h9 = c.K[1, 1]*h4
+    h10 = h8*h9
+    h11 = math.sin(2*alpha_m)
+    h12 = phidot*h11
+    h13 = c.K[1, 1]*h12
+    h14 = c.h_w*h6
+    h15 = c.h_w/c.Iy
+    h16 = c.K[1, 1]*h15*h3
+    h17 = h0*h13
+    h18 = 2*phi
+    h19 = c.K[2, 1]*h12
+    h20 = -4*c.K[1, 2]*absphidot*c.x_hat*h2*h7 + 3*c.x_h*h17 + h10 + (3/2)*h19*math.sin(h18)
+    h21 = math.sin(phi)
+    h22 = phi*h21
+    h23 = absphidot*h0
+    h24 = -h0
+    h25 = -4*h18*h21 - 4*h24
+    h26 = h13*(-h22 - h24)
+    return (
+        out[0],  # X0
+        out[1],  # Z0
+        out[2] + h1*h5,  # M0
+        out[3],  # Xu
+        out[4],  # Xw
+        out[5] + h10*h6,  # Xq
+        out[6],  # Zu
+        out[7],  # Zw
+        out[8] + h1*h13*h14,  # Zq
+        out[9] + h16*h8,  # Mu
+        out[10] + h15*h17,  # Mw
+        out[11] + -h15*h20,  # Mq
+        out[12],  # Phi dX0/dPhi
+        out[13],  # Phi dZ0/dPhi
+        out[14] + 2*h5*(2*h0 - h22),  # Phi dM0/dPhi
+        out[15],  # Phi dXu/dPhi
+        out[16],  # Phi dXw/dPhi
+        out[17] + h23*h25*h6*h9,  # Phi dXq/dPhi
+        out[18],  # Phi dZu/dPhi
+        out[19],  # Phi dZw/dPhi
+        out[20] + 2*h14*h26,  # Phi dZq/dPhi
+        out[21] + h16*h23*h25,  # Phi dMu/dPhi
+        out[22] + h15*h26,  # Phi dMw/dPhi
+        out[23] + h15*(3*phi*phidot*c.K[1, 1]*c.x_h*h11*h21 + 8*phi*c.K[1, 1]*absphidot*c.h_w*h0*h21*h3 - 3*phi*h19*math.cos(h18) - 8*c.K[1, 2]*c.x_hat*h2*h22*h23 - h20),  # Phi dMq/dPhi
+    )
+
+
+def stability_derivatives_scalar_phi_derivative(phi, phidot, absphidot, alpha_m, c):
+    """d/dphi of the twelve derivatives (12 floats), for one phase (for d/dphi_bar)."""
+    t0 = math.sin(alpha_m)
+    t1 = t0**2
+    t2 = math.sin(phi)
+    t3 = phidot*t2
+    t4 = absphidot*c.K[2, 1]
+    t5 = math.sin(2*alpha_m)
+    t6 = phidot*t5
+    t7 = math.cos(phi)
+    t8 = c.K[3, 1]*t7
+    t9 = 2*c.K[2, 2]*c.x_hat
+    t10 = absphidot*t2
+    t11 = t0*t10
+    t12 = 1/c.m
+    t13 = c.K[1, 1]*t12
+    t14 = t13*t3*t5
+    t15 = c.x_h*t2
+    t16 = c.K[1, 1]*t15
+    t17 = math.cos(2*phi)
+    t18 = math.cos(alpha_m)
+    t19 = t18**2
+    t20 = t4*t7
+    t21 = t19*t20
+    t22 = c.K[1, 2]*c.x_hat
+    t23 = 1/c.Iy
+    t24 = 2*t23
+    t25 = phidot*t17
+    t26 = phidot*t15
+    t27 = 2*t7
+    out = (
+        2*t1*t3*t4,  # dX0/dphi
+        0,  # dZ0/dphi
+        phidot*(t11*t9 + t6*t8),  # dM0/dphi
+        8*t1*t10*t13*t7,  # dXu/dphi
+        t14,  # dXw/dphi
+        t12*t6*(c.K[2, 1]*t17 - t16),  # dXq/dphi
+        2*t14,  # dZu/dphi
+        0,  # dZw/dphi
+        t12*(c.Krot[1, 2]*t3 + 2*t21),  # dZq/dphi
+        t24*(c.K[2, 1]*t17*t6 + 4*t11*t22*t7 - t16*t6),  # dMu/dphi
+        t18*t24*(t18*t20 + t22*t3),  # dMw/dphi
+        t23*(c.Knu*c.mu1*c.f*t2*t27 - c.Krot[1, 2]*t26 + c.Krot[1, 3]*c.x_hat*t10*t18*t27 + c.Krot[2, 2]*t25 - 4*c.x_h*t21 - 4*t10*t19*t8 - 2*t18*t22*t26 + t18*t25*t9),  # dMq/dphi
+    )
+    if c.h_w == 0.0:
+        return out
+    h0 = math.sin(alpha_m)
+    h1 = h0**2
+    h2 = 2*c.h_w
+    h3 = math.sin(phi)
+    h4 = absphidot*h3
+    h5 = 1/c.m
+    h6 = c.K[1, 1]*h3
+    h7 = 8*math.cos(phi)
+    h8 = absphidot*h1*h6*h7
+    h9 = c.h_w*h8
+    h10 = phidot*math.sin(2*alpha_m)
+    h11 = h10*h6
+    h12 = c.h_w/c.Iy
+    h13 = 3*h10
+    return (
+        out[0],  # dX0/dphi
+        out[1],  # dZ0/dphi
+        out[2] + -phidot*c.K[2, 1]*h1*h2*h4,  # dM0/dphi
+        out[3],  # dXu/dphi
+        out[4],  # dXw/dphi
+        out[5] + -h5*h9,  # dXq/dphi
+        out[6],  # dZu/dphi
+        out[7],  # dZw/dphi
+        out[8] + -h11*h2*h5,  # dZq/dphi
+        out[9] + -h12*h8,  # dMu/dphi
+        out[10] + -h11*h12,  # dMw/dphi
+        out[11] + h12*(-c.K[1, 2]*c.x_hat*h0*h4*h7 - c.K[2, 1]*h13*math.cos(2*phi) + c.x_h*h13*h6 + h9),  # dMq/dphi
     )

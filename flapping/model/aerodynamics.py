@@ -313,6 +313,8 @@ class AeroConstants:
     x_hat, x_h, mu1, f, m, Iy : float
         Centre of pressure (fraction of chord), hinge offset [m], damping coefficient, flapping
         frequency [Hz], mass [kg], pitch inertia [kg m^2].
+    h_w : float
+        Hinge height above the centre of gravity [m].
     """
 
     K: dict[tuple[int, int], float]
@@ -324,6 +326,7 @@ class AeroConstants:
     f: float
     m: float
     Iy: float
+    h_w: float = 0.0
 
 
 def aero_constants(insect: Insect) -> AeroConstants:
@@ -371,6 +374,7 @@ def aero_constants(insect: Insect) -> AeroConstants:
         f=insect.frequency,
         m=insect.mass,
         Iy=insect.pitch_inertia,
+        h_w=insect.hinge_height,
     )
 
 
@@ -456,7 +460,10 @@ def section_loads(
     F_x = F_xi cos(phi). The centre of pressure is at x_cp = x_h + r sin(phi)
     - x_hat c cos(alpha_g) cos(phi), z_cp = x_hat c sin(alpha_g), and
     M = z_cp F_x - x_cp F_z + tau cos(phi), tau = -(pi/16) rho c**4 (mu1 f + mu2 ``|Omega|``) Omega
-    with Omega = q cos(phi) (eqs. 20-23).
+    with Omega = q cos(phi) (eqs. 20-23). With the hinge a height h_w above the centre of gravity
+    (``insect.hinge_height``; z down) the section moves forward at r phi_dot + (u - q h_w) cos(phi)
+    and z_cp = x_hat c sin(alpha_g) - h_w. ``phi`` is the whole flapping angle (with any mean
+    stroke angle already added).
     """
     variant = _validation.choice("variant", variant, VARIANTS)
     names = ("r", "chord", "phi", "phi_dot", "s", "u", "w", "q")
@@ -475,7 +482,8 @@ def _section_loads(r: np.ndarray, c: np.ndarray, phi: np.ndarray, phi_dot: np.nd
     """:func:`section_loads` for validated inputs."""
     rho = insect.air_density
     cphi, sphi = np.cos(phi), np.sin(phi)
-    U = r * phi_dot + u * cphi
+    h_w = insect.hinge_height  # the hinge at z = -h_w moves forward at u - q h_w
+    U = r * phi_dot + (u - q * h_w) * cphi
     w_eff = w - q * (r * sphi + insect.hinge_offset)
     omega = q * cphi
     k = math.pi * (0.75 - insect.pitch_axis) * omega
@@ -492,7 +500,7 @@ def _section_loads(r: np.ndarray, c: np.ndarray, phi: np.ndarray, phi_dot: np.nd
     f_z = c * b1 + c * c * b2
     x_hat = insect.center_of_pressure
     x_cp = insect.hinge_offset + r * sphi - x_hat * c * (s * math.cos(alpha_m)) * cphi
-    z_cp = x_hat * c * math.sin(alpha_m)
+    z_cp = x_hat * c * math.sin(alpha_m) - h_w
     tau = -(math.pi / 16.0) * rho * c**4 * (
         insect.mu1 * insect.frequency + insect.mu2 * np.abs(omega)) * omega
     moment = z_cp * f_x - x_cp * f_z + tau * cphi
@@ -590,7 +598,8 @@ class BladeElementModel:
         Parameters
         ----------
         t : float or array_like
-            Time [s]; phi = Phi cos(2 pi f t) (eq. 39).
+            Time [s]; phi = phi_bar + Phi cos(2 pi f t) (eq. 39 with the insect's
+            ``stroke_mean`` phi_bar).
         u, w, q : float or array_like
             Body state (broadcasts with t): [m/s], [m/s], [rad/s].
         s : float or array_like, optional
@@ -644,11 +653,15 @@ class BladeElementModel:
         amplitude = self.amplitude
         phase = omega_f * t
         phi = amplitude * math.cos(phase)
+        if self.insect.stroke_mean != 0.0:  # phi = phi_bar + Phi cos(2 pi f t)
+            phi += self.insect.stroke_mean
         phi_dot = -omega_f * amplitude * math.sin(phase)
         cphi, sphi = math.cos(phi), math.sin(phi)
         sin_2ag = s * sin_2am
-        # U = phi_dot r + u_c and w_eff = w_0 - q_s r (eqs. 9, 12) are linear in r.
-        u_c = u * cphi
+        # U = phi_dot r + u_c and w_eff = w_0 - q_s r (eqs. 9, 12) are linear in r; the hinge,
+        # h_w above the centre of gravity, moves forward at u - q h_w.
+        h_w = self.insect.hinge_height
+        u_c = (u - q * h_w) * cphi if h_w != 0.0 else u * cphi
         w_0 = w - q * x_h
         q_s = q * sphi
         r = self._r
@@ -688,6 +701,8 @@ class BladeElementModel:
             + zcp * A2[2] + xcp * B2[2]                                       # c^3
             + damping * (mu1f + mu2 * abs(omega)) * omega * cphi              # c^4
         )
+        if h_w != 0.0:  # every force acts h_w above the centre of gravity: z_cp -= h_w
+            moment -= h_w * x_force
         return x_force, z_force, moment
 
 

@@ -85,6 +85,7 @@ class Symbols:
     kappa: sp.Symbol
     x_hat: sp.Symbol
     x_h: sp.Symbol
+    h_w: sp.Symbol
     mu1: sp.Symbol
     mu2: sp.Symbol
     f: sp.Symbol
@@ -131,6 +132,7 @@ def symbols() -> Symbols:
         kappa=sp.Symbol(r"\kappa", real=True),
         x_hat=sp.Symbol(r"\hat{x}", real=True),
         x_h=sp.Symbol("x_h", real=True),
+        h_w=sp.Symbol("h_w", real=True),
         mu1=sp.Symbol(r"\mu_1", nonnegative=True),
         mu2=sp.Symbol(r"\mu_2", nonnegative=True),
         f=sp.Symbol("f", **pos),
@@ -149,7 +151,8 @@ def section_loads() -> dict[str, sp.Expr]:
     S = symbols()
     r, c, phi, phidot, s, am = S.r, S.c, S.phi, S.phidot, S.s, S.alpha_m
     rho, A = S.rho, S.A
-    U = r * phidot + S.u * sp.cos(phi)  # eq. (9), signed, small w
+    # eq. (9), signed, small w; the hinge h_w above the CG (z = -h_w) moves at u - q h_w.
+    U = r * phidot + (S.u - S.q * S.h_w) * sp.cos(phi)
     w_eff = S.w - S.q * (r * sp.sin(phi) + S.x_h)  # eq. (12)
     Omega = S.q * sp.cos(phi)  # alpha_dot = 0: only the body's pitch rate turns the section
     # eq. (5); kappa = 3/4 - x0_hat is kept as one symbol so that it can be collected into Krot.
@@ -166,9 +169,10 @@ def section_loads() -> dict[str, sp.Expr]:
            * (U * absU * sin2ag + 2 * absU * w_eff * sp.cos(am) ** 2)
            + rho * U * Gamma)
     Fx = F_xi * sp.cos(phi)
-    # eqs. (20)-(23): lift acts at the centre of pressure, x_hat c behind the hinge line.
+    # eqs. (20)-(23): lift acts at the centre of pressure, x_hat c behind the hinge line and
+    # h_w above the CG (body z is down, so z_cp = -h_w + ...: a forward force pitches nose down).
     x_cp = S.x_h + r * sp.sin(phi) - S.x_hat * c * cosag * sp.cos(phi)
-    z_cp = S.x_hat * c * sinag
+    z_cp = -S.h_w + S.x_hat * c * sinag
     # Berman and Wang's rotational damping torque
     tau = -sp.pi / 16 * rho * c**4 * (S.mu1 * S.f + S.mu2 * S.s_omega * Omega) * Omega
     M = z_cp * Fx - x_cp * Fz + tau * sp.cos(phi)
@@ -238,11 +242,11 @@ def collect_constants(expr: sp.Expr) -> sp.Expr:
     return sp.Add(*out)
 
 
-_CONSTANT_NAMES = ("K_", "K^", "x_h", r"\hat{x}", r"\mu", "f", "m", "I_y")
+_CONSTANT_NAMES = ("K_", "K^", "x_h", "h_w", r"\hat{x}", r"\mu", "f", "m", "I_y")
 
 
 def _split(term: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
-    """Split a product into (constants: K's, x_h, x_hat, mu1, f, m, I_y) and the rest."""
+    """Split a product into (constants: K's, x_h, h_w, x_hat, mu1, f, m, I_y) and the rest."""
     const, rest = sp.Integer(1), sp.Integer(1)
     for factor in sp.Mul.make_args(term):
         base = factor.as_base_exp()[0]
@@ -290,9 +294,15 @@ def _to_abs(expr: sp.Expr) -> sp.Expr:
     return sp.expand(expr)
 
 
-@lru_cache(maxsize=1)
-def stability_derivatives() -> dict[str, sp.Expr]:
+@lru_cache(maxsize=2)
+def stability_derivatives(hinge_height: bool = False) -> dict[str, sp.Expr]:
     """Step 5: the twelve stability derivatives of eq. (29) in the K constants.
+
+    Parameters
+    ----------
+    hinge_height : bool
+        Keep the terms in the hinge height h_w above the centre of gravity (the generated code
+        does). Default False: the paper's model, h_w = 0, as the book shows it.
 
     Returns
     -------
@@ -310,6 +320,8 @@ def stability_derivatives() -> dict[str, sp.Expr]:
             total = collect_constants(span_integrate(lin[var]))
             if var != "0":
                 total = total / norm
+            if not hinge_height:
+                total = total.subs(S.h_w, 0)
             out[f"{axis}{var}"] = tidy(_to_abs(total))
     return {name: out[name] for name in DERIVATIVE_NAMES}
 
@@ -474,8 +486,8 @@ def evaluate(expr: sp.Expr, insect: Insect, t: ArrayLike, *, alpha_m: float | No
     t = _validation.array("t", t)
     phidot = flapping_rate(t, amplitude, insect.frequency)
     c = aero_constants(insect)
-    values = {S.alpha_m: alpha_m, S.x_hat: c.x_hat, S.x_h: c.x_h, S.mu1: c.mu1, S.f: c.f,
-              S.m: c.m, S.Iy: c.Iy, S.Knu: c.Knu, S.rho: insect.air_density,
+    values = {S.alpha_m: alpha_m, S.x_hat: c.x_hat, S.x_h: c.x_h, S.h_w: c.h_w, S.mu1: c.mu1,
+              S.f: c.f, S.m: c.m, S.Iy: c.Iy, S.Knu: c.Knu, S.rho: insect.air_density,
               S.A: insect.lift_slope, S.x0_hat: insect.pitch_axis,
               S.kappa: 0.75 - insect.pitch_axis}
     values.update({S.K(m, n): v for (m, n), v in c.K.items()})
@@ -483,7 +495,10 @@ def evaluate(expr: sp.Expr, insect: Insect, t: ArrayLike, *, alpha_m: float | No
     expr = sp.sympify(expr).subs(values)
     args = (S.phi, S.phidot, S.absphidot)
     fn = sp.lambdify(args, expr, modules="numpy")
-    out = fn(flapping_angle(t, amplitude, insect.frequency), phidot, np.abs(phidot))
+    phi = flapping_angle(t, amplitude, insect.frequency)
+    if insect.stroke_mean != 0.0:  # phi = phi_bar + Phi cos(2 pi f t)
+        phi = phi + insect.stroke_mean
+    out = fn(phi, phidot, np.abs(phidot))
     return np.broadcast_to(np.asarray(out, dtype=float), t.shape).copy()
 
 
@@ -500,7 +515,48 @@ def _numeric_names() -> dict[sp.Symbol, str]:
         for nn in range(5):
             names[S.K(mm, nn)] = f"c.K[{mm}, {nn}]"
             names[S.Krot(mm, nn)] = f"c.Krot[{mm}, {nn}]"
+    names[S.h_w] = "c.h_w"  # last: the placeholders of the others keep their numbers
     return names
+
+
+def _split_hinge(exprs: list[sp.Expr]) -> tuple[list[sp.Expr], list[sp.Expr]]:
+    """Each expression as (its value at h_w = 0, the terms in the hinge height h_w).
+
+    The generated code evaluates the second part only when h_w != 0, so that the paper's model
+    (h_w = 0) runs exactly the arithmetic it ran before the hinge height was added.
+    """
+    S = symbols()
+    base = [e.subs(S.h_w, 0) for e in exprs]
+    return base, [sp.expand(e - b) for e, b in zip(exprs, base, strict=True)]
+
+
+def _numpy_body(printer: object, exprs: list[sp.Expr], labels: list[str]) -> list[str]:
+    """Lines of a generated function returning ``exprs`` (hinge terms only if h_w != 0)."""
+    names = _numeric_names()
+    placeholders = {sym: sp.Symbol(f"__{i}__") for i, sym in enumerate(names)}
+    printed_of = {placeholders[sym]: names[sym] for sym in names}
+
+    def show(e: sp.Expr) -> str:
+        text = printer.doprint(e)  # type: ignore[attr-defined]
+        for ph in sorted(printed_of, key=lambda p: -len(p.name)):
+            text = text.replace(ph.name, printed_of[ph])
+        return text
+
+    def cse(exprs: list[sp.Expr], prefix: str) -> tuple[list[str], list[sp.Expr]]:
+        replacements, reduced = sp.cse([e.xreplace(placeholders) for e in exprs],
+                                       symbols=sp.numbered_symbols(prefix), optimizations="basic")
+        return [f"    {sym} = {show(e)}" for sym, e in replacements], reduced
+
+    base, hinge = _split_hinge(exprs)
+    lines, reduced = cse(base, "t")
+    lines.append("    out = (")
+    lines += [f"        {show(e)},  # {name}" for name, e in zip(labels, reduced, strict=True)]
+    lines += ["    )", "    if c.h_w == 0.0:", "        return out"]
+    extra, reduced = cse(hinge, "h")
+    lines += extra + ["    return ("]
+    lines += [f"        out[{i}]" + ("" if e == 0 else f" + {show(e)}") + f",  # {name}"
+              for i, (name, e) in enumerate(zip(labels, reduced, strict=True))]
+    return lines + ["    )"]
 
 
 def generate_source() -> str:
@@ -508,32 +564,17 @@ def generate_source() -> str:
 
     The generated function ``stability_derivatives(phi, phidot, absphidot, alpha_m, c)`` takes the
     flapping angle and rate (arrays), ``|phi_dot|``, the trim pitch alpha_m and a constants object
-    ``c``
-    with attributes K, Krot (5x5 arrays indexed [m, n]), Knu, x_hat, x_h, mu1, f, m, Iy.
+    ``c`` with attributes K, Krot (5x5 arrays indexed [m, n]), Knu, x_hat, x_h, h_w, mu1, f, m, Iy.
+    ``stability_derivatives_scalar_with_amplitude`` adds Phi d/dPhi of each at phi_bar = 0, and
+    ``stability_derivatives_scalar_phi_derivative`` gives d/dphi of each (the sensitivity to the
+    mean stroke angle phi_bar; Phi d/dPhi = Euler - phi_bar d/dphi when phi_bar != 0).
     """
-    derivs = stability_derivatives()
+    derivs = stability_derivatives(hinge_height=True)
     exprs = [derivs[k] for k in DERIVATIVE_NAMES]
-    names = _numeric_names()
-    placeholders = {sym: sp.Symbol(f"__{i}__") for i, sym in enumerate(names)}
-    printed_of = {placeholders[sym]: names[sym] for sym in names}
-    def body(printer, exprs, labels) -> list[str]:
-        replacements, reduced = sp.cse([e.xreplace(placeholders) for e in exprs],
-                                       symbols=sp.numbered_symbols("t"), optimizations="basic")
-
-        def show(e: sp.Expr) -> str:
-            text = printer.doprint(e)
-            for ph in sorted(printed_of, key=lambda p: -len(p.name)):
-                text = text.replace(ph.name, printed_of[ph])
-            return text
-
-        lines = [f"    {sym} = {show(e)}" for sym, e in replacements]
-        lines.append("    return (")
-        lines += [f"        {show(e)},  # {name}" for name, e in zip(labels, reduced, strict=True)]
-        lines.append("    )")
-        return lines
-
-    # Phi d/dPhi of each derivative: phi, phi_dot and |phi_dot| are all proportional to the
-    # amplitude Phi, so Phi d/dPhi is the Euler operator phi d/dphi + phi_dot d/dphi_dot + ...
+    # Phi d/dPhi of each derivative: with phi_bar = 0, phi, phi_dot and |phi_dot| are all
+    # proportional to the amplitude Phi, so Phi d/dPhi is the Euler operator phi d/dphi +
+    # phi_dot d/dphi_dot + ...; with a mean stroke angle phi_bar subtract phi_bar d/dphi (the
+    # third generated function).
     S = symbols()
     euler = [sp.expand(S.phi * sp.diff(e, S.phi) + S.phidot * sp.diff(e, S.phidot)
                        + S.absphidot * sp.diff(e, S.absphidot)) for e in exprs]
@@ -561,13 +602,19 @@ def generate_source() -> str:
         "",
         "def stability_derivatives(phi, phidot, absphidot, alpha_m, c):",
         '    """(X0, Z0, M0, Xu, Xw, Xq, Zu, Zw, Zq, Mu, Mw, Mq) for arrays of phases (NumPy)."""',
-        *body(numpy_printer, exprs, DERIVATIVE_NAMES),
+        *_numpy_body(numpy_printer, exprs, list(DERIVATIVE_NAMES)),
         "",
         "",
         "def stability_derivatives_scalar_with_amplitude(phi, phidot, absphidot, alpha_m, c):",
         '    """The twelve derivatives and then Phi * d/dPhi of each (24 floats), '
         'for one phase."""',
-        *body(math_printer, exprs + euler, list(DERIVATIVE_NAMES) + amp_labels),
+        *_numpy_body(math_printer, exprs + euler, list(DERIVATIVE_NAMES) + amp_labels),
+        "",
+        "",
+        "def stability_derivatives_scalar_phi_derivative(phi, phidot, absphidot, alpha_m, c):",
+        '    """d/dphi of the twelve derivatives (12 floats), for one phase (for d/dphi_bar)."""',
+        *_numpy_body(math_printer, [sp.diff(e, S.phi) for e in exprs],
+                     [f"d{name}/dphi" for name in DERIVATIVE_NAMES]),
     ]
     return "\n".join(lines) + "\n"
 
@@ -606,8 +653,11 @@ def _numba_function(name: str, doc: str, exprs: list[sp.Expr], labels: list[str]
 
     replace, printed = _numba_substitutions()
     printer = PythonCodePrinter({"fully_qualified_modules": True})
-    cse, reduced = sp.cse([e.xreplace(replace) for e in exprs],
+    base, hinge = _split_hinge(exprs)
+    cse, reduced = sp.cse([e.xreplace(replace) for e in base],
                           symbols=sp.numbered_symbols("t"), optimizations="basic")
+    hinge_cse, hinge_reduced = sp.cse([e.xreplace(replace) for e in hinge],
+                                      symbols=sp.numbered_symbols("h"), optimizations="basic")
 
     def show(e: sp.Expr) -> str:
         text = printer.doprint(e)
@@ -623,6 +673,10 @@ def _numba_function(name: str, doc: str, exprs: list[sp.Expr], labels: list[str]
         *[f"    {sym} = {show(e)}" for sym, e in cse],
         *[f"    out[{i}] = {show(e)}  # {label}"
           for i, (label, e) in enumerate(zip(labels, reduced, strict=True))],
+        "    if k[H_W] != 0.0:  # the hinge height's terms (none at h_w = 0: the paper's model)",
+        *[f"        {sym} = {show(e)}" for sym, e in hinge_cse],
+        *[f"        out[{i}] += {show(e)}  # {label}"
+          for i, (label, e) in enumerate(zip(labels, hinge_reduced, strict=True)) if e != 0],
     ]
 
 
@@ -637,7 +691,7 @@ def generate_numba_source() -> str:
     in SI, x_hat, x_h, mu1, f, m, I_y and the sines and cosines of alpha_m) and the output array.
     """
     S = symbols()
-    derivs = stability_derivatives()
+    derivs = stability_derivatives(hinge_height=True)
     exprs = [derivs[k] for k in DERIVATIVE_NAMES]
     euler = [sp.expand(S.phi * sp.diff(e, S.phi) + S.phidot * sp.diff(e, S.phidot)
                        + S.absphidot * sp.diff(e, S.absphidot)) for e in exprs]

@@ -135,6 +135,8 @@ def stability_derivatives(
     alpha_m = check_alpha_m(alpha_m)
     t = _validation.array("t", t)
     phi = flapping_angle(t, amplitude, insect.frequency)
+    if insect.stroke_mean != 0.0:  # phi = phi_bar + Phi cos(2 pi f t); phi_bar = 0 adds nothing
+        phi = phi + insect.stroke_mean
     phidot = flapping_rate(t, amplitude, insect.frequency)
     values = _gen.stability_derivatives(phi, phidot, np.abs(phidot), alpha_m,
                                         aero_constants(insect))

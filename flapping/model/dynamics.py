@@ -18,6 +18,12 @@ The aerodynamic loads (X, Z, M) come from one of three models:
 ``"exact"``
     the blade-element loads with the exact inflow angle and speed.
 
+Two extensions of the paper's model (issue 11), both 0 by default so that every number of the
+paper's model is unchanged: the hinge height ``insect.hinge_height`` above the centre of gravity
+(the section's forward velocity feels u - q h_w, the forces act h_w higher), and the mean stroke
+angle ``insect.stroke_mean``, phi = phi_bar + Phi cos(2 pi f t);
+:meth:`LongitudinalDynamics.stroke_mean_jac` is the sensitivity to phi_bar.
+
 The right-hand side is smooth within each half-stroke only (the wing pitch flips at reversal,
 eq. 11), so :meth:`LongitudinalDynamics.segment_functions` returns one callable per half-stroke for
 integrators that restart at :data:`~flapping.model.kinematics.HALF_STROKE_BREAKPOINTS`.
@@ -159,6 +165,17 @@ class LongitudinalDynamics:
         return LongitudinalDynamics(self.insect, amplitude, self.alpha_m, self.aerodynamics,
                                     self.n_nodes)
 
+    def with_stroke_mean(self, stroke_mean: float) -> LongitudinalDynamics:
+        """The same model with another mean stroke angle phi_bar [rad] (amplitude, alpha_m kept).
+
+        Raises
+        ------
+        ValueError
+            If stroke_mean is outside (-pi/2, pi/2).
+        """
+        return LongitudinalDynamics(self.insect.with_(stroke_mean=stroke_mean), self.amplitude,
+                                    self.alpha_m, self.aerodynamics, self.n_nodes)
+
     # ---------------------------------------------------------------- loads
     def derivatives(self, t: float, amplitude: float | None = None) -> tuple[float, ...]:
         """(X0, Z0, M0, Xu, ..., Mq) at time t (scalar), normalised as in eq. (29).
@@ -204,10 +221,44 @@ class LongitudinalDynamics:
         omega = 2.0 * math.pi * self.insect.frequency
         phi = amplitude * math.cos(omega * t)
         phidot = -omega * amplitude * math.sin(omega * t)
+        phi_bar = self.insect.stroke_mean
+        if phi_bar != 0.0:
+            phi += phi_bar
         values = _gen.stability_derivatives_scalar_with_amplitude(
             phi, phidot, abs(phidot), self.alpha_m, self._constants)
+        if phi_bar != 0.0:
+            # The generated Phi d/dPhi is the Euler operator, exact at phi_bar = 0 only: with
+            # phi = phi_bar + Phi cos, Phi d/dPhi = Euler - phi_bar d/dphi.
+            dphi = _gen.stability_derivatives_scalar_phi_derivative(
+                phi, phidot, abs(phidot), self.alpha_m, self._constants)
+            values = values[:12] + tuple(e - phi_bar * d
+                                         for e, d in zip(values[12:], dphi, strict=True))
         self._cache[0] = (key, values)
         return values
+
+    def stroke_mean_derivatives(self, t: float,
+                                amplitude: float | None = None) -> tuple[float, ...]:
+        """d/dphi_bar of (X0, Z0, M0, Xu, ..., Mq) at time t (from the generated code).
+
+        Parameters
+        ----------
+        t : float
+            Time [s].
+        amplitude : float, optional
+            Stroke amplitude Phi [rad]; default the model's.
+
+        Returns
+        -------
+        tuple of 12 floats
+            The derivatives of :meth:`derivatives` with respect to the mean stroke angle [per rad]
+            (d/dphi_bar = d/dphi, since phi = phi_bar + Phi cos(2 pi f t)).
+        """
+        amplitude = self.amplitude if amplitude is None else float(amplitude)
+        omega = 2.0 * math.pi * self.insect.frequency
+        phi = self.insect.stroke_mean + amplitude * math.cos(omega * t)
+        phidot = -omega * amplitude * math.sin(omega * t)
+        return tuple(_gen.stability_derivatives_scalar_phi_derivative(
+            phi, phidot, abs(phidot), self.alpha_m, self._constants))
 
     def loads(self, t: float, x: Sequence[float] | np.ndarray, stroke: float | None = None,
               amplitude: float | None = None) -> np.ndarray:
@@ -357,6 +408,31 @@ class LongitudinalDynamics:
         return _numdiff.central_jacobian_nominal(
             lambda p: self.rhs(t, x, stroke, p[0]), np.array([amplitude]),
             step=_AMPLITUDE_STEP * amplitude)
+
+    def stroke_mean_jac(self, t: float, x: Sequence[float] | np.ndarray,
+                        stroke: float | None = None, amplitude: float | None = None) -> np.ndarray:
+        """d(dx/dt)/dphi_bar, the sensitivity of :meth:`rhs` to the mean stroke angle.
+
+        Analytic for ``"linear"`` (eq. 29 applied to :meth:`stroke_mean_derivatives`); central
+        differences with step 1e-7 rad otherwise (two blade-element models per call: slow).
+
+        Parameters
+        ----------
+        t, x, stroke, amplitude
+            As for :meth:`rhs`.
+
+        Returns
+        -------
+        numpy.ndarray, shape (4, 1)
+        """
+        if self.aerodynamics == "linear":
+            u, w, q = float(x[0]), float(x[1]), float(x[2])
+            acc = self._eq29_accelerations(self.stroke_mean_derivatives(t, amplitude), u, w, q)
+            return np.array([[acc[0]], [acc[1]], [acc[2]], [0.0]])
+        phi_bar = self.insect.stroke_mean
+        return _numdiff.central_jacobian_nominal(
+            lambda p: self.with_stroke_mean(p[0]).rhs(t, x, stroke, amplitude),
+            np.array([phi_bar]), step=_AMPLITUDE_STEP)
 
     def segment_functions(self) -> tuple[list[Callable[..., np.ndarray]],
                                          list[Callable[..., np.ndarray]]]:

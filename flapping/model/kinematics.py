@@ -1,8 +1,10 @@
 """Wing kinematics in hover: harmonic flapping in a horizontal stroke plane, pitch fixed per stroke.
 
-phi(t) = Phi cos(2 pi f t) (eq. 39), phi > 0 forward. The stroke starts at the forward extreme, so
-the first half-period (0 < t < T/2) is the *backward* stroke (phi_dot < 0) and the second is the
-forward stroke (phi_dot > 0). Stroke reversal happens at t = 0 and t = T/2 (mod T).
+phi(t) = Phi cos(2 pi f t) (eq. 39), phi > 0 forward (the model layers add the insect's mean
+stroke angle phi_bar, ``Insect.stroke_mean``, default 0; the functions here are eq. 39's). The
+stroke starts at the forward extreme, so the first half-period (0 < t < T/2) is the *backward*
+stroke (phi_dot < 0) and the second is the forward stroke (phi_dot > 0). Stroke reversal happens
+at t = 0 and t = T/2 (mod T).
 
 The geometric pitch of the wing is constant within a half-stroke (alpha_dot = 0, paper Sec. II.D)
 and switches at reversal (eq. 11): alpha_m on the forward stroke, pi - alpha_m on the backward

@@ -32,7 +32,8 @@ AspectRatioConvention = Literal["pair", "single"]
 ASPECT_RATIO_CONVENTIONS: tuple[AspectRatioConvention, ...] = ("pair", "single")
 
 #: Numeric fields of :class:`Insect`: (accepted range, unit). Ranges: "positive", "nonnegative",
-#: "fraction" (of the chord, [0, 1]), "real", "amplitude" (:func:`~.kinematics.check_amplitude`);
+#: "fraction" (of the chord, [0, 1]), "real", "amplitude" (:func:`~.kinematics.check_amplitude`),
+#: "stroke_mean" (real in (-pi/2, pi/2));
 #: r1 and r2 are checked together by :func:`beta_shape_parameters`.
 _FIELDS: dict[str, tuple[str, str]] = {
     "semi_span": ("positive", "m"), "wing_area": ("positive", "m^2"),
@@ -42,6 +43,7 @@ _FIELDS: dict[str, tuple[str, str]] = {
     "mu1": ("nonnegative", ""), "mu2": ("nonnegative", ""),
     "pitch_axis": ("fraction", ""), "center_of_pressure": ("fraction", ""),
     "hinge_offset": ("real", "m"), "stroke_amplitude": ("amplitude", "rad"),
+    "hinge_height": ("real", "m"), "stroke_mean": ("stroke_mean", "rad"),
     "r1": ("real", ""), "r2": ("real", ""),
 }
 
@@ -150,6 +152,12 @@ class Insect:
         under the hinge line).
     mu1, mu2 : float
         Berman and Wang's rotational damping coefficients (dimensionless), >= 0. Default 0.2.
+    hinge_height : float
+        h_w, height of the wing hinge above the centre of gravity [m] (the stroke plane's height;
+        z is down in body axes, so the hinge sits at z = -h_w). Default 0 (the paper's model).
+    stroke_mean : float
+        phi_bar, mean stroke angle [rad] of phi(t) = phi_bar + Phi cos(2 pi f t), positive
+        forward, in (-pi/2, pi/2). Default 0 (the paper's eq. 39).
 
     Raises
     ------
@@ -177,6 +185,8 @@ class Insect:
     hinge_offset: float = 0.0
     mu1: float = 0.2
     mu2: float = 0.2
+    hinge_height: float = 0.0
+    stroke_mean: float = 0.0
     _shape: tuple[float, float] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -297,7 +307,11 @@ class Insect:
             ("x_h", "hinge ahead of centre of gravity", self.hinge_offset * 1e3, "mm"),
             ("mu1", "rotational damping coefficient (frequency term)", self.mu1, "-"),
             ("mu2", "rotational damping coefficient (rate term)", self.mu2, "-"),
-        ]
+        ] + [row for row, value in (
+            (("h_w", "hinge above centre of gravity", self.hinge_height * 1e3, "mm"),
+             self.hinge_height),
+            (("phi_bar", "mean stroke angle", math.degrees(self.stroke_mean), "deg"),
+             self.stroke_mean)) if value != 0.0]  # rows only when used: tables stay as they were
 
 
 def hawkmoth(**overrides: Any) -> Insect:
@@ -351,4 +365,7 @@ def _check_field(name: str, value: object, kind: str, unit: str) -> float:
         return _validation.real(name, value, low=0.0, high=1.0, unit="(fraction of the chord)")
     if kind == "amplitude":
         return check_amplitude(value, name)
+    if kind == "stroke_mean":
+        return _validation.real(name, value, low=-math.pi / 2, high=math.pi / 2, low_open=True,
+                                high_open=True, unit=unit)
     return _validation.real(name, value, unit=unit)

@@ -61,3 +61,23 @@ def test_auto_without_numba_falls_back_to_the_adaptive_path_and_says_so(monkeypa
     assert any("numba is not installed" in str(w.message) for w in caught)
     with pytest.raises(ImportError):
         flapping.find_hover_orbit(flapping.hawkmoth(), backend="compiled")
+
+
+def test_kernel_follows_the_hinge_height():
+    insect = flapping.hawkmoth(hinge_height=5e-3)
+    fast = flapping.find_hover_orbit(insect, backend="compiled")
+    slow = flapping.find_hover_orbit(insect, backend="adaptive")
+    assert abs(fast.amplitude - slow.amplitude) < 1e-10
+    np.testing.assert_allclose(fast.x0, slow.x0, atol=1e-9)
+
+
+def test_kernel_refuses_a_mean_stroke_angle_and_auto_falls_back():
+    insect = flapping.hawkmoth(stroke_mean=0.01)
+    with pytest.raises(ValueError, match="stroke_mean"):
+        flapping.find_hover_orbit(insect, backend="compiled")
+    with pytest.raises(ValueError, match="stroke_mean"):
+        kernel.KernelProblem.of(insect)
+    with pytest.warns(flapping.errors.HoverDriftWarning, match="stroke_mean"):
+        orbit = flapping.find_hover_orbit(insect, backend="auto")
+    assert orbit.kernel is None  # the adaptive path, which follows phi_bar
+    assert orbit.amplitude != flapping.find_hover_orbit(flapping.hawkmoth()).amplitude

@@ -160,3 +160,26 @@ def test_no_hover_orbit_raises_a_convergence_error_with_diagnostics():
 def test_bad_arguments_are_value_errors(bad):
     with pytest.raises(ValueError):
         solve_hover(flapping.hawkmoth(), **bad)
+
+
+def test_a_regenerated_kernel_drops_the_stale_numba_cache(tmp_path):
+    # numba keys the cache of _compiled on _compiled.py alone: after a regeneration of
+    # _generated.py it loaded the old arithmetic (and the old constants layout) until the stamp.
+    from flapping.fast.kernel import _drop_stale_cache
+
+    (tmp_path / "_generated.py").write_text("NAMES = ()\n")
+    cache = tmp_path / "__pycache__"
+    cache.mkdir()
+    stale = [cache / "_compiled.newton-182.py311.nbi", cache / "_compiled.newton-182.py311.1.nbc"]
+    other = cache / "kernel.cpython-311.pyc"
+    for path in (*stale, other):
+        path.write_text("x")
+    _drop_stale_cache(tmp_path)
+    assert not any(p.exists() for p in stale) and other.exists()
+    for path in stale:  # a second load with the same source keeps the (new) cache
+        path.write_text("x")
+    _drop_stale_cache(tmp_path)
+    assert all(p.exists() for p in stale)
+    (tmp_path / "_generated.py").write_text("NAMES = ('X0',)\n")
+    _drop_stale_cache(tmp_path)
+    assert not any(p.exists() for p in stale)

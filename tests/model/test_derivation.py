@@ -31,9 +31,12 @@ def test_importing_flapping_does_not_run_the_derivation():
     assert out.stdout.strip() == "False"
 
 
-@pytest.fixture(scope="module")
-def hawkmoth_models():
-    insect = flapping.hawkmoth(hinge_offset=1.5e-3)  # x_h != 0 exercises every term
+@pytest.fixture(scope="module", params=[{}, {"hinge_height": 8e-3, "stroke_mean": 0.25}],
+                ids=["paper", "hinge-height-and-mean-stroke"])
+def hawkmoth_models(request):
+    # x_h != 0 exercises every term; the second set adds the hinge height h_w above the CG and
+    # the mean stroke angle phi_bar, both non-zero.
+    insect = flapping.hawkmoth(hinge_offset=1.5e-3, **request.param)
     alpha_m = trim_angle_of_attack(insect)
     linear = LongitudinalDynamics(insect, alpha_m=alpha_m)
     blade = BladeElementModel(insect, alpha_m, variant="small-angle", n_nodes=40)
@@ -109,7 +112,8 @@ def test_vanishing_symmetry_classifies_the_cycle_means():
     t = np.linspace(0.0, insect.period, 2048, endpoint=False)
     means = stability_derivatives(insect, t).cycle_mean()
     for name, expr in d.items():
-        reason = derivation.vanishing_symmetry(expr.subs(derivation.symbols().x_h, 0))
+        S = derivation.symbols()
+        reason = derivation.vanishing_symmetry(expr.subs({S.x_h: 0, S.h_w: 0}))
         scale = np.abs(derivation.evaluate(expr, insect, t)).max()
         if reason:
             assert abs(means[name]) < 1e-12 * max(scale, 1e-30), name
@@ -117,18 +121,40 @@ def test_vanishing_symmetry_classifies_the_cycle_means():
             assert abs(means[name]) > 1e-6 * scale, name
 
 
-def test_evaluate_reproduces_the_generated_code():
+def test_the_paper_expressions_are_the_full_ones_at_zero_hinge_height():
+    S = derivation.symbols()
+    full = derivation.stability_derivatives(hinge_height=True)
+    paper = derivation.stability_derivatives()
+    assert any(e.has(S.h_w) for e in full.values())
+    for name in derivation.DERIVATIVE_NAMES:
+        assert sympy.simplify(full[name].subs(S.h_w, 0) - paper[name]) == 0, name
+
+
+def test_generated_code_at_zero_hinge_height_is_the_paper_arithmetic():
+    # h_w = 0 skips the hinge terms: the numbers are those of the paper's model bit for bit.
     insect = flapping.hawkmoth(hinge_offset=1e-3)
     t = np.linspace(0.01, 0.9, 7) * insect.period
+    a = stability_derivatives(insect, t).as_dict()
+    b = stability_derivatives(insect.with_(hinge_height=1e-30), t).as_dict()
+    assert all(np.array_equal(a[k], b[k]) for k in ("X0", "Z0", "Xu", "Xw", "Zu", "Zw"))
+    assert not np.array_equal(a["Mu"], stability_derivatives(
+        insect.with_(hinge_height=1e-3), t).Mu)
+
+
+@pytest.mark.parametrize("extra", [{}, {"hinge_height": 6e-3, "stroke_mean": -0.3}])
+def test_evaluate_reproduces_the_generated_code(extra):
+    insect = flapping.hawkmoth(hinge_offset=1e-3, **extra)
+    t = np.linspace(0.01, 0.9, 7) * insect.period
     numeric = stability_derivatives(insect, t).as_dict()
-    for name, expr in derivation.stability_derivatives().items():
+    for name, expr in derivation.stability_derivatives(hinge_height=True).items():
         np.testing.assert_allclose(derivation.evaluate(expr, insect, t), numeric[name],
                                    rtol=1e-12, atol=1e-14 * np.abs(numeric[name]).max())
 
 
 def test_vanishing_symmetry_names_the_symmetry_of_the_whole_expression():
     S = derivation.symbols()
-    d = {k: v.subs(S.x_h, 0) for k, v in derivation.stability_derivatives().items()}
+    d = {k: v.subs({S.x_h: 0, S.h_w: 0})
+         for k, v in derivation.stability_derivatives().items()}
     assert derivation.vanishing_symmetry(d["Xq"]) == "time reversal"
     assert derivation.vanishing_symmetry(d["Zq"]) == "half-period shift"
     assert derivation.vanishing_symmetry(d["X0"]) == "half-period shift and time reversal"

@@ -157,3 +157,38 @@ def test_amplitude_jacobian_of_the_blade_element_model(insect):
     expected = (model.rhs(t, x, amplitude=model.amplitude + h)
                 - model.rhs(t, x, amplitude=model.amplitude - h)) / (2.0 * h)
     np.testing.assert_array_equal(model.amplitude_jac(t, x)[:, 0], expected)
+
+
+# --------------------------------------------------------------- hinge height and mean stroke
+@pytest.mark.parametrize("aerodynamics", ["linear", "small-angle"])
+def test_parameter_jacobians_match_finite_differences_with_a_mean_stroke(aerodynamics):
+    # phi = phi_bar + Phi cos(2 pi f t): the amplitude derivative is no longer the Euler operator
+    # alone, and the mean-stroke derivative is d/dphi. Central differences (step 1e-5 rad,
+    # truncation ~1e-10 relative) of the right-hand side check both.
+    insect = flapping.hawkmoth(hinge_height=5e-3, stroke_mean=0.2)
+    model = LongitudinalDynamics(insect, aerodynamics=aerodynamics)
+    x = np.array([0.2, -0.1, 3.0, 0.05])
+    h = 1e-5
+    for t in np.array([0.07, 0.31, 0.62, 0.88]) * insect.period:
+        fd_amp = (model.with_amplitude(model.amplitude + h).rhs(t, x)
+                  - model.with_amplitude(model.amplitude - h).rhs(t, x)) / (2 * h)
+        fd_mean = (model.with_stroke_mean(0.2 + h).rhs(t, x)
+                   - model.with_stroke_mean(0.2 - h).rhs(t, x)) / (2 * h)
+        scale = np.abs(fd_amp).max()
+        np.testing.assert_allclose(model.amplitude_jac(t, x)[:, 0], fd_amp, atol=1e-7 * scale)
+        np.testing.assert_allclose(model.stroke_mean_jac(t, x)[:, 0], fd_mean,
+                                   atol=1e-7 * np.abs(fd_mean).max())
+
+
+def test_hinge_height_moment_is_the_forward_force_times_the_arm():
+    # At q = 0 the hinge height only moves the forces' point of action: M(h) = M(0) - h X.
+    insect = flapping.hawkmoth()
+    high = insect.with_(hinge_height=7e-3)
+    for aero in ("linear", "small-angle", "exact"):
+        low_m = LongitudinalDynamics(insect, aerodynamics=aero)
+        high_m = LongitudinalDynamics(high, alpha_m=low_m.alpha_m, aerodynamics=aero)
+        for t in np.array([0.1, 0.4, 0.7]) * insect.period:
+            X, Z, M = low_m.loads(t, [0.3, -0.2, 0.0])
+            Xh, Zh, Mh = high_m.loads(t, [0.3, -0.2, 0.0])
+            np.testing.assert_allclose([Xh, Zh, Mh], [X, Z, M - 7e-3 * X],
+                                       rtol=1e-12, atol=1e-12 * abs(M))

@@ -1,0 +1,761 @@
+"""What would make hover stable: the hinge above the centre of gravity, and feedback per wingbeat.
+
+Two routes to a stable hover orbit (issue 11):
+
+*Passive.* The wing hinge a height h_w above the centre of gravity (``Insect.hinge_height``) puts
+the horizontal wing forces on a pendulum arm: a forward speed u makes a backward drag above the
+CG, a nose-up moment (M_u grows by -h_w m X_u / I_y), the "pendulum stability" of Ristroph et al.
+(2013) and Ducci et al. (2021). :func:`passive_sweep` follows the hover orbit and its Floquet
+multipliers as h_w grows (warm-started, each orbit checked to be the symmetric hover orbit), and
+:func:`locate_passive_crossing` finds where the largest multiplier modulus crosses 1 (brentq on
+``max |mu| - 1``) and how: a real multiplier through +1 or -1, or a complex pair. A second,
+independent location solves the defining condition of that crossing (det(I - M) = 0 for +1,
+det(I + M) = 0 for -1, ``|mu|^2 - 1`` of the pair otherwise). The orbits are solved with both
+trims (Phi and phi_bar): see :func:`hover_multipliers` for why.
+
+*Feedback once per wingbeat.* The controller reads the state at the start of wingbeat k and sets
+the mean stroke angle phi_bar (the hawkmoth's pitch control, Cheng et al. 2011) for wingbeat
+k + d. Linearised about the hover orbit, the stroboscopic map is x_{k+1} = M x_k + B u_k, with M
+the monodromy matrix and B = dx(T)/dphi_bar from the variational equations
+(:func:`linear_wingbeat_map`); with u_k = K x_{k-d} the closed loop acts on the stacked state
+(x_k, ..., x_{k-d}) of dimension 4(d + 1) (:func:`closed_loop_matrix`), stable iff its spectral
+radius is below 1. :func:`gain_region` maps the spectral radius over the plane of the pitch-rate
+and pitch-angle gains, :func:`delay_limit` the largest delay some gain still stabilises, and
+:func:`simulate_feedback` runs the full nonlinear model with phi_bar updated every wingbeat.
+
+Modelling limits: quasi-steady loads, massless wings, longitudinal motion only (as the rest of
+the package).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy import optimize
+from scipy.integrate import solve_ivp
+
+from flapping import _validation
+from flapping.errors import ConvergenceError, HoverDriftWarning
+from flapping.fast import kernel
+from flapping.hover import HoverOrbit, find_hover_orbit
+from flapping.model.dynamics import LongitudinalDynamics
+from flapping.model.kinematics import segment_stroke_sign
+from flapping.model.morphology import Insect
+from flapping.periodic.integrate import variational_flow
+from flapping.stability import hover_stability
+
+__all__ = [
+    "BODY_LENGTHS",
+    "SPEED_PITCH",
+    "PITCH_RATE_ANGLE",
+    "PassiveSweep",
+    "PassiveCrossing",
+    "hover_multipliers",
+    "passive_sweep",
+    "locate_passive_crossing",
+    "closest_approach",
+    "stable_window",
+    "WingbeatMap",
+    "linear_wingbeat_map",
+    "closed_loop_matrix",
+    "spectral_radius",
+    "GainRegion",
+    "gain_region",
+    "optimal_gains",
+    "smallest_stabilising_gains",
+    "delay_limit",
+    "FeedbackSimulation",
+    "simulate_feedback",
+]
+
+#: Body lengths [m] behind the presets' pitch-inertia estimates (:mod:`flapping.model.presets`):
+#: the hinge heights studied run from 0 to half (and up to one) body length.
+BODY_LENGTHS: dict[str, float] = {"hawkmoth": 48e-3, "bumblebee": 18e-3, "honeybee": 13e-3,
+                                  "hoverfly": 1.29 * 11.2e-3}
+
+#: Gains act on (u, w, q, theta). The default pair feeds back the forward speed u and the pitch
+#: angle theta: the pair that stabilises the hawkmoth with the longest delay (the pitch-only pair
+#: (q, theta) = (2, 3) stabilises it barely, without delay only).
+SPEED_PITCH = (0, 3)
+#: The pitch-rate and pitch-angle pair.
+PITCH_RATE_ANGLE = (2, 3)
+
+
+# =========================================================================== passive stability
+def hover_multipliers(insect: Insect, *, guess: HoverOrbit | None = None,
+                      backend: str = "adaptive") -> tuple[HoverOrbit, np.ndarray]:
+    """The hover orbit of ``insect`` and its Floquet multipliers (sorted by modulus, descending).
+
+    The orbit is solved with both trims, Phi and phi_bar (:func:`~flapping.hover.find_hover_orbit`
+    with ``trims=("amplitude", "stroke_mean")``, adaptive path). Where a real multiplier of the
+    symmetric orbit passes +1 the one-trim hover problem is singular (the symmetry-breaking
+    mode, which flies forwards or backwards, costs no altitude), and past it that solve may land
+    on a drifting orbit; the horizontal equation of the two-trim problem removes both.
+
+    With ``backend="auto"`` or ``"compiled"`` and no hinge offset (phi_bar = 0 by symmetry) the
+    compiled kernel's one-trim solve is tried first (~1 ms); it is kept if it converges to a hover
+    orbit, else the two-trim adaptive solve runs.
+
+    Parameters
+    ----------
+    insect : Insect
+    guess : HoverOrbit, optional
+        A nearby orbit: its amplitude, mean stroke angle and initial state start the solve.
+    backend : {"adaptive", "auto", "compiled"}
+        ``"adaptive"``: the two-trim solve only; otherwise the kernel first (see above).
+
+    Returns
+    -------
+    orbit : HoverOrbit
+    multipliers : ndarray, shape (4,), complex
+
+    Raises
+    ------
+    ConvergenceError
+        If the solve fails, or lands on an orbit that is not hover (past a symmetry-breaking
+        bifurcation the solver can find drifting orbits beside the symmetric one).
+    """
+    kwargs: dict[str, Any] = {}
+    if guess is not None:
+        kwargs = {"amplitude_guess": guess.amplitude, "x0_guess": guess.x0}
+    backend = _validation.choice("backend", backend, ("adaptive", "auto", "compiled"))
+    if backend != "adaptive" and insect.hinge_offset == 0.0 and kernel.numba_available():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", HoverDriftWarning)
+            try:
+                fast = find_hover_orbit(insect.with_(stroke_mean=0.0), backend="compiled",
+                                        **kwargs)
+            except ConvergenceError:  # near a +1 multiplier the one-trim problem is singular
+                fast = None
+        if fast is not None and fast.is_hover:
+            mu = np.asarray(fast.kernel.multipliers)
+            return fast, mu[np.argsort(-np.abs(mu), kind="stable")]
+    if guess is not None:
+        insect = insect.with_(stroke_mean=guess.stroke_mean)
+    orbit = find_hover_orbit(insect, trims=("amplitude", "stroke_mean"), **kwargs)
+    if not orbit.is_hover:
+        raise ConvergenceError(
+            f"the orbit found for {insect.name} at h_w = {insect.hinge_height:g} m flies at "
+            f"{orbit.mean_horizontal_speed:.3g} m/s: not the hover orbit", x=orbit.x0)
+    mu = hover_stability(orbit).multipliers
+    return orbit, np.asarray(mu)[np.argsort(-np.abs(mu), kind="stable")]
+
+
+@dataclass(frozen=True)
+class PassiveSweep:
+    """The hover orbit's multipliers over hinge heights (result of :func:`passive_sweep`).
+
+    Attributes
+    ----------
+    insect : Insect
+        The insect at h_w = 0 (each point is ``insect.with_(hinge_height=h)``).
+    hinge_heights : ndarray, shape (n,)
+        h_w [m].
+    amplitudes : ndarray, shape (n,)
+        Hover stroke amplitude Phi [rad].
+    multipliers : ndarray, shape (n, 4), complex
+        Floquet multipliers per point, by modulus (descending).
+    orbits : tuple of HoverOrbit
+    backend : str
+        The backend of the sweep, used again by the functions that refine it.
+    """
+
+    insect: Insect
+    hinge_heights: np.ndarray
+    amplitudes: np.ndarray
+    multipliers: np.ndarray
+    orbits: tuple[HoverOrbit, ...]
+    backend: str = "auto"
+
+    @property
+    def max_modulus(self) -> np.ndarray:
+        """Largest multiplier modulus at each hinge height (< 1: stable)."""
+        return np.abs(self.multipliers).max(axis=1)
+
+    def brackets(self) -> list[tuple[int, int]]:
+        """Index pairs (i, i + 1) between which ``max |mu| - 1`` changes sign."""
+        s = np.sign(self.max_modulus - 1.0)
+        return [(i, i + 1) for i in range(len(s) - 1) if s[i] * s[i + 1] < 0]
+
+
+def passive_sweep(insect: Insect, hinge_heights: Any, *, backend: str = "auto") -> PassiveSweep:
+    """Hover orbit and multipliers at each hinge height, each solve warm-started from the last.
+
+    Parameters
+    ----------
+    insect : Insect
+    hinge_heights : array_like
+        Increasing hinge heights h_w [m] (e.g. 0 to half a body length).
+    backend : {"auto", "compiled", "adaptive"}
+        As for :func:`hover_multipliers`.
+
+    Returns
+    -------
+    PassiveSweep
+
+    Raises
+    ------
+    ValueError
+        If hinge_heights is not finite and increasing.
+    ConvergenceError
+        If a point has no hover orbit (see :func:`hover_multipliers`).
+    """
+    _validation.instance("insect", insect, Insect)
+    h = _validation.array("hinge_heights", hinge_heights)
+    if h.ndim != 1 or h.size < 1 or np.any(np.diff(h) <= 0):
+        raise ValueError("`hinge_heights` must be a non-empty increasing 1-d array [m]")
+    orbits, mus = [], []
+    guess = None
+    for value in h:
+        guess, mu = hover_multipliers(insect.with_(hinge_height=float(value)), guess=guess,
+                                      backend=backend)
+        orbits.append(guess)
+        mus.append(mu)
+    return PassiveSweep(insect, h, np.array([o.amplitude for o in orbits]), np.array(mus),
+                        tuple(orbits), backend)
+
+
+def closest_approach(sweep: PassiveSweep) -> tuple[float, np.ndarray]:
+    """The hinge height where ``max |mu|`` is smallest, refined between the sweep's neighbours.
+
+    Where no crossing exists this is how near the unit circle the hinge height brings the
+    multipliers (often where two real multipliers collide and leave the real axis as a pair).
+
+    Parameters
+    ----------
+    sweep : PassiveSweep
+
+    Returns
+    -------
+    hinge_height : float
+        h_w [m] (bounded Brent search, xatol 1e-7 m).
+    multipliers : ndarray, complex
+        The multipliers there, by modulus.
+    """
+    h, m = sweep.hinge_heights, sweep.max_modulus
+    i = int(np.argmin(m))
+    lo, hi = float(h[max(i - 1, 0)]), float(h[min(i + 1, len(h) - 1)])
+    if lo == hi:
+        return lo, sweep.multipliers[i]
+    guess = sweep.orbits[max(i - 1, 0)]
+
+    def at(value: float) -> np.ndarray:
+        return hover_multipliers(sweep.insect.with_(hinge_height=value), guess=guess,
+                                 backend=sweep.backend)[1]
+
+    best = optimize.minimize_scalar(lambda v: float(np.abs(at(v)).max()), bounds=(lo, hi),
+                                    method="bounded", options={"xatol": 1e-7})
+    return float(best.x), at(float(best.x))
+
+
+@dataclass(frozen=True)
+class PassiveCrossing:
+    """Where the largest multiplier crosses the unit circle (:func:`locate_passive_crossing`).
+
+    Attributes
+    ----------
+    hinge_height : float
+        h_w [m] where ``max |mu| = 1`` (brentq, xtol 1e-10 m).
+    kind : str
+        ``"+1"``, ``"-1"`` (a real multiplier through +1 or -1) or ``"complex pair"``
+        (``"none"``: an end of the sweep's range inside a stable window, no crossing).
+    multipliers : ndarray, complex
+        The multipliers there, by modulus.
+    stabilising : bool
+        True if hover is stable above ``hinge_height`` (``max |mu|`` falls through 1).
+    check_height : float
+        The same crossing from its defining condition (second route, on two-trim orbits of the
+        adaptive integrator whatever the sweep's backend): det(I - M) = 0 for +1,
+        det(I + M) = 0 for -1, ``|mu|^2 - 1`` of the pair for a complex pair.
+    """
+
+    hinge_height: float
+    kind: str
+    multipliers: np.ndarray
+    stabilising: bool
+    check_height: float
+
+
+def locate_passive_crossing(sweep: PassiveSweep, bracket: tuple[int, int], *,
+                            check: bool = True) -> PassiveCrossing:
+    """Locate the crossing of ``max |mu| = 1`` between two points of a :class:`PassiveSweep`.
+
+    Parameters
+    ----------
+    sweep : PassiveSweep
+    bracket : (int, int)
+        Indices from :meth:`PassiveSweep.brackets`.
+    check : bool
+        Also locate the crossing by the second route (``check_height``; NaN if False).
+
+    Returns
+    -------
+    PassiveCrossing
+
+    Raises
+    ------
+    ValueError
+        If the bracket does not bracket a crossing.
+    """
+    i, j = bracket
+    if (sweep.max_modulus[i] - 1.0) * (sweep.max_modulus[j] - 1.0) >= 0:
+        raise ValueError(f"`bracket` {bracket} does not bracket max |mu| = 1")
+    return _locate(sweep, float(sweep.hinge_heights[i]), float(sweep.hinge_heights[j]),
+                   sweep.orbits[i], bool(sweep.max_modulus[j] < 1.0), check)
+
+
+def _locate(sweep: PassiveSweep, lo: float, hi: float, guess: HoverOrbit,
+            stabilising: bool, check: bool) -> PassiveCrossing:
+    """brentq on max ``|mu|`` - 1 in [lo, hi] (the sweep's backend), classified, and checked on
+    its defining condition (two-trim adaptive solves)."""
+
+    def at(h: float, backend: str = sweep.backend) -> np.ndarray:
+        return hover_multipliers(sweep.insect.with_(hinge_height=h), guess=guess,
+                                 backend=backend)[1]
+
+    root = optimize.brentq(lambda h: float(np.abs(at(h)).max()) - 1.0, lo, hi, xtol=1e-10)
+    mu = at(root)
+    on_circle = mu[np.abs(np.abs(mu) - 1.0) < 1e-6]
+    kind = ("complex pair" if np.any(np.abs(on_circle.imag) > 1e-8)
+            else "+1" if mu[0].real > 0 else "-1")
+
+    def condition(h: float) -> float:
+        m = at(h, "adaptive")
+        if kind == "complex pair":
+            return float(abs(m[0]) ** 2 - 1.0)
+        target = 1.0 if kind == "+1" else -1.0
+        return float(np.real(np.prod(target - m)))  # det(target I - M)
+
+    second = optimize.brentq(condition, lo, hi, xtol=1e-10) if check else math.nan
+    return PassiveCrossing(root, kind, mu, stabilising, second)
+
+
+def stable_window(sweep: PassiveSweep, *,
+                  check: bool = True) -> tuple[PassiveCrossing, PassiveCrossing] | None:
+    """The interval of hinge heights with stable hover around the sweep's closest approach.
+
+    A window narrower than the sweep's spacing (two crossings between neighbouring points) is
+    found too: :func:`closest_approach` refines the minimum of ``max |mu|``, and if it is below 1
+    the crossings on either side are located (:func:`locate_passive_crossing`'s two routes).
+
+    Parameters
+    ----------
+    sweep : PassiveSweep
+    check : bool
+        Also locate each crossing by the second route (see :class:`PassiveCrossing`).
+
+    Returns
+    -------
+    (entry, exit) : (PassiveCrossing, PassiveCrossing) or None
+        None if ``max |mu|`` stays above 1; ``exit`` is the last point of the sweep's range
+        (with ``kind`` ``"none"``) if hover is still stable there.
+    """
+    h_min, mu_min = closest_approach(sweep)
+    if np.abs(mu_min).max() >= 1.0:
+        return None
+    m, h = sweep.max_modulus, sweep.hinge_heights
+    below = np.flatnonzero(h <= h_min)
+    above = np.flatnonzero(h > h_min)
+    lo = int(below[-1]) if below.size else 0
+    while lo > 0 and m[lo] < 1.0:
+        lo -= 1
+    guess = sweep.orbits[lo]
+    entry = (_locate(sweep, float(h[lo]), h_min, guess, True, check) if m[lo] > 1.0
+             else PassiveCrossing(float(h[0]), "none", sweep.multipliers[0], True, float(h[0])))
+    hi = int(above[0]) if above.size else len(h) - 1
+    while hi < len(h) - 1 and m[hi] < 1.0:
+        hi += 1
+    if m[hi] < 1.0:
+        last = PassiveCrossing(float(h[hi]), "none", sweep.multipliers[hi], False, float(h[hi]))
+        return entry, last
+    return entry, _locate(sweep, h_min, float(h[hi]), guess, False, check)
+
+
+# =========================================================================== feedback
+@dataclass(frozen=True)
+class WingbeatMap:
+    """The linearised one-wingbeat map x_{k+1} = M x_k + B u_k about a hover orbit.
+
+    Attributes
+    ----------
+    orbit : HoverOrbit
+    M : ndarray, shape (4, 4)
+        Monodromy matrix.
+    B : ndarray, shape (4, 1)
+        dx(T)/dphi_bar [SI per rad]: the end-of-wingbeat state's sensitivity to a mean stroke
+        angle offset held over the wingbeat.
+    """
+
+    orbit: HoverOrbit
+    M: np.ndarray
+    B: np.ndarray
+
+
+def linear_wingbeat_map(orbit: HoverOrbit, *, rtol: float = 1e-12,
+                        atol: float = 1e-12) -> WingbeatMap:
+    """M and B = dx(T)/dphi_bar of a hover orbit, from the variational equations.
+
+    Parameters
+    ----------
+    orbit : HoverOrbit
+    rtol, atol : float
+        Integration tolerances.
+
+    Returns
+    -------
+    WingbeatMap
+    """
+    model = orbit.model
+    segments = range(len(model.breakpoints) + 1)
+    signs = [segment_stroke_sign(k) for k in segments]
+    phi_bar = model.insect.stroke_mean
+
+    def at(p: np.ndarray) -> LongitudinalDynamics:
+        return model if p[0] == phi_bar else model.with_stroke_mean(float(p[0]))
+
+    var = variational_flow(
+        [lambda t, x, p, _s=s: at(p).rhs(t, x, _s) for s in signs],
+        [lambda t, x, p, _s=s: at(p).jac(t, x, _s) for s in signs],
+        (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints, period=orbit.period,
+        rtol=rtol, atol=atol, params=np.array([phi_bar]),
+        param_jac=[lambda t, x, p, _s=s: at(p).stroke_mean_jac(t, x, _s) for s in signs])
+    if not var.success or var.sensitivity is None:
+        raise ConvergenceError(f"the variational integration failed: {var.message}")
+    return WingbeatMap(orbit, var.stm[:, :, -1].copy(), var.sensitivity[:, :, -1].copy())
+
+
+def closed_loop_matrix(M: Any, B: Any, K: Any, delay: int) -> np.ndarray:
+    """The closed-loop map of (x_k, ..., x_{k-d}) with u_k = K x_{k-d}: shape 4(d+1) square.
+
+    x_{k+1} = M x_k + B K x_{k-d}; the other blocks shift the history.
+
+    Parameters
+    ----------
+    M : array_like, shape (n, n)
+    B : array_like, shape (n, m)
+    K : array_like, shape (m, n) or (n,) for one input
+    delay : int
+        d >= 0 wingbeats.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n (d+1), n (d+1))
+    """
+    M = np.asarray(M, dtype=float)
+    B = np.asarray(B, dtype=float).reshape(M.shape[0], -1)
+    K = np.asarray(K, dtype=float).reshape(B.shape[1], M.shape[0])
+    d = _validation.integer("delay", delay, low=0)
+    n = M.shape[0]
+    A = np.zeros((n * (d + 1), n * (d + 1)))
+    A[:n, :n] = M
+    A[:n, n * d:] += B @ K
+    for k in range(d):
+        A[n * (k + 1):n * (k + 2), n * k:n * (k + 1)] = np.eye(n)
+    return A
+
+
+def spectral_radius(M: Any, B: Any, K: Any, delay: int) -> float:
+    """Largest eigenvalue modulus of :func:`closed_loop_matrix` (< 1: the loop is stable)."""
+    return float(np.abs(np.linalg.eigvals(closed_loop_matrix(M, B, K, delay))).max())
+
+
+def _gain_row(gains: Any, states: tuple[int, ...], n: int = 4) -> np.ndarray:
+    """Full gain row on (u, w, q, theta) from the gains on ``states``."""
+    K = np.zeros(n)
+    K[list(states)] = gains
+    return K
+
+
+@dataclass(frozen=True)
+class GainRegion:
+    """Spectral radius over a plane of two gains (result of :func:`gain_region`).
+
+    Attributes
+    ----------
+    k1 : ndarray, shape (a,)
+        Gains on ``states[0]`` [rad of phi_bar per SI unit of that state].
+    k2 : ndarray, shape (b,)
+        Gains on ``states[1]``.
+    radius : ndarray, shape (b, a)
+        Spectral radius of the closed loop, ``radius[i, j]`` at (k1[j], k2[i]).
+    delay : int
+    states : (int, int)
+        Indices into (u, w, q, theta) of the two gains.
+    """
+
+    k1: np.ndarray
+    k2: np.ndarray
+    radius: np.ndarray
+    delay: int
+    states: tuple[int, ...]
+
+    @property
+    def stable_fraction(self) -> float:
+        """Fraction of the grid where the loop is stable."""
+        return float(np.mean(self.radius < 1.0))
+
+
+def gain_region(wmap: WingbeatMap, k1: Any, k2: Any, delay: int,
+                states: tuple[int, ...] = SPEED_PITCH) -> GainRegion:
+    """The closed loop's spectral radius on a grid of two gains.
+
+    Parameters
+    ----------
+    wmap : WingbeatMap
+    k1, k2 : array_like
+        Gain grids on ``states[0]`` and ``states[1]``.
+    delay : int
+        d >= 0 wingbeats.
+    states : (int, int)
+        Which states of (u, w, q, theta) are fed back (default u and theta).
+
+    Returns
+    -------
+    GainRegion
+    """
+    a1 = _validation.array("k1", k1).ravel()
+    a2 = _validation.array("k2", k2).ravel()
+    radius = np.array([[spectral_radius(wmap.M, wmap.B, _gain_row((a, b), states), delay)
+                        for a in a1] for b in a2])
+    return GainRegion(a1, a2, radius, int(delay), tuple(states))
+
+
+def optimal_gains(wmap: WingbeatMap, delay: int, *, start: Any = (0.0, 0.0),
+                  objective: str = "radius", margin: float = 0.02,
+                  states: tuple[int, ...] = SPEED_PITCH) -> tuple[np.ndarray, float]:
+    """Two gains minimising the spectral radius, or the smallest-norm stabilising ones.
+
+    Parameters
+    ----------
+    wmap : WingbeatMap
+    delay : int
+    start : (float, float)
+        Starting gains.
+    objective : {"radius", "norm"}
+        ``"radius"``: minimise the spectral radius (Nelder-Mead). ``"norm"``: minimise the gain
+        norm (in the states' SI units: mixed, rad per m/s and rad per rad) subject to
+        radius <= 1 - margin (SLSQP from ``start``, which must be stabilising; if SLSQP ends
+        infeasible, ``start`` is returned).
+    margin : float
+        Stability margin of the ``"norm"`` objective.
+    states : (int, int)
+        Which states of (u, w, q, theta) are fed back.
+
+    Returns
+    -------
+    gains : ndarray, shape (2,)
+    radius : float
+        The spectral radius at ``gains``.
+    """
+    objective = _validation.choice("objective", objective, ("radius", "norm"))
+
+    def rho(g: np.ndarray) -> float:
+        return spectral_radius(wmap.M, wmap.B, _gain_row(g, states), delay)
+
+    x0 = np.asarray(start, dtype=float)
+    if objective == "radius":
+        res = optimize.minimize(rho, x0, method="Nelder-Mead",
+                                options={"xatol": 1e-8, "fatol": 1e-10, "maxiter": 4000})
+    else:
+        res = optimize.minimize(lambda g: float(g @ g), x0, method="SLSQP",
+                                constraints=[{"type": "ineq",
+                                              "fun": lambda g: 1.0 - margin - rho(g)}])
+        if not rho(np.asarray(res.x)) <= 1.0 - margin + 1e-9:
+            return x0, rho(x0)
+    return np.asarray(res.x), rho(np.asarray(res.x))
+
+
+def smallest_stabilising_gains(wmap: WingbeatMap, delay: int, r_max: float, *,
+                               margin: float = 0.02, n_angles: int = 120,
+                               states: tuple[int, ...] = SPEED_PITCH) -> tuple[np.ndarray, float]:
+    """The smallest-norm gains with spectral radius 1 - margin, by a search along rays.
+
+    Along each of ``n_angles`` directions of the gain plane the radius ``r`` (up to ``r_max``,
+    200 samples) where the loop first reaches ``radius <= 1 - margin`` is bracketed and found by
+    brentq; the best direction is refined on a grid 20 times finer about it. The norm is taken
+    in the states' SI units (mixed: rad per m/s and rad per rad).
+
+    Parameters
+    ----------
+    wmap : WingbeatMap
+    delay : int
+    r_max : float
+        Largest gain norm searched.
+    margin : float
+        The required margin below 1.
+    n_angles : int
+        Directions of the coarse search.
+    states : (int, int)
+        Which states of (u, w, q, theta) are fed back.
+
+    Returns
+    -------
+    gains : ndarray, shape (2,)
+    radius : float
+        The spectral radius at ``gains`` (1 - margin to brentq's tolerance).
+
+    Raises
+    ------
+    ValueError
+        If no gains of norm <= r_max reach the margin.
+    """
+    target = 1.0 - margin
+    radii = np.linspace(0.0, float(r_max), 201)[1:]
+
+    def rho(g: np.ndarray) -> float:
+        return spectral_radius(wmap.M, wmap.B, _gain_row(g, states), delay)
+
+    def first(angle: float) -> float:
+        e = np.array([math.cos(angle), math.sin(angle)])
+        values = np.array([rho(r * e) for r in radii]) - target
+        hits = np.flatnonzero(values <= 0.0)
+        if not hits.size:
+            return math.inf
+        i = int(hits[0])
+        if i == 0:
+            return float(radii[0])
+        return float(optimize.brentq(lambda r: rho(r * e) - target, radii[i - 1], radii[i],
+                                     xtol=1e-12))
+
+    step = 2.0 * math.pi / n_angles
+    coarse = [first(k * step) for k in range(n_angles)]
+    k = int(np.argmin(coarse))
+    if not math.isfinite(coarse[k]):
+        raise ValueError(f"no gains of norm <= {r_max!r} give a spectral radius <= {target:g}")
+    fine = np.linspace((k - 1) * step, (k + 1) * step, 41)
+    r_fine = [first(a) for a in fine]
+    j = int(np.argmin(r_fine))
+    gains = r_fine[j] * np.array([math.cos(fine[j]), math.sin(fine[j])])
+    return gains, rho(gains)
+
+
+def delay_limit(wmap: WingbeatMap, max_delay: int = 8, start: Any = (0.0, 0.0),
+                states: tuple[int, ...] = SPEED_PITCH) -> tuple[int, list[float]]:
+    """The largest delay d (wingbeats) at which some pair of gains still stabilises hover.
+
+    Parameters
+    ----------
+    wmap : WingbeatMap
+    max_delay : int
+        Delays 0 .. max_delay are tried.
+    start : (float, float)
+        Starting gains of the first minimisation (each next delay starts from the last optimum).
+    states : (int, int)
+        Which states of (u, w, q, theta) are fed back.
+
+    Returns
+    -------
+    d_max : int
+        The largest stabilisable delay (-1 if none).
+    best : list of float
+        The smallest spectral radius found at each delay.
+    """
+    best, gains = [], np.asarray(start, dtype=float)
+    for d in range(max_delay + 1):
+        candidates = [optimal_gains(wmap, d, start=s, states=states)
+                      for s in (gains, gains / 2, start)]
+        gains, radius = min(candidates, key=lambda c: c[1])
+        best.append(radius)
+    stable = [d for d, r in enumerate(best) if r < 1.0]
+    return (max(stable) if stable else -1), best
+
+
+@dataclass(frozen=True)
+class FeedbackSimulation:
+    """A nonlinear closed-loop run (result of :func:`simulate_feedback`).
+
+    Attributes
+    ----------
+    x : ndarray, shape (4, n + 1)
+        State at the start of each wingbeat (wingbeat index along the last axis).
+    deviation : ndarray, shape (n + 1,)
+        Norm of the deviation from the orbit's x0, scaled per state by the orbit's range.
+    u : ndarray, shape (n,)
+        Mean stroke angle offset applied in each wingbeat [rad].
+    decay_per_wingbeat : float
+        exp of the least-squares slope of log(deviation) over the second half of the run.
+    linear_deviation : ndarray, shape (n + 1,)
+        The same deviation predicted by the linear closed loop (:func:`closed_loop_matrix`).
+    linear_decay_per_wingbeat : float
+        Its decay, fitted in the same way.
+    """
+
+    x: np.ndarray
+    deviation: np.ndarray
+    u: np.ndarray
+    decay_per_wingbeat: float
+    linear_deviation: np.ndarray
+    linear_decay_per_wingbeat: float
+
+
+def _one_wingbeat(model: LongitudinalDynamics, x: np.ndarray, period: float) -> np.ndarray:
+    """The full model over one period from x (DOP853 per half-stroke, rtol 1e-11)."""
+    edges = [0.0, *[b * period for b in model.breakpoints], period]
+    for k in range(len(edges) - 1):
+        s = segment_stroke_sign(k)
+        sol = solve_ivp(lambda t, y, _s=s: model.rhs(t, y, _s), (edges[k], edges[k + 1]), x,
+                        method="DOP853", rtol=1e-11, atol=1e-13)
+        x = sol.y[:, -1]
+    return x
+
+
+def simulate_feedback(wmap: WingbeatMap, gains: Any, delay: int, disturbance: Any,
+                      n_wingbeats: int = 20,
+                      states: tuple[int, ...] = SPEED_PITCH) -> FeedbackSimulation:
+    """Run the nonlinear model with phi_bar = phi_bar* + K (x_{k-d} - x*) set every wingbeat.
+
+    Parameters
+    ----------
+    wmap : WingbeatMap
+        The hover orbit (x* = ``orbit.x0``, phi_bar* its mean stroke angle) and its linear map.
+    gains : array_like, shape (4,) or (2,)
+        Full gain row on (u, w, q, theta), or the gains on ``states``; zeros: no control.
+    delay : int
+        d >= 0 wingbeats (the controller sees no deviation before wingbeat 0).
+    disturbance : array_like, shape (4,)
+        Added to x* at the start.
+    n_wingbeats : int
+    states : (int, int)
+        The states two gains act on.
+
+    Returns
+    -------
+    FeedbackSimulation
+    """
+    K = np.asarray(gains, dtype=float)
+    K = _gain_row(K, states) if K.size == 2 else K.reshape(4)
+    d = _validation.integer("delay", delay, low=0)
+    n = _validation.integer("n_wingbeats", n_wingbeats, low=2)
+    orbit = wmap.orbit
+    model, x_star = orbit.model, orbit.x0
+    phi_bar = model.insect.stroke_mean
+    scale = np.abs(orbit.x).max(axis=1)
+    xs = [x_star + np.asarray(disturbance, dtype=float)]
+    us = []
+    for k in range(n):
+        seen = xs[k - d] - x_star if k - d >= 0 else np.zeros(4)
+        u = float(K @ seen)
+        us.append(u)
+        xs.append(_one_wingbeat(model.with_stroke_mean(phi_bar + u), xs[k], orbit.period))
+    x = np.array(xs).T
+    dev = np.linalg.norm((x - x_star[:, None]) / scale[:, None], axis=0)
+    A = closed_loop_matrix(wmap.M, wmap.B, K, d)
+    stacked = np.zeros(A.shape[0])
+    stacked[:4] = xs[0] - x_star
+    lin = [stacked[:4]]
+    for _ in range(n):
+        stacked = A @ stacked
+        lin.append(stacked[:4])
+    lin_dev = np.linalg.norm(np.array(lin).T / scale[:, None], axis=0)
+    return FeedbackSimulation(x, dev, np.array(us), _decay(dev), lin_dev, _decay(lin_dev))
+
+
+def _decay(deviation: np.ndarray) -> float:
+    """exp of the least-squares slope of log(deviation) over the second half of the run."""
+    n = len(deviation) - 1
+    half = np.arange(n // 2, n + 1)
+    return float(math.exp(np.polyfit(half, np.log(deviation[half]), 1)[0]))
