@@ -355,7 +355,7 @@ def perturbation_growth(
     stability: HoverStability,
     *,
     epsilon: float = 1e-6,
-    n_cycles: int = 30,
+    n_periods: int = 30,
     direction: np.ndarray | None = None,
     rtol: float = ANALYSIS_RTOL,
     atol: float = PERTURBATION_ATOL,
@@ -371,7 +371,7 @@ def perturbation_growth(
     epsilon : float
         Size of the initial perturbation (Euclidean, SI units), in (0, 1e-3 max|x|] so that it
         stays linear over the fit.
-    n_cycles : int
+    n_periods : int
         Periods simulated (>= 3).
     direction : array_like of 4 floats, optional
         Direction of the perturbation in (u, w, q, theta); default :data:`DEFAULT_PERTURBATION`.
@@ -394,20 +394,20 @@ def perturbation_growth(
     model = orbit.model
     scale = float(np.abs(orbit.x).max())
     epsilon = _validation.real("epsilon", epsilon, low=0.0, low_open=True, high=1e-3 * scale)
-    n_cycles = _validation.integer("n_cycles", n_cycles, low=3)
+    n_periods = _validation.integer("n_periods", n_periods, low=3)
     rtol, atol = _validation.tolerances(rtol, atol)
     direction = _unit_direction(direction)
     rhs, _ = model.segment_functions()
-    times = orbit.period * np.arange(n_cycles + 1)
+    times = orbit.period * np.arange(n_periods + 1)
     res = require_success(
         flow(rhs, (0.0, times[-1]), orbit.x0 + epsilon * direction,
              breakpoints=model.breakpoints, period=orbit.period, t_eval=times, rtol=rtol,
              atol=atol),
         "the perturbed simulation")
     deviation = np.linalg.norm(res.x - orbit.x0[:, None], axis=0)
-    start = (2 * n_cycles) // 3  # after the transient of the decaying modes
-    slope = np.polyfit(np.arange(start, n_cycles + 1), np.log(deviation[start:]), 1)[0]
-    return PerturbationGrowth(np.arange(n_cycles + 1), deviation, float(np.exp(slope)),
+    start = (2 * n_periods) // 3  # after the transient of the decaying modes
+    slope = np.polyfit(np.arange(start, n_periods + 1), np.log(deviation[start:]), 1)[0]
+    return PerturbationGrowth(np.arange(n_periods + 1), deviation, float(np.exp(slope)),
                               float(np.abs(stability.multipliers[0])), start)
 
 
@@ -415,9 +415,9 @@ def simulate_perturbation(
     orbit: HoverOrbit,
     epsilon: float,
     *,
-    n_cycles: int = 30,
+    n_periods: int = 30,
     direction=None,
-    samples_per_cycle: int = 64,
+    samples_per_period: int = 64,
     rtol: float = ANALYSIS_RTOL,
     atol: float = PERTURBATION_ATOL,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -428,11 +428,11 @@ def simulate_perturbation(
     orbit : HoverOrbit
     epsilon : float
         Size of the perturbation (Euclidean, SI units), > 0.
-    n_cycles : int
+    n_periods : int
         Periods simulated (>= 1).
     direction : array_like of 4 floats, optional
         As for :func:`perturbation_growth`.
-    samples_per_cycle : int
+    samples_per_period : int
         Output samples per period (>= 1).
     rtol, atol : float
         Tolerances of both simulations (default atol :data:`PERTURBATION_ATOL`).
@@ -440,7 +440,7 @@ def simulate_perturbation(
     Returns
     -------
     t : ndarray, shape (m,)
-        Times over ``n_cycles`` periods [s].
+        Times over ``n_periods`` periods [s].
     x_perturbed, x_orbit : ndarray, shape (4, m)
         The perturbed trajectory and the orbit integrated from x0 (which itself departs from the
         orbit eventually, the orbit being unstable, from its round-off-level closure error).
@@ -454,13 +454,13 @@ def simulate_perturbation(
     """
     orbit = _validation.instance("orbit", orbit, HoverOrbit)
     epsilon = _validation.positive("epsilon", epsilon)
-    n_cycles = _validation.integer("n_cycles", n_cycles, low=1)
-    samples_per_cycle = _validation.integer("samples_per_cycle", samples_per_cycle, low=1)
+    n_periods = _validation.integer("n_periods", n_periods, low=1)
+    samples_per_period = _validation.integer("samples_per_period", samples_per_period, low=1)
     rtol, atol = _validation.tolerances(rtol, atol)
     start = orbit.x0 + epsilon * _unit_direction(direction)
     model = orbit.model
     rhs, _ = model.segment_functions()
-    t = np.linspace(0.0, n_cycles * orbit.period, samples_per_cycle * n_cycles + 1)
+    t = np.linspace(0.0, n_periods * orbit.period, samples_per_period * n_periods + 1)
 
     def simulate(x0: np.ndarray, what: str) -> np.ndarray:
         return require_success(flow(rhs, (0.0, t[-1]), x0, breakpoints=model.breakpoints,

@@ -50,7 +50,7 @@ def test_multipliers_rk4_agree_with_dop853(orbit, stability):
 
 def test_hover_is_unstable_and_nonlinear_growth_matches_multiplier(stability):
     assert not stability.is_stable
-    growth = perturbation_growth(stability, epsilon=1e-8, n_cycles=30)
+    growth = perturbation_growth(stability, epsilon=1e-8, n_periods=30)
     assert growth.growth_per_cycle == pytest.approx(abs(stability.multipliers[0]), rel=2e-3)
 
 
@@ -106,7 +106,7 @@ def test_speed_pitch_cubic_root_is_an_averaged_eigenvalue(stability):
 def test_simulated_perturbation_starts_on_the_orbit_plus_epsilon(orbit):
     from flapping.stability import simulate_perturbation
 
-    t, xp, xo = simulate_perturbation(orbit, 1e-4, n_cycles=2, samples_per_cycle=8)
+    t, xp, xo = simulate_perturbation(orbit, 1e-4, n_periods=2, samples_per_period=8)
     assert np.linalg.norm(xp[:, 0] - xo[:, 0]) == pytest.approx(1e-4)
     np.testing.assert_allclose(xo[:, 8], orbit.x0, atol=1e-8)
     with pytest.raises(ValueError, match="epsilon"):
@@ -118,8 +118,8 @@ def test_perturbation_growth_validates_its_arguments(stability):
         perturbation_growth(stability, epsilon=0.0)
     with pytest.raises(ValueError, match="epsilon"):
         perturbation_growth(stability, epsilon=10.0)
-    with pytest.raises(ValueError, match="n_cycles"):
-        perturbation_growth(stability, epsilon=1e-8, n_cycles=0)
+    with pytest.raises(ValueError, match="n_periods"):
+        perturbation_growth(stability, epsilon=1e-8, n_periods=0)
 
 
 def test_default_tolerances_are_the_ones_results_were_computed_with():
@@ -142,8 +142,8 @@ def test_tolerances_reach_the_integrations(stability):
     _, loose = mode_response(stability, n_periods=1, samples_per_period=8, rtol=1e-7, atol=1e-9)
     error = np.abs(loose - delta).max()
     assert 0.0 < error < 1e-4
-    t, xp, _ = simulate_perturbation(stability.orbit, 1e-6, n_cycles=1, samples_per_cycle=4)
-    _, xp_loose, _ = simulate_perturbation(stability.orbit, 1e-6, n_cycles=1, samples_per_cycle=4,
+    t, xp, _ = simulate_perturbation(stability.orbit, 1e-6, n_periods=1, samples_per_period=4)
+    _, xp_loose, _ = simulate_perturbation(stability.orbit, 1e-6, n_periods=1, samples_per_period=4,
                                            rtol=1e-7, atol=1e-9)
     assert 0.0 < np.abs(xp_loose - xp).max() < 1e-4 * np.abs(xp).max()
     loose_avg = hover_stability(stability.orbit, rtol=1e-7, atol=1e-9).averaged_jacobian
@@ -160,7 +160,7 @@ def test_tolerances_reach_the_integrations(stability):
     (lambda s: mode_response(s, samples_per_period=True), "samples_per_period"),
     (lambda s: perturbation_growth(s, epsilon="1e-8"), "epsilon"),
     (lambda s: perturbation_growth(s, epsilon=1e-8, direction=[0, 0, 0, 0]), "direction"),
-    (lambda s: simulate_perturbation(s.orbit, 1e-6, samples_per_cycle=0), "samples_per_cycle"),
+    (lambda s: simulate_perturbation(s.orbit, 1e-6, samples_per_period=0), "samples_per_period"),
     (lambda s: simulate_perturbation(s.orbit, 1e-6, direction=[1.0, 2.0]), "direction"),
 ])
 def test_bad_arguments_are_refused_by_name(stability, call, name):

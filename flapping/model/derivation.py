@@ -141,12 +141,21 @@ def symbols() -> Symbols:
     )
 
 
-def section_loads() -> dict[str, sp.Expr]:
+def section_loads(hinge_height: bool = False) -> dict[str, sp.Expr]:
     """Steps 1-2: per-unit-span loads of one wing at radius r, small induced angle (eqs. 9-23).
 
-    Returns a dict of named intermediate expressions, ending with ``"Fx"``, ``"Fz"`` (body-axis
-    forces per unit span [N/m]) and ``"M"`` (pitching moment per unit span about the CG [N]).
-    Valid near the zero state, where sign(U) = s.
+    Parameters
+    ----------
+    hinge_height : bool
+        Keep the hinge height h_w above the centre of gravity (the generated code does). Default
+        False: the paper's model, h_w = 0, as the book shows it.
+
+    Returns
+    -------
+    dict
+        Named intermediate expressions, ending with ``"Fx"``, ``"Fz"`` (body-axis forces per unit
+        span [N/m]) and ``"M"`` (pitching moment per unit span about the CG [N]). Valid near the
+        zero state, where sign(U) = s.
     """
     S = symbols()
     r, c, phi, phidot, s, am = S.r, S.c, S.phi, S.phidot, S.s, S.alpha_m
@@ -176,8 +185,11 @@ def section_loads() -> dict[str, sp.Expr]:
     # Berman and Wang's rotational damping torque
     tau = -sp.pi / 16 * rho * c**4 * (S.mu1 * S.f + S.mu2 * S.s_omega * Omega) * Omega
     M = z_cp * Fx - x_cp * Fz + tau * sp.cos(phi)
-    return {"U": U, "w_eff": w_eff, "Omega": Omega, "Gamma": Gamma, "F_xi": F_xi,
-            "Fx": Fx, "Fz": Fz, "x_cp": x_cp, "z_cp": z_cp, "tau": tau, "M": M}
+    steps = {"U": U, "w_eff": w_eff, "Omega": Omega, "Gamma": Gamma, "F_xi": F_xi,
+             "Fx": Fx, "Fz": Fz, "x_cp": x_cp, "z_cp": z_cp, "tau": tau, "M": M}
+    if not hinge_height:
+        steps = {name: expr.subs(S.h_w, 0) for name, expr in steps.items()}
+    return steps
 
 
 def linearise(expr: sp.Expr) -> dict[str, sp.Expr]:
@@ -312,7 +324,7 @@ def stability_derivatives(hinge_height: bool = False) -> dict[str, sp.Expr]:
         as in eq. 29).
     """
     S = symbols()
-    loads = section_loads()
+    loads = section_loads(hinge_height=True)  # h_w removed below, after the span integration
     out: dict[str, sp.Expr] = {}
     for axis, key, norm in (("X", "Fx", S.m), ("Z", "Fz", S.m), ("M", "M", S.Iy)):
         lin = linearise(loads[key])
