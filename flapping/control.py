@@ -59,6 +59,8 @@ __all__ = [
     "locate_passive_crossing",
     "closest_approach",
     "stable_window",
+    "PassiveMap",
+    "passive_map",
     "WingbeatMap",
     "linear_wingbeat_map",
     "closed_loop_matrix",
@@ -373,6 +375,88 @@ def stable_window(sweep: PassiveSweep, *,
         last = PassiveCrossing(float(h[hi]), "none", sweep.multipliers[hi], False, float(h[hi]))
         return entry, last
     return entry, _locate(sweep, h_min, float(h[hi]), guess, False, check)
+
+
+@dataclass(frozen=True)
+class PassiveMap:
+    """Largest multiplier modulus over hinge height x centre of pressure (:func:`passive_map`).
+
+    Attributes
+    ----------
+    insect : Insect
+    hinge_heights : ndarray, shape (n,)
+        h_w [m].
+    centers_of_pressure : ndarray, shape (m,)
+        x_hat (fraction of the chord behind the pitch axis).
+    max_modulus : ndarray, shape (m, n)
+        ``max |mu|`` of the hover orbit, one row per centre of pressure (< 1: stable).
+    drift : ndarray, shape (m, n)
+        Mean horizontal speed of each orbit [m/s] (every orbit is checked to be hover).
+    """
+
+    insect: Insect
+    hinge_heights: np.ndarray
+    centers_of_pressure: np.ndarray
+    max_modulus: np.ndarray
+    drift: np.ndarray
+
+    def boundary(self) -> np.ndarray:
+        """Entry and exit of the first stable window in each row, shape (m, 2) [m].
+
+        Linear interpolation of ``max |mu| - 1`` between the grid's neighbours (accurate to
+        the grid spacing); NaN where a row has no such crossing.
+        """
+        out = np.full((len(self.centers_of_pressure), 2), np.nan)
+        h = self.hinge_heights
+        for row, m in enumerate(self.max_modulus - 1.0):
+            flips = np.flatnonzero(m[:-1] * m[1:] < 0)
+            entries = flips[m[flips] > 0]
+            for col, i in enumerate(entries[:1].tolist()
+                                    + flips[flips > entries[0]][:1].tolist()
+                                    if entries.size else []):
+                out[row, col] = h[i] + (h[i + 1] - h[i]) * m[i] / (m[i] - m[i + 1])
+        return out
+
+
+def passive_map(insect: Insect, hinge_heights: Any, centers_of_pressure: Any, *,
+                backend: str = "auto") -> PassiveMap:
+    """``max |mu|`` of the hover orbit on a grid of hinge heights and centres of pressure.
+
+    Each row is a :func:`passive_sweep` in h_w (warm-started; the kernel's one-trim orbits are
+    kept only if they are hover, else the two-trim adaptive solve runs), so every point is a
+    true hover orbit: a plain one-trim grid sweep can land on an orbit that drifts at metres per
+    second inside the window, where the one-trim problem is singular.
+
+    Parameters
+    ----------
+    insect : Insect
+    hinge_heights : array_like
+        Increasing h_w [m].
+    centers_of_pressure : array_like
+        x_hat values in [0, 1].
+    backend : {"auto", "compiled", "adaptive"}
+        As for :func:`hover_multipliers`.
+
+    Returns
+    -------
+    PassiveMap
+
+    Raises
+    ------
+    ValueError
+        For a bad grid.
+    ConvergenceError
+        If a point has no hover orbit.
+    """
+    _validation.instance("insect", insect, Insect)
+    x = _validation.array("centers_of_pressure", centers_of_pressure)
+    if x.ndim != 1 or x.size < 1 or np.any((x < 0) | (x > 1)):
+        raise ValueError("`centers_of_pressure` must be a non-empty 1-d array in [0, 1]")
+    rows = [passive_sweep(insect.with_(center_of_pressure=float(v)), hinge_heights,
+                          backend=backend) for v in x]
+    return PassiveMap(insect, rows[0].hinge_heights, x,
+                      np.array([r.max_modulus for r in rows]),
+                      np.array([[o.mean_horizontal_speed for o in r.orbits] for r in rows]))
 
 
 # =========================================================================== feedback

@@ -163,3 +163,30 @@ def test_bumblebee_is_stable_in_a_narrow_window_only():
     assert 0.1e-3 < leave.hinge_height - entry.hinge_height < 0.3e-3
     for crossing in window:
         assert abs(crossing.hinge_height - crossing.check_height) < 1e-8
+
+
+def test_passive_map_boundary_matches_the_located_window_and_moves_with_the_pressure_centre():
+    # A 2 mm x 0.1-chord map; its x_hat = 0.25 row against the two-route window edges.
+    heights = np.linspace(0.0, 40e-3, 21)
+    moth = flapping.hawkmoth()
+    pmap = control.passive_map(moth, heights, [0.15, 0.25, 0.35])
+    assert pmap.max_modulus.shape == (3, 21)
+    assert np.abs(pmap.drift).max() < 1e-6  # every point a true hover orbit
+    window = control.stable_window(control.passive_sweep(moth, heights))
+    assert window is not None
+    edges = pmap.boundary()
+    row = pmap.max_modulus[1]
+    for col, crossing in enumerate(window):
+        assert abs(crossing.hinge_height - crossing.check_height) < 1e-8
+        i = int(np.searchsorted(heights, crossing.hinge_height))  # heights[i-1] < h < heights[i]
+        assert (row[i - 1] - 1.0) * (row[i] - 1.0) < 0  # the map brackets the located edge
+        assert abs(edges[1, col] - crossing.hinge_height) < heights[1] - heights[0]
+    # A pressure centre further aft needs a higher hinge: entry and exit rise with x_hat,
+    # each by about 5-7 mm per 0.1 chord.
+    shift = np.diff(edges, axis=0)
+    assert np.all((shift > 4e-3) & (shift < 8e-3))
+
+
+def test_passive_map_refuses_a_pressure_centre_off_the_chord():
+    with pytest.raises(ValueError, match="centers_of_pressure"):
+        control.passive_map(flapping.hawkmoth(), [0.0, 1e-3], [0.25, 1.5])
