@@ -24,7 +24,7 @@ import numpy as np
 
 __all__ = [
     "real", "positive", "nonnegative", "integer", "choice", "vector", "matrix",
-    "finite_output", "array", "instance", "tolerances", "real_vector",
+    "finite_output", "array", "instance", "tolerances",
 ]
 
 T = TypeVar("T")
@@ -121,31 +121,16 @@ def choice(name: str, value: T, options: Iterable[T]) -> T:
 
 
 def vector(name: str, value: Any, *, size: int | None = None) -> np.ndarray:
-    """A non-empty, finite, 1-D float64 copy of ``value`` (of length ``size`` if given)."""
-    try:
-        x = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"`{name}` must be a 1-D array of real numbers; got {value!r}") from None
+    """A non-empty, finite, 1-D float64 copy of ``value`` (of length ``size`` if given).
+
+    Bools and strings are refused, as in :func:`array` (``[True, False]`` or ``["1", "2"]`` would
+    otherwise pass as numbers through ``float()``).
+    """
+    x = array(name, value)
     if x.ndim != 1 or x.size == 0 or (size is not None and x.size != size):
         shape = "a non-empty 1-D array" if size is None else f"an array of shape ({size},)"
         raise ValueError(f"`{name}` must be {shape}; got shape {x.shape}")
-    if not np.all(np.isfinite(x)):
-        raise ValueError(f"`{name}` must be finite; got {x}")
     return x
-
-
-def real_vector(name: str, value: Any, *, size: int | None = None) -> np.ndarray:
-    """Like :func:`vector`, but booleans and strings are refused.
-
-    ``[True, False]`` or ``["1", "2"]`` would otherwise pass as numbers through ``float()``.
-    """
-    try:
-        kind = np.asarray(value).dtype.kind
-    except (TypeError, ValueError):
-        kind = "O"
-    if kind not in "iuf":
-        raise ValueError(f"`{name}` must be an array of real numbers; got {value!r}")
-    return vector(name, value, size=size)
 
 
 def matrix(name: str, value: Any, *, square: bool = False) -> np.ndarray:

@@ -110,7 +110,7 @@ def check_settings(method: Any, rtol: Any, atol: Any, rk4_steps: Any,
     if np.ndim(atol) == 0:
         atol_checked: float | np.ndarray = check.positive("atol", atol)
     else:
-        atol_checked = check.real_vector("atol", atol)
+        atol_checked = check.vector("atol", atol)
         if not np.all(atol_checked > 0):
             raise ValueError(f"`atol` must be positive; got {atol!r}")
     rk4_steps = check.integer("rk4_steps", rk4_steps, low=1)

@@ -277,7 +277,7 @@ def _check_options(options: dict[str, Any]) -> ContinuationOptions:
     o["detect"] = detect
     o["breakpoints"] = seg.check_breakpoints(o["breakpoints"])
     o["fixed"] = tuple(check.integer("fixed", i, low=0) for i in o["fixed"])
-    o["free_params"] = tuple(float(v) for v in check.real_vector(
+    o["free_params"] = tuple(float(v) for v in check.vector(
         "free_params", np.atleast_1d(np.asarray(o["free_params"], dtype=float)))) \
         if len(np.atleast_1d(o["free_params"])) else ()
     if o["floquet_states"] is not None:
@@ -572,7 +572,7 @@ def continue_orbit(
     ConvergenceError
         If no periodic orbit is found near ``x0`` at ``p0``.
     """
-    x = check.real_vector("x0", x0)
+    x = check.vector("x0", x0)
     p0, p_end = check.real("p0", p0), check.real("p_end", p_end)
     if p_end == p0:
         raise ValueError(f"`p_end` equals `p0` ({p0!r}): nothing to continue (use "

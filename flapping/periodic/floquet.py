@@ -279,7 +279,7 @@ def _check_monodromy(x0: Any, period: Any, method: Any, rtol: Any, atol: Any, rk
                                 float | None]:
     """Arguments of :func:`monodromy`, checked: ``(x0, T, settings, breakpoints, n_sub,
     max_cond, h)``."""
-    x = check.real_vector("x0", x0)
+    x = check.vector("x0", x0)
     T = check.positive("period", period)
     settings = seg.check_settings(method, rtol, atol, rk4_steps, max_steps)
     b = seg.check_breakpoints(breakpoints)

@@ -78,7 +78,7 @@ def _check_common(t_span: Any, x0: Any, method: Any, rtol: Any, atol: Any, rk4_s
     Returns ``(t0, t1, x0, settings, period, breakpoints, h)`` with ``h`` the RK4 step or None.
     """
     t0, t1 = seg.check_span(t_span)
-    x = check.real_vector("x0", x0)
+    x = check.vector("x0", x0)
     settings = seg.check_settings(method, rtol, atol, rk4_steps, max_steps)
     T = None if period is None else check.positive("period", period)
     b = seg.check_breakpoints(breakpoints)
@@ -248,7 +248,7 @@ def variational_flow(
     n_seg = len(breakpoints) + 1
     funs = seg.segment_callables(fun, n_seg, "fun")
     jacs = (None,) * n_seg if jac is None else seg.segment_callables(jac, n_seg, "jac")
-    p = None if params is None else check.real_vector("params", np.atleast_1d(params))
+    p = None if params is None else check.vector("params", np.atleast_1d(params))
     if param_jac is not None and p is None:
         raise ValueError("`param_jac` needs `params`")
     pjacs = ((None,) * n_seg if param_jac is None

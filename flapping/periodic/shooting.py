@@ -495,7 +495,7 @@ def find_periodic_orbit(
         equilibrium; carries the last iterate (unknowns), the residual norm, the iteration
         count, and the :class:`PeriodicOrbit` as ``result``.
     """
-    x_init = check.real_vector("x0", x0)
+    x_init = check.vector("x0", x0)
     T_init = check.positive("period", period)
     settings = seg.check_settings(method, rtol, atol, rk4_steps, max_steps)
     b = seg.check_breakpoints(breakpoints)
@@ -511,7 +511,7 @@ def find_periodic_orbit(
     segments = _check_segments(settings, segments, n_points)
     stopping = _check_stopping(tol, xtol, ftol, max_nfev, min_period, T_init)
     fixed_given = _check_fixed(fixed, x_init.size)
-    p_init = None if free_params is None else check.real_vector("free_params",
+    p_init = None if free_params is None else check.vector("free_params",
                                                                  np.atleast_1d(free_params))
     funs, jacs, pjacs = _check_callables(fun, jac, param_jac, len(b) + 1, p_init is not None)
     setup = ShootingSetup(funs, jacs, pjacs, tuple(args), x_init, T_init, p_init, fixed_given,

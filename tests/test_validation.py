@@ -1,0 +1,47 @@
+"""The one validator module: numbers become float64, bools and strings are refused, messages name
+the argument and the accepted range."""
+
+import math
+
+import numpy as np
+import pytest
+
+from flapping import _validation as check
+
+
+@pytest.mark.parametrize("value", [np.float32(0.5), np.int64(2), np.array(0.25), 3])
+def test_numpy_scalars_become_python_floats(value):
+    out = check.real("x", value)
+    assert type(out) is float and out == float(value)
+
+
+@pytest.mark.parametrize("value", [True, np.bool_(False), "1.0", None, 1 + 0j])
+def test_bools_strings_and_complex_are_refused_naming_the_argument(value):
+    with pytest.raises(ValueError, match="`mass`"):
+        check.positive("mass", value)
+
+
+def test_the_message_gives_the_range():
+    with pytest.raises(ValueError, match=r"\(0, pi/2\) rad"):
+        check.real("alpha_m", math.pi / 2, low=0.0, high=math.pi / 2, low_open=True,
+                   high_open=True, unit="rad")
+
+
+def test_integral_floats_are_not_counts():
+    assert check.integer("n", np.int32(4), low=1) == 4
+    with pytest.raises(ValueError, match="`n`"):
+        check.integer("n", 4.0)
+
+
+@pytest.mark.parametrize("value", [[True, False], ["1", "2"], [1.0, np.nan], [], [[1.0]]])
+def test_vector_refuses_bools_strings_non_finite_and_wrong_shapes(value):
+    with pytest.raises(ValueError, match="`x0`"):
+        check.vector("x0", value)
+
+
+def test_vector_is_a_float64_copy():
+    source = np.array([1, 2], dtype=np.int32)
+    out = check.vector("x0", source)
+    assert out.dtype == np.float64 and out is not source
+    with pytest.raises(ValueError, match=r"shape \(3,\)"):
+        check.vector("x0", [1.0, 2.0], size=3)
