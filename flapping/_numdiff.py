@@ -27,6 +27,20 @@ def central_step(x: np.ndarray, relative: float = _EPS ** (1.0 / 3.0)) -> np.nda
     return relative * np.maximum(1.0, np.abs(x))
 
 
+def _differences(
+    f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, h: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Undivided central differences (m, n) and the representable spans ``x_j+ - x_j-`` (n,)."""
+    columns, spans = [], []
+    for j in range(x.size):
+        xp, xm = x.copy(), x.copy()
+        xp[j] += h[j]
+        xm[j] -= h[j]
+        columns.append(np.asarray(f(xp)) - np.asarray(f(xm)))
+        spans.append(xp[j] - xm[j])
+    return np.stack(columns, axis=-1), np.array(spans)
+
+
 def central_jacobian(
     f: Callable[[np.ndarray], np.ndarray],
     x: np.ndarray,
@@ -45,14 +59,8 @@ def central_jacobian(
     """
     x = np.asarray(x, dtype=float)
     h = central_step(x) if step is None else np.broadcast_to(np.asarray(step, float), x.shape)
-    columns = []
-    for j in range(x.size):
-        xp, xm = x.copy(), x.copy()
-        xp[j] += h[j]
-        xm[j] -= h[j]
-        # divide by the representable difference, not 2h: removes the rounding of x +- h
-        columns.append((np.asarray(f(xp)) - np.asarray(f(xm))) / (xp[j] - xm[j]))
-    return np.stack(columns, axis=-1)
+    diff, spans = _differences(f, x, h)
+    return diff / spans  # the representable span, not 2h: removes the rounding of x +- h
 
 
 def central_differences(
@@ -81,14 +89,7 @@ def central_differences(
         Column j is the difference across component j.
     """
     x = np.asarray(x, dtype=float)
-    h = np.broadcast_to(np.asarray(step, float), x.shape)
-    columns = []
-    for j in range(x.size):
-        xp, xm = x.copy(), x.copy()
-        xp[j] += h[j]
-        xm[j] -= h[j]
-        columns.append(np.asarray(f(xp)) - np.asarray(f(xm)))
-    return np.stack(columns, axis=-1)
+    return _differences(f, x, np.broadcast_to(np.asarray(step, float), x.shape))[0]
 
 
 def central_jacobian_nominal(

@@ -212,18 +212,22 @@ class LongitudinalDynamics:
         amplitude = self.amplitude if amplitude is None else amplitude
         return tuple(v / amplitude for v in self._derivatives_with_amplitude(t, amplitude)[12:])
 
+    def _stroke(self, t: float, amplitude: float) -> tuple[float, float]:
+        """phi and phi_dot of eq. (39) at time t, with the mean stroke angle phi_bar."""
+        omega = 2.0 * math.pi * self.insect.frequency
+        phi = amplitude * math.cos(omega * t)
+        if self.insect.stroke_mean != 0.0:  # keeps phi bit for bit at phi_bar = 0
+            phi += self.insect.stroke_mean
+        return phi, -omega * amplitude * math.sin(omega * t)
+
     def _derivatives_with_amplitude(self, t: float, amplitude: float | None) -> tuple[float, ...]:
         amplitude = self.amplitude if amplitude is None else float(amplitude)
         key = (float(t), amplitude)
         cached = self._cache[0]  # (key, values), read and written as one object
         if cached is not None and cached[0] == key:
             return cached[1]
-        omega = 2.0 * math.pi * self.insect.frequency
-        phi = amplitude * math.cos(omega * t)
-        phidot = -omega * amplitude * math.sin(omega * t)
+        phi, phidot = self._stroke(t, amplitude)
         phi_bar = self.insect.stroke_mean
-        if phi_bar != 0.0:
-            phi += phi_bar
         values = _gen.stability_derivatives_scalar_with_amplitude(
             phi, phidot, abs(phidot), self.alpha_m, self._constants)
         if phi_bar != 0.0:
@@ -254,9 +258,7 @@ class LongitudinalDynamics:
             (d/dphi_bar = d/dphi, since phi = phi_bar + Phi cos(2 pi f t)).
         """
         amplitude = self.amplitude if amplitude is None else float(amplitude)
-        omega = 2.0 * math.pi * self.insect.frequency
-        phi = self.insect.stroke_mean + amplitude * math.cos(omega * t)
-        phidot = -omega * amplitude * math.sin(omega * t)
+        phi, phidot = self._stroke(t, amplitude)
         return tuple(_gen.stability_derivatives_scalar_phi_derivative(
             phi, phidot, abs(phidot), self.alpha_m, self._constants))
 
