@@ -12,8 +12,13 @@ we record each value's text (Markdown, LaTeX or plain) per chapter; figures as `
 from __future__ import annotations
 
 import json
+import re
 import sys
+from collections import Counter
 from pathlib import Path
+
+#: What counts as a number inside a glued text.
+NUMBER = re.compile(r"-?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
 
 
 def dump(folder: Path) -> dict[str, dict[str, str]]:
@@ -31,16 +36,37 @@ def dump(folder: Path) -> dict[str, dict[str, str]]:
     return values
 
 
+def _by_key(values: dict[str, dict[str, str]]) -> dict[str, dict[str, str]]:
+    """Key -> {chapter: text}: a value may move between chapters (e.g. into an appendix)."""
+    out: dict[str, dict[str, str]] = {}
+    for chapter, glued in values.items():
+        for key, text in glued.items():
+            out.setdefault(key, {})[chapter] = text
+    return out
+
+
 def diff(before: dict, after: dict) -> int:
+    """Print every earlier key that is gone or whose numbers changed; return their count.
+
+    Keys are matched across chapters. Text around the numbers (wording, layout) may change; the
+    numbers in it, compared as a multiset of the strings that look like numbers, may not.
+    """
+    old, new = _by_key(before), _by_key(after)
     changed = 0
-    for chapter in sorted(set(before) | set(after)):
-        b, a = before.get(chapter, {}), after.get(chapter, {})
-        for key in sorted(set(b) | set(a)):
-            if b.get(key) != a.get(key):
+    for key in sorted(old):
+        reference = next(iter(old[key].values()))
+        if key not in new:
+            changed += 1
+            print(f"{key}: gone (was in {sorted(old[key])})")
+            continue
+        for chapter, text in sorted(new[key].items()):
+            lost = Counter(NUMBER.findall(reference)) - Counter(NUMBER.findall(text))
+            if lost:
                 changed += 1
-                print(f"{chapter}:{key}: {b.get(key)!r} -> {a.get(key)!r}")
-    total = sum(len(v) for v in before.values())
-    print(f"{changed} of {total} glued values changed")
+                print(f"{chapter}:{key}: numbers {sorted(lost.elements())} changed: "
+                      f"{reference[:80]!r} -> {text[:80]!r}")
+    print(f"{changed} of {len(old)} earlier glued values gone or changed "
+          f"({len(new)} keys now)")
     return changed
 
 
