@@ -18,16 +18,6 @@ from flapping.hover import (
 )
 
 
-@pytest.fixture(scope="module")
-def insect():
-    return flapping.hawkmoth()
-
-
-@pytest.fixture(scope="module")
-def orbit(insect):
-    return find_hover_orbit(insect)
-
-
 def test_orbit_closes(orbit):
     assert orbit.shooting.success
     assert orbit.residual_norm < 1e-10

@@ -21,16 +21,6 @@ from flapping.stability import (
 
 
 @pytest.fixture(scope="module")
-def insect():
-    return flapping.hawkmoth()
-
-
-@pytest.fixture(scope="module")
-def orbit(insect):
-    return find_hover_orbit(insect)
-
-
-@pytest.fixture(scope="module")
 def stability(orbit):
     return hover_stability(orbit)
 
