@@ -8,6 +8,8 @@ aborted and recorded), so what passes here renders on a laptop on a plane. A pag
 - raw LaTeX left in the text (``\\(``, ``$$``, ``\\begin{``, ...): MathJax did not typeset it;
 - a MathJax error (``mjx-merror``: an unknown macro, unbalanced braces);
 - a broken image (``naturalWidth`` 0);
+- a raw NumPy or dict repr in a cell's output (``array([...])``, ``np.float64(...)``, ``{256: ...}``):
+  outputs show tables or formatted text;
 - a table or math display cut at the column edge (viewport 1280 x 900, a ~750 px column): wider
   than the article column without a scroll container of its own, a scroll container that is
   itself wider than the column or that the keyboard cannot reach, or content clipped by an element
@@ -51,6 +53,9 @@ RAW_LATEX = re.compile(
     r"\\(?:frac|mathrm|operatorname|left|right|theta|alpha|Phi|phi|lambda|mu|Psi|int|sum|hat|bar)"
     r"(?![A-Za-z])"
 )
+# Reprs a reader should not meet in a cell's output (the book formats numbers as text or tables).
+RAW_OUTPUT = re.compile(r"\barray\(\[|\bnp\.(?:float|int|complex)\d*\(|dtype=|^\s*\{\s*['\"\d-]",
+                        re.MULTILINE)
 
 
 def _pages() -> list[str]:
@@ -157,6 +162,8 @@ _VISIBLE_TEXT = """() => {
   return parts.join('');
 }"""
 
+_OUTPUTS = """() => [...document.querySelectorAll('.cell_output')].map(e => e.innerText)"""
+
 _BROKEN_IMAGES = """async () => {
   const bad = [];
   for (const img of document.images) {
@@ -255,6 +262,11 @@ def test_page_renders_offline(browser, relative):
         for match in RAW_LATEX.finditer(text):
             context = text[max(0, match.start() - 40):match.end() + 40].replace("\n", " ")
             problems.append(f"raw LaTeX in the text: ...{context}...")
+        for output in page.evaluate(_OUTPUTS):
+            match = RAW_OUTPUT.search(output)
+            if match:
+                context = output[max(0, match.start() - 20):match.end() + 60].replace("\n", " ")
+                problems.append(f"raw repr in a cell output: ...{context}...")
         problems += [f"broken image: {src}" for src in page.evaluate(_BROKEN_IMAGES)]
         problems += page.evaluate(_CUT_BLOCKS)
     finally:

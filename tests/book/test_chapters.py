@@ -1,0 +1,108 @@
+"""The book's reader's path, read from the chapter sources (issue 13).
+
+Every chapter a student reads in order (the main line and "Beyond the paper") opens with prose
+saying what it establishes, ends with a summary, further reading and exercises that each have a
+solution; every Greek symbol used in the book's mathematics has its entry on the notation page;
+and the chapters that follow the paper stay about half of their length before the forensic
+detail moved to the appendices.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+import yaml
+
+from flapping.book.provenance import chapter_statistics
+
+BOOK = Path(__file__).resolve().parents[2] / "book"
+TOC = yaml.safe_load((BOOK / "_toc.yml").read_text(encoding="utf-8"))
+# Parts whose chapters are read in order and teach: each follows the reader's path.
+TAUGHT_PARTS = ("The model", "Hover and its stability", "Beyond the paper")
+
+# The seven chapters that follow the paper, and their prose before issue 13 moved the forensics
+# to the appendices (commit 463de7a, counted with chapter_statistics): 14,415 words.
+PAPER_CHAPTERS = ("intro", "aerodynamic_model", "stability_derivatives", "shooting_validation",
+                  "hover_orbit", "floquet_multipliers", "hover_stability")
+PAPER_CHAPTERS_WORDS_BEFORE = 14_415
+MAIN_LINE_SHARE = 0.55  # "about half" of the words before, exercises and summaries included
+
+GREEK = frozenset({
+    "alpha", "beta", "gamma", "delta", "epsilon", "varepsilon", "zeta", "eta", "theta",
+    "vartheta", "iota", "kappa", "lambda", "mu", "nu", "xi", "pi", "rho", "sigma", "tau",
+    "upsilon", "phi", "varphi", "chi", "psi", "omega", "Gamma", "Delta", "Theta", "Lambda", "Xi",
+    "Pi", "Sigma", "Upsilon", "Phi", "Psi", "Omega",
+})
+_MATH = re.compile(r"\$\$.*?\$\$|\$[^$\n]+\$", re.DOTALL)
+_MACRO = re.compile(r"\\\\?([A-Za-z]+)")  # \\alpha inside Python strings of code cells too
+
+
+def _taught_chapters() -> list[str]:
+    return [chapter["file"] for part in TOC["parts"] if part["caption"] in TAUGHT_PARTS
+            for chapter in part["chapters"]]
+
+
+def _text(name: str) -> str:
+    return (BOOK / f"{name}.md").read_text(encoding="utf-8")
+
+
+def _greek(text: str) -> set[str]:
+    return {name for math in _MATH.findall(text) for name in _MACRO.findall(math)
+            if name in GREEK}
+
+
+def test_the_taught_parts_are_in_the_table_of_contents():
+    captions = [part["caption"] for part in TOC["parts"]]
+    assert all(part in captions for part in TAUGHT_PARTS), captions
+    assert len(_taught_chapters()) >= 10
+
+
+@pytest.mark.parametrize("name", _taught_chapters())
+def test_chapter_opens_with_prose_before_any_code(name):
+    body = _text(name).split("\n# ", 1)[1]  # after the title
+    first_block = next(block for block in body.split("\n\n")[1:] if block.strip())
+    assert not first_block.lstrip().startswith(("```", ":::", "#")), \
+        f"{name}: the chapter must open with a paragraph saying what it establishes"
+    assert len(first_block.split()) >= 30, f"{name}: the opening paragraph is too short"
+
+
+@pytest.mark.parametrize("name", _taught_chapters())
+def test_chapter_ends_with_summary_further_reading_and_exercises(name):
+    text = _text(name)
+    headings = re.findall(r"^## (.+)$", text, flags=re.MULTILINE)
+    assert len(headings) >= 2 and headings[-2].startswith("Summary") \
+        and headings[-1] == "Exercises", f"{name}: last sections are {headings[-2:]}"
+    summary = text.split("\n## Summary", 1)[1].split("\n## Exercises\n", 1)[0]
+    assert "**Further reading.**" in summary and "{cite" in summary, \
+        f"{name}: the summary has no further reading with citations"
+
+
+@pytest.mark.parametrize("name", _taught_chapters())
+def test_every_exercise_has_a_solution(name):
+    text = _text(name)
+    exercises = re.findall(r"```\{exercise(?:-start)?\}[^\n]*\n:label: ([\w-]+)", text)
+    solved = set(re.findall(r"```\{solution(?:-start)?\} ([\w-]+)", text))
+    assert len(exercises) >= 2, f"{name}: {len(exercises)} exercise(s), at least 2 wanted"
+    assert not set(exercises) - solved, f"{name}: no solution for {set(exercises) - solved}"
+    hidden = re.findall(r"```\{solution(?:-start)?\} [\w-]+\n:class: dropdown", text)
+    assert len(hidden) == len(solved), f"{name}: every solution is hidden in a dropdown"
+
+
+def test_every_greek_symbol_of_the_book_is_on_the_notation_page():
+    notation = _greek(_text("notation"))
+    missing = {}
+    for path in sorted(BOOK.glob("*.md")):
+        unknown = _greek(path.read_text(encoding="utf-8")) - notation
+        if unknown:
+            missing[path.stem] = sorted(unknown)
+    assert not missing, f"symbols without an entry on book/notation.md: {missing}"
+
+
+def test_the_paper_chapters_are_about_half_their_length_before_the_appendices():
+    words = sum(chapter_statistics(BOOK / f"{name}.md").words for name in PAPER_CHAPTERS)
+    assert words <= MAIN_LINE_SHARE * PAPER_CHAPTERS_WORDS_BEFORE, (
+        f"the chapters that follow the paper have {words} words of prose, more than "
+        f"{MAIN_LINE_SHARE:.0%} of the {PAPER_CHAPTERS_WORDS_BEFORE} before issue 13: move "
+        "forensic detail to an appendix")
