@@ -426,7 +426,7 @@ def _hoverfly_preset() -> Preset:
         "wing_area": _v(r * 3.246e-3, sun + ": S = R c_bar, c_bar = 3.246 mm", "second-hand",
                         "sun2007"),
         **_r2_r1(0.534, sun, "second-hand", "sun2007"),
-        "frequency": _v(164.0, "the drone fly of Wu & Sun (2012) as quoted in issue 10",
+        "frequency": _v(164.0, "the drone fly of Wu & Sun (2012), quoted second-hand",
                         "unverified", "wu2012", low=150.0, high=180.0),
         "stroke_amplitude": _amplitude(54.0, "drone flies, ~108 deg peak-to-peak (Liu & Sun "
                                        "2008)", "unverified", "liu2008"),
@@ -599,7 +599,7 @@ def hoverfly(**overrides: Any) -> Insect:
     m = 145 mg, R = 11.2 mm, c_bar = 3.246 mm (S = 36.36 mm^2), r2 = 0.534, body length 1.29 R,
     wing root 0.13 body lengths from the CG, wing mass 0.326 mg: second-hand (quoted from Sun's
     group by the project's reading notes). r1 = 0.469 by Ellington's fit (ESTIMATE).
-    f = 164 Hz (Wu & Sun's 2012 drone fly as quoted in issue 10, UNVERIFIED) and Phi = 54 deg
+    f = 164 Hz (Wu & Sun's 2012 drone fly, quoted second-hand, UNVERIFIED) and Phi = 54 deg
     nominal (drone flies, Liu & Sun 2008, UNVERIFIED). I_y = 1.70e-9 kg m^2: ellipsoid,
     L = 14.45 mm, d = 5 mm (ESTIMATE). Wu & Sun's drone fly itself is a different data set.
 
