@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
-__all__ = ["markdown_table", "latex_aligned"]
+__all__ = ["markdown_table", "latex_aligned", "book_symbols"]
 
 
 def markdown_table(header: Sequence[str], rows: Sequence[Sequence],
@@ -89,3 +89,25 @@ def latex_aligned(rows: Mapping[str, object], terms_per_line: int = 3, key=None)
                   for k in range(0, len(printed), terms_per_line)]
         lines.append(f"{lhs} &= " + r" \\ &\qquad ".join(chunks))
     return "\\begin{aligned}\n" + " \\\\[6pt]\n".join(lines) + "\n\\end{aligned}"
+
+
+def book_symbols(latex: str) -> str:
+    """The book's names in LaTeX made from the package's SymPy symbols.
+
+    The package names Berman and Wang's damping coefficients ``mu1``, ``mu2`` as their paper
+    does; the book writes them nu_1, nu_2, since mu_k are the Floquet multipliers there
+    (book/notation.md). SymPy writes the subscript with or without braces; both are renamed.
+
+    Parameters
+    ----------
+    latex : str
+        LaTeX, e.g. from :func:`sympy.latex`.
+
+    Returns
+    -------
+    str
+    """
+    for k in "12":
+        latex = latex.replace(rf"\mu_{{{k}}}", rf"\nu_{{{k}}}").replace(rf"\mu_{k}", rf"\nu_{k}")
+    return latex
+

@@ -21,3 +21,9 @@ def test_latex_aligned_breaks_long_sums():
     assert text.startswith(r"\begin{aligned}") and text.endswith(r"\end{aligned}")
     assert text.count(r"&\qquad") == 2        # 7 terms, 3 per line: two continuation lines
     assert r"z &= \alpha" in text
+
+
+def test_book_symbols_renames_the_damping_coefficients_not_the_multipliers():
+    assert tables.book_symbols(r"\mu_{1} f + \mu_{2} \Omega") == r"\nu_{1} f + \nu_{2} \Omega"
+    assert tables.book_symbols(r"\mu_1 + \mu_2") == r"\nu_1 + \nu_2"
+    assert tables.book_symbols(r"\mu_{k} \mu_3") == r"\mu_{k} \mu_3"
