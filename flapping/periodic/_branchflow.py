@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -107,8 +107,7 @@ class _VariationalField:
     def __init__(self, field: _Field, jac: Callable[..., Any] | None, n_par: int) -> None:
         self.field, self.n_par = field, n_par
         self.jac = None if jac is None else field.params.bind(jac, field.P)
-        n = field.n
-        self.i_s, self.nn = n + n * n, n * n
+        self.width = field.n + n_par   # y = (x, [Phi | S]), the block row-major
         self.shifted = []
         for j in range(n_par):
             h = _EPS ** 0.5 * max(1.0, abs(float(field.P[j])))
@@ -129,19 +128,29 @@ class _VariationalField:
         return J
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
-        n, i_s, n_par = self.field.n, self.i_s, self.n_par
+        # The hot loop of continuation: the user's functions are called directly and the
+        # output checked once (a failure is diagnosed by the checked paths, in _reject).
+        field, n = self.field, self.field.n
         x = y[:n]
-        J = self._jac(t, x)
-        f = self.field(t, x)
-        out = np.empty_like(y)
-        out[:n] = f
-        out[n:i_s] = (J @ y[n:i_s].reshape(n, n)).ravel()
-        S = J @ y[i_s:].reshape(n, n_par)
-        self.field.counter.n += n_par
+        f = np.asarray(field.g(t, x), dtype=float)
+        J = self._jac(t, x) if self.jac is None else np.asarray(self.jac(t, x), dtype=float)
+        if f.shape != (n,) or J.shape != (n, n) or not math.isfinite(f.dot(f) + np.vdot(J, J)):
+            self._reject(t, x)
+        # Phi and S side by side: one product J [Phi | S].
+        block = J @ y[n:].reshape(n, self.width)
         for j, (g, h) in enumerate(self.shifted):
-            S[:, j] += (np.asarray(g(t, x), dtype=float) - f) / h
-        out[i_s:] = S.ravel()
+            block[:, n + j] += (np.asarray(g(t, x), dtype=float) - f) / h
+        out = np.concatenate((f, block.ravel()))
+        field.counter.n += 1 + self.n_par
+        if not math.isfinite(out.dot(out)):
+            self._reject(t, x)
         return out
+
+    def _reject(self, t: float, x: np.ndarray) -> NoReturn:
+        """Raise the checked paths' error for a bad output (or Diverged if they pass)."""
+        self.field(t, x)
+        self._jac(t, x)
+        raise seg.Diverged(f"the variational equations became non-finite at t = {t!r}")
 
 
 class OrbitSystem:
@@ -304,12 +313,12 @@ class OrbitSystem:
             rhss: Sequence[Callable[..., Any]] = [
                 _VariationalField(self.field(j, P), self.jacs[j], n_par)
                 for j in range(len(self.funs))]
-            y0 = np.concatenate([states[k], np.eye(n).ravel(), np.zeros(n * n_par)])
+            y0 = np.concatenate([states[k], np.hstack([np.eye(n), np.zeros((n, n_par))]).ravel()])
             # The sensitivities are left out of the error control: their forward-difference
             # right-hand side is noisy at ~1e-8, which would make the steps collapse at tight
             # tolerances; they only enter the Newton matrix and the tangent.
-            atol: Any = np.concatenate([np.broadcast_to(self.settings.atol, (n + n * n,)),
-                                        np.full(n * n_par, 1e300)])
+            row = np.concatenate([np.broadcast_to(self.settings.atol, (n,)), np.full(n_par, 1e300)])
+            atol: Any = np.concatenate([np.broadcast_to(self.settings.atol, (n,)), np.tile(row, n)])
         else:
             rhss, y0, atol = [self.field(j, P) for j in range(len(self.funs))], states[k], None
         try:
@@ -342,8 +351,9 @@ class OrbitSystem:
             r = np.append(r, (states[0] - self.ref[0]) @ self.ref[1])
         if not jacobian:
             return Evaluation(r, None, None, states, ends, ())
-        stms = tuple(y[n:n + n * n].reshape(n, n) for y in ys)
-        sens = [y[n + n * n:].reshape(n, P.size) for y in ys]
+        blocks = [y[n:].reshape(n, n + P.size) for y in ys]
+        stms = tuple(np.ascontiguousarray(b[:, :n]) for b in blocks)
+        sens = [b[:, n:] for b in blocks]
         J = self._jacobian(u, states, ends, stms, sens, T, P)
         mono = np.eye(n)
         for F in stms:
