@@ -34,7 +34,7 @@ import numpy as np
 
 from flapping import _validation
 from flapping.book.plotting import shade_half_strokes
-from flapping.book.schematic import _draw_body
+from flapping.book.schematic import draw_body
 from flapping.book.style import LOAD_COLORS, SOURCE_COLORS, STATE_COLORS
 from flapping.errors import require_success
 from flapping.hover import ANALYSIS_RTOL, HoverOrbit
@@ -203,7 +203,7 @@ def _wing_outline(insect, alpha_m: float, phi: float, sign: float) -> np.ndarray
 def _add_body(ax, pose, facecolor: str, zorder: float) -> tuple[Any, ...]:
     """The schematic's body outline (body axes, in R), placed by the affine transform ``pose``."""
     before = len(ax.patches)
-    _draw_body(ax, lambda p: p, facecolor=facecolor)
+    draw_body(ax, lambda p: p, facecolor=facecolor)
     patches = tuple(ax.patches[before:])
     for patch in patches:
         patch.set_transform(pose + ax.transData)

@@ -9,12 +9,14 @@ wing section on the forward and backward strokes (:func:`_draw_section`).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
 from flapping.book.style import LOAD_COLORS, STATE_COLORS
 
-__all__ = ["draw_insect_model"]
+__all__ = ["draw_insect_model", "draw_body"]
 
 
 def _pyplot():
@@ -133,8 +135,20 @@ def _text(ax, xy, s, **kw):
     return ax.text(xy[0], xy[1], s, **kw)
 
 
-def _draw_body(ax, transform, facecolor="0.86"):
-    """Thorax-abdomen ellipse and head, in body coordinates mapped to the plot by ``transform``."""
+def draw_body(ax: Any, transform: Callable[[tuple[float, float]], Any],
+              facecolor: str = "0.86") -> None:
+    """Draw the insect's outline: a thorax-abdomen ellipse and a head (illustrative, not to scale).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    transform : callable
+        Maps a point ``(x, z)`` of body coordinates (in semi-spans, x forward, the pitch axis at
+        the origin) to plot coordinates; the animations pitch and move the body with it.
+    facecolor : str
+        Fill colour of the outline.
+    """
     from matplotlib.patches import Polygon
 
     s = np.linspace(0.0, 2.0 * math.pi, 90)
@@ -153,7 +167,7 @@ def _draw_top_view(ax, insect, phi):
     hinge = (x_h, 0.0)
     Phi = insect.stroke_amplitude
     down = (0.0, -1.0)                          # the body y axis (right wing) on the page
-    _draw_body(ax, lambda p: p)
+    draw_body(ax, lambda p: p)
     # Right wing at flapping angle phi (forward of the y axis), Ellington's beta planform with
     # the leading edge on the span axis (x0_hat = 0) and the chord behind it.
     span = _rot(down, phi)
@@ -214,7 +228,7 @@ def _draw_side_view(ax, theta):
     # Stroke plane: fixed in the body, through the hinge, containing the x axis.
     ax.plot(*_segment(body((-0.95, 0.0)), body((1.05, 0.0))), color=LOAD_COLORS["X"], lw=3.0,
             alpha=0.6, zorder=3, solid_capstyle="round")
-    _draw_body(ax, body)
+    draw_body(ax, body)
     _text(ax, body((0.8, 0.1)), "stroke plane", color=_X_TEXT, fontsize=11, ha="left",
           va="top", rotation=math.degrees(theta), rotation_mode="anchor")
     ax.plot(0.0, 0.0, "o", color=_INK, ms=5, zorder=5)
