@@ -40,7 +40,12 @@ import numpy as np
 from flapping import _validation
 from flapping.errors import ConvergenceError, HoverDriftWarning, require_success
 from flapping.fast import kernel as _kernel
-from flapping.model.dynamics import STATE_NAMES, LongitudinalDynamics
+from flapping.model.dynamics import (
+    STATE_NAMES,
+    LongitudinalDynamics,
+    inertial_velocity,
+    inertial_velocity_jac,
+)
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
 from flapping.periodic.integrate import flow, variational_flow
@@ -218,17 +223,13 @@ def _hover_fields(model: LongitudinalDynamics):
             _check_iterate_amplitude(p[0])
             out = np.empty(5)
             out[:4] = model.rhs(t, y, _s, p[0])
-            u, w, th = y[0], y[1], y[3]
-            out[4] = -u * math.sin(th) + w * math.cos(th)
+            out[4] = inertial_velocity(y[0], y[1], y[3])[1]
             return out
 
         def J(t, y, p, _s=s):
             out = np.zeros((5, 5))
             out[:4, :4] = model.jac(t, y, _s, p[0])
-            u, w, th = y[0], y[1], y[3]
-            out[4, 0] = -math.sin(th)
-            out[4, 1] = math.cos(th)
-            out[4, 3] = -u * math.cos(th) - w * math.sin(th)
+            out[4, :4] = inertial_velocity_jac(y[0], y[1], y[3])[1]
             return out
 
         def P(t, y, p, _s=s):
@@ -278,17 +279,13 @@ class _TwoTrimFields:
         _check_iterate_amplitude(p[0])
         out = np.empty(6)
         out[:4] = self.at(p[1]).rhs(t, y, s, p[0])
-        u, w, th = y[0], y[1], y[3]
-        out[4] = -u * math.sin(th) + w * math.cos(th)
-        out[5] = u * math.cos(th) + w * math.sin(th)
+        out[5], out[4] = inertial_velocity(y[0], y[1], y[3])  # forward, down
         return out
 
     def jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
         out = np.zeros((6, 6))
         out[:4, :4] = self.at(p[1]).jac(t, y, s, p[0])
-        u, w, th = y[0], y[1], y[3]
-        out[4, :4] = [-math.sin(th), math.cos(th), 0.0, -u * math.cos(th) - w * math.sin(th)]
-        out[5, :4] = [math.cos(th), math.sin(th), 0.0, -u * math.sin(th) + w * math.cos(th)]
+        out[5, :4], out[4, :4] = inertial_velocity_jac(y[0], y[1], y[3])  # forward, down
         return out
 
     def param_jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:

@@ -20,7 +20,6 @@ position, with :func:`flapping.periodic.continuation.continue_orbit`:
 
 from __future__ import annotations
 
-import math
 from collections import OrderedDict
 from dataclasses import fields, replace
 from typing import Any
@@ -28,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from flapping.hover import find_hover_orbit
-from flapping.model.dynamics import LongitudinalDynamics
+from flapping.model.dynamics import LongitudinalDynamics, inertial_velocity, inertial_velocity_jac
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
 from flapping.periodic.continuation import Branch, continue_orbit
@@ -87,7 +86,7 @@ class HoverFields:
         def f(t: float, y: np.ndarray, p: float, q: np.ndarray) -> np.ndarray:
             out = np.empty(5)
             out[:4] = self.model(p).rhs(t, y[:4], s, float(q[0]))
-            out[4] = -y[0] * math.sin(y[3]) + y[1] * math.cos(y[3])
+            out[4] = inertial_velocity(y[0], y[1], y[3])[1]  # descent rate
             return out
         return f
 
@@ -95,9 +94,7 @@ class HoverFields:
         def J(t: float, y: np.ndarray, p: float, q: np.ndarray) -> np.ndarray:
             out = np.zeros((5, 5))
             out[:4, :4] = self.model(p).jac(t, y[:4], s, float(q[0]))
-            u, w, th = y[0], y[1], y[3]
-            out[4, 0], out[4, 1] = -math.sin(th), math.cos(th)
-            out[4, 3] = -u * math.cos(th) - w * math.sin(th)
+            out[4, :4] = inertial_velocity_jac(y[0], y[1], y[3])[1]
             return out
         return J
 

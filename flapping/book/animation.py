@@ -38,6 +38,7 @@ from flapping.book.schematic import draw_body
 from flapping.book.style import LOAD_COLORS, SOURCE_COLORS, STATE_COLORS
 from flapping.errors import require_success
 from flapping.hover import ANALYSIS_RTOL, HoverOrbit
+from flapping.model.dynamics import inertial_velocity
 from flapping.model.kinematics import flapping_angle, stroke_sign
 from flapping.periodic.integrate import flow
 from flapping.stability import PERTURBATION_ATOL, HoverStability
@@ -114,9 +115,7 @@ class Flight:
 def _with_position(fun):
     """The right-hand side of (u, w, q, theta) extended by the inertial velocity (forward, down)."""
     def extended(t: float, y: np.ndarray) -> np.ndarray:
-        u, w, _, theta = y[:4]
-        c, s = math.cos(theta), math.sin(theta)
-        return np.concatenate([fun(t, y[:4]), [u * c + w * s, -u * s + w * c]])
+        return np.concatenate([fun(t, y[:4]), inertial_velocity(y[0], y[1], y[3])])
 
     return extended
 

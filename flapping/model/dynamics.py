@@ -56,7 +56,8 @@ from flapping.model.kinematics import (
 )
 from flapping.model.morphology import Insect
 
-__all__ = ["STATE_NAMES", "AERODYNAMIC_MODELS", "LongitudinalDynamics"]
+__all__ = ["STATE_NAMES", "AERODYNAMIC_MODELS", "LongitudinalDynamics", "inertial_velocity",
+           "inertial_velocity_jac"]
 
 #: Names of the state components, in order.
 STATE_NAMES: tuple[str, ...] = ("u", "w", "q", "theta")
@@ -72,6 +73,47 @@ _AMPLITUDE_STEP = 1e-7
 
 #: Blade-element models kept per LongitudinalDynamics at amplitudes other than its own.
 _MAX_BLADES = 8
+
+
+def inertial_velocity(u: float, w: float, theta: float) -> tuple[float, float]:
+    """Velocity of the centre of gravity in inertial axes: (forward, down) [m/s].
+
+    The body velocity (u, w) turned by the pitch angle: forward = u cos(theta) + w sin(theta),
+    down = -u sin(theta) + w cos(theta) (z down, theta nose up). Integrated beside the states,
+    it gives the position: the hover condition holds the descent over a period at zero.
+
+    Parameters
+    ----------
+    u, w : float
+        Body-axis velocities [m/s].
+    theta : float
+        Pitch angle [rad].
+
+    Returns
+    -------
+    tuple of 2 floats
+    """
+    c, s = math.cos(theta), math.sin(theta)
+    return u * c + w * s, -u * s + w * c
+
+
+def inertial_velocity_jac(u: float, w: float, theta: float) -> np.ndarray:
+    """Jacobian of :func:`inertial_velocity` in the state (u, w, q, theta), shape (2, 4).
+
+    Parameters
+    ----------
+    u, w : float
+        Body-axis velocities [m/s].
+    theta : float
+        Pitch angle [rad].
+
+    Returns
+    -------
+    ndarray, shape (2, 4)
+        Rows forward and down.
+    """
+    c, s = math.cos(theta), math.sin(theta)
+    return np.array([[c, s, 0.0, -u * s + w * c], [-s, c, 0.0, -u * c - w * s]])
 
 
 @dataclass(frozen=True, init=False)

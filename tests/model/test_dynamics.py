@@ -192,3 +192,15 @@ def test_hinge_height_moment_is_the_forward_force_times_the_arm():
             Xh, Zh, Mh = high_m.loads(t, [0.3, -0.2, 0.0])
             np.testing.assert_allclose([Xh, Zh, Mh], [X, Z, M - 7e-3 * X],
                                        rtol=1e-12, atol=1e-12 * abs(M))
+
+
+def test_inertial_velocity_turns_the_body_velocity_and_its_jacobian_matches_differences():
+    from flapping._numdiff import central_jacobian
+    from flapping.model.dynamics import inertial_velocity, inertial_velocity_jac
+
+    assert inertial_velocity(1.0, 0.0, 0.0) == (1.0, 0.0)
+    forward, down = inertial_velocity(0.0, 1.0, math.pi / 2)  # nose up 90 deg: body z points forward
+    assert forward == pytest.approx(1.0) and down == pytest.approx(0.0, abs=1e-15)
+    x = np.array([0.3, -0.2, 5.0, 0.4])
+    numeric = central_jacobian(lambda y: np.array(inertial_velocity(y[0], y[1], y[3])), x)
+    np.testing.assert_allclose(inertial_velocity_jac(0.3, -0.2, 0.4), numeric, atol=1e-9)
