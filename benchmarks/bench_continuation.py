@@ -19,10 +19,9 @@ Run: ``python benchmarks/bench_continuation.py [--repeat N]``.
 from __future__ import annotations
 
 import argparse
-import math
-import time
 
 import numpy as np
+from _timing import best_of  # benchmarks/ is on sys.path when a script runs
 
 from flapping.periodic.continuation import continue_orbit
 from flapping.periodic.floquet import monodromy
@@ -55,15 +54,6 @@ def run_independent(cs):
                         rtol=1e-10, atol=1e-10)
         x, T, nfev = orbit.x0, orbit.period, nfev + orbit.nfev + mon.nfev
     return nfev
-
-
-def best_of(fn, repeat):
-    best, out = math.inf, None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 def main() -> None:

@@ -14,9 +14,9 @@ wall times, right-hand-side evaluations and the ratio baseline/ours. Run:
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
+from _timing import best_of  # benchmarks/ is on sys.path when a script runs
 from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
@@ -67,19 +67,10 @@ def baseline(insect):
     return phi, mu[np.argsort(-np.abs(mu))], count[0]
 
 
-def best_time(fn, insect, repeat):
-    best, out = math.inf, None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn(insect)
-        best = min(best, time.perf_counter() - t0)
-    return best, out
-
-
 def main(repeat: int = 3) -> dict:
     insect = flapping.hawkmoth()
-    t_ours, (phi_a, mu_a, n_a) = best_time(ours, insect, repeat)
-    t_base, (phi_b, mu_b, n_b) = best_time(baseline, insect, repeat)
+    t_ours, (phi_a, mu_a, n_a) = best_of(lambda: ours(insect), repeat)
+    t_base, (phi_b, mu_b, n_b) = best_of(lambda: baseline(insect), repeat)
     print(f"hover orbit + Floquet multipliers of the {insect.name} (best of {repeat})")
     print(f"  ours     : {t_ours * 1e3:8.1f} ms   {n_a:7d} RHS evals (shooting)  "
           f"Phi = {math.degrees(phi_a):.9f} deg")

@@ -36,16 +36,8 @@ from flapping.fast.kernel import KernelProblem, solve_hover
 from flapping.sweep import sweep_hover
 
 sys.path.insert(0, str(Path(__file__).parent))
+from _timing import best_of  # noqa: E402
 from bench_hover import baseline  # noqa: E402
-
-
-def best_of(fn, repeat: int):
-    best, out = math.inf, None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 def adaptive(insect):
