@@ -28,6 +28,7 @@ from scipy.optimize import brentq
 
 from flapping.periodic import _segments as seg
 from flapping.periodic._branchflow import Evaluation, IntegrationFailed, OrbitSystem
+from flapping.periodic.floquet import nontrivial_multipliers
 
 __all__ = ["Corrector", "Located", "TestValues", "test_values", "locate", "tangent",
            "double_at"]
@@ -116,10 +117,9 @@ class Corrector:
         return None
 
 
-def _nontrivial(system: OrbitSystem, mu: np.ndarray) -> np.ndarray:
-    if system.autonomous and mu.size:
-        return np.delete(mu, int(np.argmin(np.abs(mu - 1.0))))
-    return mu
+def nontrivial(system: OrbitSystem, mu: np.ndarray) -> np.ndarray:
+    """The multipliers without the trivial one of an autonomous orbit (all of a forced one's)."""
+    return nontrivial_multipliers(mu) if system.autonomous and mu.size else mu
 
 
 def _is_complex(mu: np.ndarray) -> np.ndarray:
@@ -128,7 +128,7 @@ def _is_complex(mu: np.ndarray) -> np.ndarray:
 
 def test_values(system: OrbitSystem, mu: np.ndarray, t: np.ndarray) -> TestValues:
     """The test functions at a point with multipliers ``mu`` and tangent ``t``."""
-    others = _nontrivial(system, mu)
+    others = nontrivial(system, mu)
     cplx = _is_complex(others)
     return TestValues(pd=float(np.prod(mu + 1.0).real), fold_tp=float(t[-1]),
                       n_complex_out=int(np.sum(cplx & (np.abs(others) > 1.0))),
@@ -147,7 +147,7 @@ def _fold_value(system: OrbitSystem, ev: Evaluation, _t: np.ndarray) -> float:
 
 def _ns_value(system: OrbitSystem, ev: Evaluation, _t: np.ndarray) -> float:
     assert ev.monodromy is not None
-    others = _nontrivial(system, system.multipliers(ev.monodromy))
+    others = nontrivial(system, system.multipliers(ev.monodromy))
     pairs = others[_is_complex(others)]
     if not pairs.size:
         return float("nan")

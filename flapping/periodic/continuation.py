@@ -464,8 +464,7 @@ class _Tracer:
 
 
 def _stable(system: OrbitSystem, mu: np.ndarray) -> bool:
-    others = np.delete(mu, int(np.argmin(np.abs(mu - 1.0)))) if system.autonomous else mu
-    return bool(np.all(np.abs(others) < 1.0))
+    return bool(np.all(np.abs(bif.nontrivial(system, mu)) < 1.0))
 
 
 def _start(fun: Any, jac: Any, x0: np.ndarray, period: Any, p0: float, autonomous: bool,
