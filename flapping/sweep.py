@@ -40,8 +40,7 @@ from flapping.model.morphology import Insect
 if TYPE_CHECKING:  # pragma: no cover
     import pandas
 
-__all__ = ["SWEEPABLE", "COLUMNS", "sweep_hover", "grid_points", "add_sweep_parser",
-           "run_sweep_command"]
+__all__ = ["SWEEPABLE", "COLUMNS", "sweep_hover", "grid_points"]
 
 #: Insect fields a grid may vary (the numeric ones).
 SWEEPABLE: tuple[str, ...] = tuple(
@@ -325,84 +324,3 @@ def _points(insect: Insect | Sequence[Insect], grid: Mapping[str, Sequence[float
     columns: dict[str, list[Any]] = {name: [p[name] for p in points] for name in axes}
     return base, points, columns, tuple(len(v) for v in axes.values())
 
-
-# =========================================================================== command line
-_CLI_HELP = """\
-Evaluate the hover orbit and its Floquet multipliers (compiled kernel, eq. 29's linear loads) over
-a grid of insect parameters and print one row per point: the swept parameters (SI units), the
-stroke amplitude Phi [deg], the initial state u0, w0 [m/s], q0 [rad/s], theta0 [rad], the four
-multipliers (real and imaginary parts, by descending modulus), max |mu|, stable, converged, the
-error estimates, the Newton iterations and steps per half-stroke, and why a point failed."""
-
-_CLI_EPILOG = """\
---param NAME=LO:HI:N takes N values from LO to HI inclusive (numpy.linspace) of an Insect field
-(frequency [Hz], center_of_pressure [fraction of the chord], mass [kg], ...); repeat it for a
-full grid. --csv (default) prints a header and one line per point; --json one JSON object per
-line (JSON Lines, null for a missing value). --workers K runs on K local processes.
-example: %(prog)s --insect hawkmoth --param frequency=20:32:1000 --csv"""
-
-
-def _param(text: str) -> tuple[str, np.ndarray]:
-    """Parse NAME=LO:HI:N into (name, values)."""
-    import argparse
-
-    try:
-        name, spec = text.split("=", 1)
-        lo, hi, n = spec.split(":")
-        values = np.linspace(float(lo), float(hi), int(n))
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"expected NAME=LO:HI:N (e.g. frequency=20:32:100), got {text!r}") from None
-    if name not in SWEEPABLE:
-        raise argparse.ArgumentTypeError(
-            f"unknown Insect field {name!r}; choose from {', '.join(SWEEPABLE)}")
-    if int(n) < 1:
-        raise argparse.ArgumentTypeError(f"N must be >= 1 in {text!r}")
-    return name, values
-
-
-def add_sweep_parser(subparsers: Any, presets: Sequence[str]) -> None:
-    """Add the ``sweep`` subcommand to the CLI's subparsers (see :func:`run_sweep_command`)."""
-    import argparse
-
-    parser = subparsers.add_parser("sweep", help="hover and its multipliers over a parameter grid",
-                                   description=_CLI_HELP, epilog=_CLI_EPILOG,
-                                   formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--insect", default="hawkmoth", choices=sorted(presets),
-                        help="preset insect whose fields are varied (default: %(default)s)")
-    parser.add_argument("--param", action="append", type=_param, required=True,
-                        metavar="NAME=LO:HI:N", help="a swept Insect field (repeatable)")
-    form = parser.add_mutually_exclusive_group()
-    form.add_argument("--csv", action="store_true", help="CSV with a header (default)")
-    form.add_argument("--json", action="store_true", help="one JSON object per line")
-    parser.add_argument("--workers", type=int, default=1, metavar="K",
-                        help="local worker processes (default: %(default)s, in this process)")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
-
-
-def run_sweep_command(args: Any, insect: Insect) -> str:
-    """Run the ``sweep`` subcommand's sweep and return its text (CSV or JSON Lines).
-
-    Raises
-    ------
-    ValueError
-        For a repeated parameter or ``--workers`` < 1.
-    """
-    import json
-    import sys
-    from concurrent.futures import ProcessPoolExecutor
-
-    grid = dict(args.param)
-    if len(grid) != len(args.param):
-        raise ValueError("each --param NAME may be given once")
-    workers = _validation.integer("--workers", args.workers, low=1)
-    progress = not args.quiet and sys.stderr.isatty()
-    if workers == 1:
-        table = sweep_hover(insect, grid, progress=progress)
-    else:
-        with ProcessPoolExecutor(workers) as pool:
-            table = sweep_hover(insect, grid, progress=progress, executor=pool)
-    if args.json:
-        records = table.astype(object).where(table.notna(), None).to_dict("records")
-        return "\n".join(json.dumps(r, allow_nan=False) for r in records)
-    return str(table.to_csv(index=False, float_format="%.17g")).rstrip("\n")

@@ -1,4 +1,4 @@
-"""The command line (flapping.__main__): `flapping` and `python -m flapping`."""
+"""The command line (flapping.cli): `flapping` and `python -m flapping`."""
 
 import json
 import math
@@ -8,7 +8,7 @@ import sys
 import pytest
 
 import flapping
-from flapping import __main__ as cli
+from flapping import cli
 from flapping.hover import find_hover_orbit
 
 # The keys of `hover --json` before the report grew (checked from outside: names and meanings

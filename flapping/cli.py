@@ -1,0 +1,474 @@
+"""The command line (``flapping``, ``python -m flapping``): hover orbits and their stability.
+
+``flapping hover [--insect NAME|FILE] [--aerodynamics linear] [--json]`` (the console script), or
+the same after ``python -m flapping``; ``--insect`` takes a preset name or a ``.toml``/``.json``
+file (:mod:`flapping.model.insect_file`), and ``flapping species [--json]`` lists the presets.
+``flapping --version`` prints the package version.
+``flapping sweep --insect hawkmoth --param frequency=LO:HI:N [--param NAME=LO:HI:N] [--csv |
+--json] [--workers K]`` prints hover and its multipliers over a parameter grid, one row per point
+(:mod:`flapping.sweep`).
+
+Exit status: 0 on success; 1 if the solver fails (no convergence, a failed integration, or a result
+that is not a finite number); 2 for bad arguments. Errors are one line on standard error.
+
+The JSON report (:func:`hover_report`) is in SI units (angles in rad unless the key ends in
+``_deg``), and its ``units`` member gives the unit of every key. It never contains NaN or infinity:
+a non-finite result is an error (status 1), not a number a JSON parser may refuse.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import inspect
+import json
+import math
+import os
+import sys
+import warnings
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any, NoReturn
+
+import numpy as np
+
+import flapping._validation as _validation
+from flapping import __version__
+from flapping.errors import ConvergenceError
+from flapping.hover import HoverOrbit, find_hover_orbit
+from flapping.model import presets as species
+from flapping.model.dynamics import AERODYNAMIC_MODELS, STATE_NAMES
+from flapping.model.insect_file import resolve_insect
+from flapping.model.morphology import Insect
+from flapping.stability import HoverStability, hover_stability
+from flapping.sweep import SWEEPABLE, sweep_hover
+
+__all__ = ["PRESETS", "UNITS", "NonFiniteResultError", "hover_report", "main"]
+
+#: Preset insects selectable with ``--insect`` by name (:mod:`flapping.model.presets`).
+PRESETS: dict[str, Callable[[], Insect]] = {name: p.insect for name, p in species.PRESETS.items()}
+
+_STATE_UNITS = {"u": "m/s", "w": "m/s", "q": "rad/s", "theta": "rad"}
+_COUNT = "1"  # a dimensionless number (a count, a ratio, a multiplier)
+#: Units of the :class:`~flapping.model.morphology.Insect` fields (``None``: not a quantity).
+INSECT_UNITS: dict[str, str | None] = {
+    "name": None, "semi_span": "m", "wing_area": "m^2", "r1": _COUNT, "r2": _COUNT,
+    "frequency": "Hz", "stroke_amplitude": "rad", "mass": "kg", "pitch_inertia": "kg m^2",
+    "air_density": "kg/m^3", "gravity": "m/s^2", "a0": "1/rad", "aspect_ratio_convention": None,
+    "pitch_axis": _COUNT, "center_of_pressure": _COUNT, "hinge_offset": "m", "mu1": _COUNT,
+    "mu2": _COUNT, "hinge_height": "m", "stroke_mean": "rad",
+}
+_ATOL_UNIT = "SI units of each state (m/s, rad/s, rad; m for z)"
+_SHOOTING_UNITS: dict[str, str | None] = {
+    "method": None, "rtol": _COUNT, "atol": _ATOL_UNIT,
+    "tol": "SI units of each state (norm of the residual)", "jacobian": None, "success": None,
+    "nit": _COUNT, "nfev": _COUNT, "njev": _COUNT, "backend": None,
+}
+_STABILITY_UNITS: dict[str, str | None] = {
+    "method": None, "rtol": _COUNT, "atol": _ATOL_UNIT, "rk4_steps": _COUNT, "n_average": _COUNT,
+    "backend": None,
+}
+#: Unit of every key of the JSON report (nested like the report; ``None``: not a quantity;
+#: ``"1"``: dimensionless). Lists of complex numbers ``{"re", "im"}`` share one unit.
+UNITS: dict[str, Any] = {
+    "version": None,
+    "insect": None,
+    "insect_parameters": INSECT_UNITS,
+    "aerodynamics": None,
+    "amplitude_deg": "deg",
+    "alpha_m_deg": "deg",
+    "initial_state": _STATE_UNITS,
+    "period_s": "s",
+    "residual_norm": "SI units of each state (norm of the shooting residual)",
+    "mean_inertial_velocity": {"forward": "m/s", "climb": "m/s"},
+    "mean_horizontal_velocity": "m/s",
+    "mean_vertical_velocity": "m/s",
+    "is_hover": None,
+    "multipliers": _COUNT,
+    "floquet_exponents": "1/s",
+    "det_monodromy": _COUNT,
+    "liouville_det": _COUNT,
+    "liouville_error": _COUNT,
+    "averaged_eigenvalues": "1/s",
+    "stable": None,
+    "solver": {"shooting": _SHOOTING_UNITS, "stability": _STABILITY_UNITS},
+}
+
+_DESCRIPTION = """\
+Stability of hovering flapping-wing flight (Elsadek, El-Bayoumi & Taha): the periodic hover
+orbit of an insect and its Floquet multipliers."""
+
+_EXIT_CODES = """exit status:
+  0  success
+  1  the solver failed: no convergence, a failed integration, or a result that is not finite
+  2  bad command-line arguments"""
+
+_EPILOG = f"""`%(prog)s hover --help` describes hover, its options and the units of its output.
+
+{_EXIT_CODES}
+
+Units are SI (m, s, kg, rad), except keys and labels that say deg.
+example: %(prog)s hover --json"""
+
+_HOVER_DESCRIPTION = """\
+Find the hover orbit of an insect, a preset or a file (Elsadek, El-Bayoumi & Taha, Sec. IV): the
+initial state u, w [m/s], q [rad/s], theta [rad] and the stroke amplitude Phi [deg] of the
+periodic orbit of period T = 1/f [s] whose mean climb rate is zero. Then integrate the
+variational equations over one period: the monodromy matrix, its Floquet multipliers
+(dimensionless; hover is stable if all four lie inside the unit circle), the Floquet exponents
+ln(mu)/T [1/s], the Liouville check det M = exp(int_0^T trace J dt), and the eigenvalues of the
+cycle-averaged system [1/s]."""
+
+_HOVER_EPILOG = f"""\
+--json prints one JSON object with the keys amplitude_deg, alpha_m_deg, initial_state, period_s,
+residual_norm, mean_inertial_velocity, multipliers, floquet_exponents, det_monodromy,
+liouville_det, averaged_eigenvalues, stable, and version, insect, insect_parameters,
+aerodynamics, mean_horizontal_velocity, mean_vertical_velocity, is_hover, liouville_error,
+solver (settings and iteration counts); `units` gives the unit of every key. Complex numbers are
+{{"re": ..., "im": ...}}. NaN and infinity are never printed: a non-finite result exits with 1.
+
+{_EXIT_CODES}"""
+
+
+_SPECIES_DESCRIPTION = """\
+List the preset insects (flapping.model.presets): name, species, body mass, wing length (the
+semi-span R), flapping frequency and main source. Each works with `hover --insect NAME`. With
+--json: a list of objects with the keys name, species, mass_kg, wing_length_m, frequency_hz,
+source."""
+
+
+class NonFiniteResultError(ValueError):
+    """A number of the report is NaN or infinite, so it cannot be reported as JSON."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> NoReturn:  # one line, no usage dump
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def _prog() -> str:
+    """``flapping`` when run as the console script, else ``python -m flapping``."""
+    return "flapping" if Path(sys.argv[0]).name == "flapping" else "python -m flapping"
+
+
+def _parser() -> argparse.ArgumentParser:
+    raw = argparse.RawDescriptionHelpFormatter
+    parser = _Parser(prog=_prog(), description=_DESCRIPTION, epilog=_EPILOG, formatter_class=raw)
+    parser.add_argument("--version", action="version", version=f"flapping {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser,
+                                metavar="command")
+    hover = sub.add_parser("hover", help="hover orbit and its Floquet stability",
+                           description=_HOVER_DESCRIPTION, epilog=_HOVER_EPILOG,
+                           formatter_class=raw)
+    hover.add_argument("--insect", default="hawkmoth", metavar="NAME|FILE",
+                       help="a preset (" + ", ".join(PRESETS) + "; default: %(default)s, the "
+                            "paper's Manduca sexta; the species command lists them) or a .toml "
+                            "or .json file of Insect fields in SI units")
+    hover.add_argument("--aerodynamics", default="linear", choices=AERODYNAMIC_MODELS,
+                       help="loads model (default: %(default)s, the paper's eq. 29; small-angle "
+                            "and exact: the blade-element loads)")
+    hover.add_argument("--json", action="store_true",
+                       help="print one JSON object (SI units, a `units` map) instead of text")
+    listing = sub.add_parser("species", help="list the preset insects",
+                             description=_SPECIES_DESCRIPTION, formatter_class=raw)
+    listing.add_argument("--json", action="store_true",
+                         help="print a JSON list of objects (SI units in the key names)")
+    add_sweep_parser(sub, tuple(PRESETS))
+    return parser
+
+
+def _complex_list(values) -> list[dict[str, float]]:
+    return [{"re": float(v.real), "im": float(v.imag)} for v in values]
+
+
+def _defaults(function: Callable, *names: str) -> dict[str, Any]:
+    """The default values of some keyword arguments of ``function``."""
+    parameters = inspect.signature(function).parameters
+    return {name: parameters[name].default for name in names}
+
+
+def _solver_report(orbit: HoverOrbit, shooting: dict, stability: dict) -> dict[str, dict]:
+    result = orbit.shooting
+    return {
+        "shooting": {**shooting, "jacobian": result.jacobian, "success": bool(result.success),
+                     "nit": int(result.nit), "nfev": int(result.nfev),
+                     "njev": int(result.njev)},
+        "stability": dict(stability),
+    }
+
+
+def _insect_parameters(insect: Insect) -> dict[str, Any]:
+    return {f.name: getattr(insect, f.name) for f in dataclasses.fields(insect) if f.init}
+
+
+def _orbit_report(orbit: HoverOrbit) -> dict[str, Any]:
+    velocity = orbit.mean_inertial_velocity
+    return {
+        "amplitude_deg": orbit.amplitude_deg,
+        "alpha_m_deg": math.degrees(orbit.model.alpha_m),
+        "initial_state": {k: float(v) for k, v in zip(STATE_NAMES, orbit.x0, strict=True)},
+        "period_s": orbit.period,
+        "residual_norm": orbit.residual_norm,
+        "mean_inertial_velocity": velocity,
+        "mean_horizontal_velocity": velocity["forward"],
+        "mean_vertical_velocity": velocity["climb"],
+        "is_hover": orbit.is_hover,
+    }
+
+
+def _stability_report(stab: HoverStability) -> dict[str, Any]:
+    return {
+        "multipliers": _complex_list(stab.multipliers),
+        "floquet_exponents": _complex_list(stab.exponents),
+        "det_monodromy": stab.det,
+        "liouville_det": stab.liouville_det,
+        "liouville_error": stab.liouville_error,
+        "averaged_eigenvalues": _complex_list(stab.averaged_eigenvalues),
+        "stable": stab.is_stable,
+    }
+
+
+def _non_finite(value: Any, path: str = "") -> list[str]:
+    """Paths (``key.sub[i].re = nan``) of every NaN or infinity in a JSON-ready object."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return [f"{path} = {value}"]
+    if isinstance(value, dict):
+        return [p for k, v in value.items() for p in _non_finite(v, f"{path}.{k}" if path else k)]
+    if isinstance(value, list):
+        return [p for i, v in enumerate(value) for p in _non_finite(v, f"{path}[{i}]")]
+    return []
+
+
+def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str = "linear") -> dict:
+    """The hover orbit and its stability as a JSON-ready dict (SI units; see :data:`UNITS`).
+
+    Parameters
+    ----------
+    insect : str or Insect
+        A key of :data:`PRESETS`, the path of a ``.toml``/``.json`` insect file
+        (:mod:`flapping.model.insect_file`), or an :class:`~flapping.model.morphology.Insect`.
+    aerodynamics : {"linear", "small-angle", "exact"}
+        Loads model.
+
+    Returns
+    -------
+    dict
+        The keys of :data:`UNITS` and ``units`` (that map). Every number is finite.
+
+    Raises
+    ------
+    ValueError
+        For an unknown preset or bad arguments.
+    ConvergenceError
+        If the shooting or an integration fails.
+    NonFiniteResultError
+        If a reported number is NaN or infinite (e.g. a Floquet exponent of a multiplier that
+        underflows to 0); the message lists which.
+    """
+    if isinstance(insect, str):
+        insect = PRESETS[insect]() if insect in PRESETS else resolve_insect(insect)
+    shooting = _defaults(find_hover_orbit, "method", "rtol", "atol", "tol", "backend")
+    stability = _defaults(hover_stability, "method", "rtol", "atol", "rk4_steps", "n_average",
+                          "backend")
+    orbit = find_hover_orbit(insect, aerodynamics=aerodynamics, **shooting)
+    stab = hover_stability(orbit, **stability)
+    report = {"version": __version__, "insect": insect.name,
+              "insect_parameters": _insect_parameters(insect), "aerodynamics": aerodynamics,
+              **_orbit_report(orbit), **_stability_report(stab),
+              "solver": _solver_report(orbit, shooting, stability), "units": UNITS}
+    bad = _non_finite(report)
+    if bad:
+        raise NonFiniteResultError(
+            f"the result for {insect.name} is not finite ({', '.join(bad)}): the orbit or its "
+            "stability is out of floating-point range, so it is not reported")
+    return report
+
+
+def _text(report: dict) -> str:
+    x0 = report["initial_state"]
+    lines = [
+        f"{report['insect']} hover ({report['aerodynamics']} aerodynamics)",
+        f"  stroke amplitude Phi = {report['amplitude_deg']:.6f} deg "
+        f"(alpha_m = {report['alpha_m_deg']:.4f} deg, T = {report['period_s']:.6f} s)",
+        f"  initial state: u = {x0['u']:.6g} m/s, w = {x0['w']:.6g} m/s, "
+        f"q = {x0['q']:.6g} rad/s, theta = {x0['theta']:.6g} rad",
+        f"  shooting residual {report['residual_norm']:.2e}",
+        f"  mean inertial velocity: forward {report['mean_horizontal_velocity']:.3g} m/s, "
+        f"climb {report['mean_vertical_velocity']:.3g} m/s"
+        + ("" if report["is_hover"] else " (NOT hover: the orbit drifts)"),
+        "  Floquet multipliers:",
+    ]
+    for mu in report["multipliers"]:
+        lines.append(f"    {mu['re']:+.6f} {mu['im']:+.6f}i   "
+                     f"|mu| = {math.hypot(mu['re'], mu['im']):.6f}")
+    lines.append(f"  det M = {report['det_monodromy']:.10g}, Liouville exp(int tr J) = "
+                 f"{report['liouville_det']:.10g} (relative error "
+                 f"{report['liouville_error']:.1e})")
+    lines.append("  averaged-system eigenvalues [1/s]: " + ", ".join(
+        f"{e['re']:+.4g}{e['im']:+.4g}i" for e in report["averaged_eigenvalues"]))
+    lines.append("  hover is " + ("stable" if report["stable"] else "UNSTABLE"))
+    return "\n".join(lines)
+
+
+def _one_line(text: object) -> str:
+    return " ".join(str(text).split())
+
+
+def _sweep(args: argparse.Namespace, prog: str) -> int:
+    """The ``sweep`` subcommand: one row per point on standard output (see flapping.sweep)."""
+    try:
+        text = run_sweep_command(args, PRESETS[args.insect]())
+    except (ValueError, ImportError) as exc:
+        print(f"{prog}: error: {_one_line(exc)}", file=sys.stderr)
+        return 1
+    try:
+        print(text, flush=True)
+    except BrokenPipeError:  # the reader left early (`flapping sweep ... | head`)
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+    return 0
+
+
+def _insect_argument(parser: argparse.ArgumentParser, spec: str) -> Insect:
+    """``--insect`` as an Insect (a preset or a file), or exit 2 with one line saying why."""
+    if spec in PRESETS:
+        return PRESETS[spec]()
+    try:
+        return resolve_insect(spec)
+    except ValueError as exc:
+        parser.error(f"argument --insect: {_one_line(exc)}")
+
+
+def _species(as_json: bool) -> int:
+    """The ``species`` subcommand: the presets, as a table or a JSON list."""
+    rows = species.species_table()
+    if as_json:
+        text = json.dumps(rows, allow_nan=False)
+    else:
+        head = f"{'name':<10} {'species':<30} {'mass [mg]':>10} {'R [mm]':>7} {'f [Hz]':>7}  source"
+        text = "\n".join([head] + [
+            f"{r['name']:<10} {r['species']:<30} {r['mass_kg'] * 1e6:>10.4g} "
+            f"{r['wing_length_m'] * 1e3:>7.4g} {r['frequency_hz']:>7.4g}  {r['source']}"
+            for r in rows])
+    try:
+        print(text, flush=True)
+    except BrokenPipeError:  # the reader left early (`flapping species | head`)
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``flapping`` and ``python -m flapping``; returns the exit status.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        0 on success, 1 if the solver fails or its result is not finite. Bad arguments exit
+        (SystemExit) with status 2; ``--help`` and ``--version`` with 0.
+    """
+    parser = _parser()
+    args = parser.parse_args(argv)
+    if args.command == "sweep":
+        return _sweep(args, parser.prog)
+    if args.command == "species":
+        return _species(args.json)
+    insect = _insect_argument(parser, args.insect)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            report = hover_report(insect, args.aerodynamics)
+            text = json.dumps(report, allow_nan=False) if args.json else _text(report)
+        except (ValueError, ConvergenceError, ArithmeticError) as exc:
+            print(f"{parser.prog}: error: {_one_line(exc)}", file=sys.stderr)
+            return 1
+    for message in dict.fromkeys(_one_line(w.message) for w in caught):
+        print(f"{parser.prog}: warning: {message}", file=sys.stderr)
+    try:
+        print(text, flush=True)
+    except BrokenPipeError:  # the reader left early (`flapping hover | head`): no traceback
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+    return 0
+
+
+
+# =========================================================================== sweep
+_CLI_HELP = """\
+Evaluate the hover orbit and its Floquet multipliers (compiled kernel, eq. 29's linear loads) over
+a grid of insect parameters and print one row per point: the swept parameters (SI units), the
+stroke amplitude Phi [deg], the initial state u0, w0 [m/s], q0 [rad/s], theta0 [rad], the four
+multipliers (real and imaginary parts, by descending modulus), max |mu|, stable, converged, the
+error estimates, the Newton iterations and steps per half-stroke, and why a point failed."""
+
+_CLI_EPILOG = """\
+--param NAME=LO:HI:N takes N values from LO to HI inclusive (numpy.linspace) of an Insect field
+(frequency [Hz], center_of_pressure [fraction of the chord], mass [kg], ...); repeat it for a
+full grid. --csv (default) prints a header and one line per point; --json one JSON object per
+line (JSON Lines, null for a missing value). --workers K runs on K local processes.
+example: %(prog)s --insect hawkmoth --param frequency=20:32:1000 --csv"""
+
+
+def _param(text: str) -> tuple[str, np.ndarray]:
+    """Parse NAME=LO:HI:N into (name, values)."""
+    try:
+        name, spec = text.split("=", 1)
+        lo, hi, n = spec.split(":")
+        values = np.linspace(float(lo), float(hi), int(n))
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected NAME=LO:HI:N (e.g. frequency=20:32:100), got {text!r}") from None
+    if name not in SWEEPABLE:
+        raise argparse.ArgumentTypeError(
+            f"unknown Insect field {name!r}; choose from {', '.join(SWEEPABLE)}")
+    if int(n) < 1:
+        raise argparse.ArgumentTypeError(f"N must be >= 1 in {text!r}")
+    return name, values
+
+
+def add_sweep_parser(subparsers: Any, presets: Sequence[str]) -> None:
+    """Add the ``sweep`` subcommand to the CLI's subparsers (see :func:`run_sweep_command`)."""
+    parser = subparsers.add_parser("sweep", help="hover and its multipliers over a parameter grid",
+                                   description=_CLI_HELP, epilog=_CLI_EPILOG,
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--insect", default="hawkmoth", choices=sorted(presets),
+                        help="preset insect whose fields are varied (default: %(default)s)")
+    parser.add_argument("--param", action="append", type=_param, required=True,
+                        metavar="NAME=LO:HI:N", help="a swept Insect field (repeatable)")
+    form = parser.add_mutually_exclusive_group()
+    form.add_argument("--csv", action="store_true", help="CSV with a header (default)")
+    form.add_argument("--json", action="store_true", help="one JSON object per line")
+    parser.add_argument("--workers", type=int, default=1, metavar="K",
+                        help="local worker processes (default: %(default)s, in this process)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def run_sweep_command(args: Any, insect: Insect) -> str:
+    """Run the ``sweep`` subcommand's sweep and return its text (CSV or JSON Lines).
+
+    Raises
+    ------
+    ValueError
+        For a repeated parameter or ``--workers`` < 1.
+    """
+    from concurrent.futures import ProcessPoolExecutor
+
+    grid = dict(args.param)
+    if len(grid) != len(args.param):
+        raise ValueError("each --param NAME may be given once")
+    workers = _validation.integer("--workers", args.workers, low=1)
+    progress = not args.quiet and sys.stderr.isatty()
+    if workers == 1:
+        table = sweep_hover(insect, grid, progress=progress)
+    else:
+        with ProcessPoolExecutor(workers) as pool:
+            table = sweep_hover(insect, grid, progress=progress, executor=pool)
+    if args.json:
+        records = table.astype(object).where(table.notna(), None).to_dict("records")
+        return "\n".join(json.dumps(r, allow_nan=False) for r in records)
+    return str(table.to_csv(index=False, float_format="%.17g")).rstrip("\n")
