@@ -3,6 +3,11 @@
 - :class:`ConvergenceError`: a solver or an integration did not reach its answer;
   :func:`require_success` raises it for an integration result that failed.
 - :class:`HoverDriftWarning`: a "hover" orbit that flies away horizontally (an offset hinge).
+- :class:`PlausibilityWarning`: an insect whose magnitudes no insect or flapping vehicle has.
+- :class:`ClosureWarning`: a monodromy matrix of a point that is not on a periodic orbit.
+- :class:`AliasedPeriodWarning`: a period that is a multiple of the orbit's minimal period, or
+  shooting residual points that sample the same phase twice.
+- :class:`ToleranceWarning`: a tolerance below what float64 delivers, raised to the floor.
 """
 
 from __future__ import annotations
@@ -11,7 +16,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["ConvergenceError", "HoverDriftWarning", "require_success"]
+__all__ = ["ConvergenceError", "HoverDriftWarning", "ClosureWarning", "AliasedPeriodWarning",
+           "ToleranceWarning", "PlausibilityWarning", "require_success"]
 
 
 class ConvergenceError(RuntimeError):
@@ -62,6 +68,43 @@ class HoverDriftWarning(UserWarning):
     broken (a non-zero ``hinge_offset``) the orbit may fly forwards or backwards on average.
     Emitted by :func:`flapping.hover.find_hover_orbit`; see
     :attr:`flapping.hover.HoverOrbit.is_hover` for the tolerance.
+    """
+
+
+class ClosureWarning(RuntimeWarning):
+    """The state after one period is not the initial state: the point is on no periodic orbit.
+
+    Emitted by :func:`flapping.periodic.floquet.monodromy` when the relative closure error
+    ``|x(T) - x(0)| / max(1, |x(0)|)`` exceeds
+    :data:`flapping.periodic.floquet.CLOSURE_TOL`; the multipliers it returns are then those
+    of a transition matrix, not of an orbit.
+    """
+
+
+class AliasedPeriodWarning(RuntimeWarning):
+    """A period or a sampling that aliases.
+
+    Emitted by :func:`flapping.periodic.shooting.find_periodic_orbit` and
+    :func:`flapping.periodic.floquet.monodromy` when the orbit closes already at ``T / k`` (the
+    period given or found is ``k`` times the minimal period: multipliers are then the ``k``-th
+    powers of the orbit's), and by ``find_periodic_orbit`` when two of its residual points
+    ``k delta`` fall on the same phase of the period (their residual rows repeat each other).
+    """
+
+
+class ToleranceWarning(RuntimeWarning):
+    """A tolerance below what float64 can deliver was raised to the floor (as scipy does).
+
+    See :mod:`flapping.periodic.settings` for the floors.
+    """
+
+
+class PlausibilityWarning(UserWarning):
+    """A value is valid for the model but outside what any insect or flapping vehicle has.
+
+    E.g. a 1e12 Hz wing beat: the equations still have a "hover" orbit, at a nonsense speed.
+    Emitted by :class:`flapping.model.morphology.Insect`, whose ``PLAUSIBLE_RANGES`` lists the
+    ranges; the message names the field, its value and the range.
     """
 
 

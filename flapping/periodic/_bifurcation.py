@@ -28,6 +28,7 @@ from scipy.optimize import brentq
 
 from flapping.periodic import _segments as seg
 from flapping.periodic._branchflow import Evaluation, IntegrationFailed, OrbitSystem
+from flapping.periodic._readonly import freeze
 from flapping.periodic.floquet import nontrivial_multipliers
 
 __all__ = ["Corrector", "Located", "TestValues", "test_values", "locate", "tangent",
@@ -56,6 +57,10 @@ class Located:
     evaluation: Evaluation
     tangent: np.ndarray
     value: float
+
+    def __post_init__(self) -> None:
+        freeze(self)
+        freeze(self.evaluation)  # the located point owns its evaluation
 
 
 def tangent(J: np.ndarray, previous: np.ndarray | None) -> np.ndarray:

@@ -33,20 +33,14 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, OdeSolution, OdeSolver, Radau
+from scipy.integrate import BDF, LSODA, OdeSolution, OdeSolver
 
 import flapping._validation as check
 from flapping._numdiff import central_jacobian
+from flapping.periodic import settings as opt
+from flapping.periodic._readonly import freeze
 from flapping.periodic.rk4 import RK4
-
-#: Integration methods by name: scipy's and the fixed-step ``"RK4"``.
-METHODS: dict[str, type[OdeSolver]] = {
-    "RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF, "LSODA": LSODA,
-    "RK4": RK4,
-}
-
-#: Default step budget of one integration call (all its pieces together).
-MAX_STEPS = 100_000
+from flapping.periodic.settings import MAX_STEPS, METHODS
 
 #: Consecutive steps whose size, kept up, would exceed the budget before the early failure.
 _STREAK = 100
@@ -96,26 +90,21 @@ def check_settings(method: Any, rtol: Any, atol: Any, rk4_steps: Any,
                    max_steps: Any) -> Settings:
     """Check the integration options shared by every public function that integrates.
 
+    The checks themselves live in :mod:`flapping.periodic.settings` (tolerance floors, caps).
+
     Raises
     ------
     ValueError
         Naming the first bad option and its accepted values.
     """
-    if isinstance(method, type) and issubclass(method, OdeSolver):
-        name, solver = ("RK4" if issubclass(method, RK4) else method.__name__), method
+    checked = opt.check_method(method)
+    if isinstance(checked, type):
+        name, solver = ("RK4" if issubclass(checked, RK4) else checked.__name__), checked
     else:
-        name = check.choice("method", method, tuple(METHODS))
-        solver = METHODS[name]
-    rtol = check.positive("rtol", rtol)
-    if np.ndim(atol) == 0:
-        atol_checked: float | np.ndarray = check.positive("atol", atol)
-    else:
-        atol_checked = check.vector("atol", atol)
-        if not np.all(atol_checked > 0):
-            raise ValueError(f"`atol` must be positive; got {atol!r}")
-    rk4_steps = check.integer("rk4_steps", rk4_steps, low=1)
-    max_steps = check.integer("max_steps", MAX_STEPS if max_steps is None else max_steps, low=1)
-    return Settings(name, solver, rtol, atol_checked, rk4_steps, max_steps)
+        name, solver = checked, METHODS[checked]
+    return Settings(name, solver, opt.check_rtol("rtol", rtol), opt.check_atol("atol", atol),
+                    opt.capped("rk4_steps", rk4_steps),
+                    opt.capped("max_steps", MAX_STEPS if max_steps is None else max_steps))
 
 
 def check_breakpoints(breakpoints: Any) -> tuple[float, ...]:
@@ -423,6 +412,11 @@ def propagate(funs: Sequence[Callable[[float, np.ndarray], np.ndarray]], t0: flo
     ``atol`` overrides ``settings.atol`` (the variational system's longer vector).
     """
     t_out = [float(t) for t in t_out]
+    too_many = _too_many_pieces(t0, t1, period, breakpoints, len(t_out), settings.max_steps)
+    if too_many:
+        y = np.asarray(y0, dtype=float)
+        return Propagation([y for _ in t_out], np.empty(0), np.empty((0, y.size)), None, False,
+                           too_many, y)
     nodes, segments = restart_nodes(t0, t1, period, breakpoints, t_out)
     if h is not None:
         _check_on_grid(list(nodes) + t_out, t0, t1, h)
@@ -431,7 +425,7 @@ def propagate(funs: Sequence[Callable[[float, np.ndarray], np.ndarray]], t0: flo
     out_t: list[float] = []
     out_y: list[np.ndarray] = []
     pieces: list[tuple[float, float, OdeSolution]] = []
-    out_index = [int(np.argmin(np.abs(nodes - t))) for t in t_out]  # t_out were merged into nodes
+    out_index = _nearest(nodes, t_out)  # t_out were merged into nodes
     node_state: list[np.ndarray] = [y]
     success, message = True, "The solver successfully reached the end of the integration interval."
     options = solver_options(settings, h, atol)
@@ -461,6 +455,35 @@ def propagate(funs: Sequence[Callable[[float, np.ndarray], np.ndarray]], t0: flo
         out_t, out_y = list(t_eval), [sol(t) for t in t_eval]
     return Propagation([node_state[i] if i < len(node_state) else y for i in out_index],
                        np.array(out_t), np.array(out_y), sol, success, message, y)
+
+
+def _too_many_pieces(t0: float, t1: float, period: float | None, breakpoints: tuple[float, ...],
+                     n_out: int, max_steps: int) -> str:
+    """Why the restart grid alone would exceed the step budget (each piece takes a step), or ''.
+
+    Counted before the grid is built: a span of 10**12 periods must fail at once, not after
+    building 10**12 restart times.
+    """
+    periods = abs(t1 - t0) / period + 2.0 if breakpoints and period else 0.0
+    pieces = periods * (len(breakpoints) + 1) + n_out + 1
+    if pieces <= max_steps:
+        return ""
+    return (f"step budget exceeded before the first step: the span [{t0:.6g}, {t1:.6g}] needs "
+            f"about {pieces:.3g} restarts (breakpoints and output times), more than max_steps = "
+            f"{max_steps}; shorten the span or raise `max_steps`")
+
+
+def _nearest(nodes: np.ndarray, times: Sequence[float]) -> list[int]:
+    """Index of the node nearest each time (nodes monotonic): O(m log n), not O(m n)."""
+    if not times:
+        return []
+    ascending = nodes[-1] >= nodes[0]
+    grid = nodes if ascending else nodes[::-1]
+    t = np.asarray(times)
+    hi = np.clip(np.searchsorted(grid, t), 1, grid.size - 1)
+    lo = hi - 1
+    idx = np.where(np.abs(grid[lo] - t) <= np.abs(grid[hi] - t), lo, hi)
+    return [int(i) if ascending else int(grid.size - 1 - i) for i in idx]
 
 
 def _check_on_grid(times: Sequence[float], t0: float, t1: float, h: float) -> None:
@@ -506,6 +529,9 @@ class FlowResult:
     message: str
     sol: Callable[[Any], np.ndarray] | None = None
 
+    def __post_init__(self) -> None:
+        freeze(self)
+
     @property
     def x_end(self) -> np.ndarray:
         """State at the last output time."""
@@ -547,6 +573,9 @@ class VariationalFlow:
     njev: int
     success: bool
     message: str
+
+    def __post_init__(self) -> None:
+        freeze(self)
 
     @property
     def x_end(self) -> np.ndarray:

@@ -49,6 +49,7 @@ from flapping.errors import ConvergenceError
 from flapping.periodic import _bifurcation as bif
 from flapping.periodic import _segments as seg
 from flapping.periodic._branchflow import OrbitSystem
+from flapping.periodic._readonly import freeze
 from flapping.periodic.shooting import find_periodic_orbit
 
 __all__ = ["Branch", "Bifurcation", "ContinuationOptions", "continue_orbit", "KINDS"]
@@ -117,6 +118,9 @@ class Bifurcation:
     index: int
     located: bif.Located = field(repr=False, compare=False)
 
+    def __post_init__(self) -> None:
+        freeze(self)
+
 
 @dataclass(frozen=True)
 class Branch:
@@ -167,6 +171,9 @@ class Branch:
     segments: int
     nfev: int
     context: Any = field(repr=False, compare=False, default=None)
+
+    def __post_init__(self) -> None:
+        freeze(self)
 
     def __len__(self) -> int:
         return int(self.p.size)

@@ -47,6 +47,7 @@ from scipy.integrate import OdeSolver
 import flapping._validation as check
 from flapping.errors import ConvergenceError
 from flapping.periodic import _segments as seg
+from flapping.periodic._readonly import freeze
 
 __all__ = [
     "FloquetAccuracyWarning",
@@ -117,6 +118,9 @@ class Monodromy:
     multiplier_method: str
     nfev: int
     njev: int
+
+    def __post_init__(self) -> None:
+        freeze(self)
 
 
 def _sort_by_modulus(mu: np.ndarray) -> np.ndarray:

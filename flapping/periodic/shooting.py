@@ -65,6 +65,7 @@ from flapping.periodic._problem import (
     ShootingProblem,
     ShootingSetup,
 )
+from flapping.periodic._readonly import freeze
 
 __all__ = [
     "PeriodicOrbit",
@@ -152,6 +153,9 @@ class PeriodicOrbit:
     unknowns: np.ndarray
     phase_condition: str
     segment_states: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        freeze(self)
 
     @property
     def segments(self) -> int:

@@ -1,0 +1,248 @@
+"""One settings object for the solvers of :mod:`flapping.periodic`, and the checks of its fields.
+
+:class:`SolverSettings` groups the options that recur in :func:`~flapping.periodic.shooting.
+find_periodic_orbit`, :func:`~flapping.periodic.floquet.monodromy` and
+:func:`~flapping.periodic.continuation.continue_orbit` (as diffrax passes its solver and step-size
+controller as objects, and BifurcationKit keeps ``ContinuationPar`` apart from the problem). Each
+of those functions accepts it as ``settings=``; its keyword arguments keep working, and a keyword
+given explicitly overrides the same field of ``settings``::
+
+    fast = SolverSettings(rtol=1e-9, atol=1e-9, max_steps=20_000)
+    orbit = find_periodic_orbit(f, x0, T, settings=fast)             # rtol 1e-9
+    orbit = find_periodic_orbit(f, x0, T, settings=fast, rtol=1e-11) # rtol 1e-11 (keyword wins)
+
+A field left at ``None`` means "the function's own default" (the defaults differ where the
+question does: a monodromy matrix wants a tighter ``rtol`` than a Newton step), so
+``SolverSettings()`` changes nothing:
+
+============  ====================  ================  ====================
+field         find_periodic_orbit   monodromy         continue_orbit
+============  ====================  ================  ====================
+method        "DOP853"              "DOP853"          "DOP853"
+rtol          1e-11                 1e-12             1e-10
+atol          1e-12                 1e-12             1e-10
+rk4_steps     1024                  1024              (adaptive only)
+max_steps     100 000               100 000           100 000
+tol           1e-10 (absolute)      (not used)        1e-8 (relative)
+max_nfev      100 (n_unknowns + 1)  (not used)        (not used)
+max_newton    (not used)            (not used)        6
+============  ====================  ================  ====================
+
+Validation, in this module only (:func:`check_field`): every field is checked when a
+:class:`SolverSettings` is built and again when a keyword overrides it, with a ValueError naming
+the field and the accepted range. Tolerances follow :func:`scipy.integrate.solve_ivp`: an
+``rtol`` below ``100 * eps`` (2.2e-14) cannot be delivered in float64, so it is raised to that
+floor with a :class:`~flapping.errors.ToleranceWarning` (solve_ivp does the same, with a plain
+warning, at every call of the solver); ``atol`` must be positive (solve_ivp also accepts 0; a
+zero ``atol`` stalls the step control at a zero component). The work an argument can ask for is
+capped (:data:`CAPS`): a ``max_steps`` of 10**12 is a typo that would run for days, not a budget.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, fields
+from typing import Any
+
+import numpy as np
+from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, OdeSolver, Radau
+
+import flapping._validation as check
+from flapping.errors import ToleranceWarning
+from flapping.periodic.rk4 import RK4
+
+__all__ = ["SolverSettings", "METHODS", "MAX_STEPS", "RTOL_FLOOR", "CAPS", "check_field",
+           "check_rtol", "check_atol", "capped"]
+
+#: Integration methods by name: scipy's and the fixed-step ``"RK4"``.
+METHODS: dict[str, type[OdeSolver]] = {
+    "RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF, "LSODA": LSODA,
+    "RK4": RK4,
+}
+
+#: Default step budget of one integration call (all its pieces together).
+MAX_STEPS = 100_000
+
+#: The smallest relative tolerance float64 can deliver: scipy's ``100 * eps``.
+RTOL_FLOOR = 100 * float(np.finfo(float).eps)
+
+#: Largest value accepted for each size-like argument of the layer. The work of a call grows
+#: with each (an integration's steps, the shooting residual's rows, Levenberg-Marquardt's and
+#: the continuation's iterations); beyond these a call would run for hours or exhaust memory.
+CAPS: dict[str, int] = {
+    "max_steps": 10**7,     # steps of one integration (~1e8 evaluations of fun)
+    "rk4_steps": 2**22,     # RK4 steps per period (4 evaluations each)
+    "n_points": 1024,       # residual blocks of eq. (38): rows and restarts grow with it
+    "segments": 1024,       # shooting segments: one integration each, a (nM)^2 Jacobian
+    "max_nfev": 10**5,      # residual evaluations of Levenberg-Marquardt (one integration each)
+    "max_newton": 100,      # Newton iterations per continuation point
+    "max_points": 10**5,    # points of a continuation branch
+    "n_sub": 4096,          # sub-intervals of a monodromy matrix (2**-12 of the period)
+}
+
+
+def capped(name: str, value: Any, low: int = 1) -> int:
+    """``value`` as an int in ``[low, CAPS[name]]``, or a ValueError naming the argument and cap."""
+    return check.integer(name, value, low=low, high=CAPS[name])
+
+
+def check_rtol(name: str, value: Any) -> float:
+    """A relative tolerance: positive, raised to :data:`RTOL_FLOOR` with a warning if below it."""
+    rtol = check.positive(name, value)
+    if rtol < RTOL_FLOOR:
+        warnings.warn(f"`{name}` = {rtol:.3g} is below what float64 can deliver (100 * eps = "
+                      f"{RTOL_FLOOR:.3g}, as in scipy's solve_ivp): raised to {RTOL_FLOOR:.3g}",
+                      ToleranceWarning, stacklevel=4)
+        rtol = RTOL_FLOOR
+    return rtol
+
+
+def check_atol(name: str, value: Any) -> float | np.ndarray:
+    """An absolute tolerance: a positive float, or a vector of positive floats."""
+    if np.ndim(value) == 0:
+        return check.positive(name, value)
+    atol = check.vector(name, value)
+    if not np.all(atol > 0):
+        raise ValueError(f"`{name}` must be positive; got {value!r}")
+    atol.flags.writeable = False
+    return atol
+
+
+def check_method(value: Any) -> str | type[OdeSolver]:
+    """A method name of :data:`METHODS`, or an :class:`~scipy.integrate.OdeSolver` subclass."""
+    if isinstance(value, type) and issubclass(value, OdeSolver):
+        return value
+    return check.choice("method", value, tuple(METHODS))
+
+
+_CHECKS = {
+    "method": check_method,
+    "rtol": lambda v: check_rtol("rtol", v),
+    "atol": lambda v: check_atol("atol", v),
+    "rk4_steps": lambda v: capped("rk4_steps", v),
+    "max_steps": lambda v: capped("max_steps", v),
+    "tol": lambda v: check.positive("tol", v),
+    "max_nfev": lambda v: capped("max_nfev", v),
+    "max_newton": lambda v: capped("max_newton", v),
+}
+
+
+def check_field(name: str, value: Any) -> Any:
+    """One field of :class:`SolverSettings`, checked (None passes: "the function's default").
+
+    Raises
+    ------
+    ValueError
+        Naming the field and its accepted values.
+
+    Warns
+    -----
+    ToleranceWarning
+        When ``rtol`` is raised to :data:`RTOL_FLOOR`.
+    """
+    return None if value is None else _CHECKS[name](value)
+
+
+@dataclass(frozen=True)
+class SolverSettings:
+    """The options shared by shooting, Floquet analysis and continuation (module notes).
+
+    Every field defaults to ``None``: the function's own default (table in the module notes).
+
+    Attributes
+    ----------
+    method : str or OdeSolver subclass, optional
+        Integrator: ``"DOP853"``, another :func:`~scipy.integrate.solve_ivp` method, or ``"RK4"``.
+    rtol : float, optional
+        Relative integration tolerance, >= 100 eps (raised to it with a warning below).
+    atol : float or array_like, optional
+        Absolute integration tolerance, > 0.
+    rk4_steps : int, optional
+        RK4 steps per period, in [1, 2**22].
+    max_steps : int, optional
+        Step budget of one integration, in [1, 10**7].
+    tol : float, optional
+        Residual tolerance of the nonlinear solve (absolute for shooting, relative to the
+        states' size for continuation).
+    max_nfev : int, optional
+        Residual evaluations of Levenberg-Marquardt (shooting), in [1, 10**5].
+    max_newton : int, optional
+        Newton iterations per continuation point, in [1, 100].
+
+    Raises
+    ------
+    ValueError
+        For a field outside its range (named in the message).
+    """
+
+    method: str | type[OdeSolver] | None = None
+    rtol: float | None = None
+    atol: float | np.ndarray | None = None
+    rk4_steps: int | None = None
+    max_steps: int | None = None
+    tol: float | None = None
+    max_nfev: int | None = None
+    max_newton: int | None = None
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            object.__setattr__(self, f.name, check_field(f.name, getattr(self, f.name)))
+
+    def merged(self, **explicit: Any) -> dict[str, Any]:
+        """The fields with the keywords that are not None laid over them (keywords win).
+
+        Parameters
+        ----------
+        **explicit
+            Keyword arguments as a function received them (None: not given).
+
+        Returns
+        -------
+        dict
+            Field name to value, checked; None where neither gives a value.
+        """
+        out = {f.name: getattr(self, f.name) for f in fields(self)}
+        for name, value in explicit.items():
+            if value is not None:
+                out[name] = check_field(name, value)
+        return out
+
+
+def resolve(settings: Any, defaults: dict[str, Any], **explicit: Any) -> dict[str, Any]:
+    """Options of one call: explicit keyword, else ``settings``' field, else ``defaults``.
+
+    Parameters
+    ----------
+    settings : SolverSettings or None
+        The caller's settings object.
+    defaults : dict
+        The function's defaults for the fields it uses.
+    **explicit
+        The function's keyword arguments (None: not given).
+
+    Returns
+    -------
+    dict
+        The fields named in ``defaults``, checked.
+
+    Raises
+    ------
+    ValueError
+        If ``settings`` is not a SolverSettings, or a value is out of range.
+    """
+    if settings is None:
+        settings = _EMPTY
+    elif not isinstance(settings, SolverSettings):
+        raise ValueError(f"`settings` must be a SolverSettings; got {settings!r} "
+                         f"({type(settings).__name__})")
+    given = settings.merged(**explicit)
+    return {k: (v if given[k] is None else given[k]) for k, v in defaults.items()}
+
+
+_EMPTY = SolverSettings()
+
+
+def is_inf(value: Any) -> bool:
+    """Whether ``value`` is the float infinity (an accepted "no limit" for some options)."""
+    return isinstance(value, (float, np.floating)) and value == math.inf
