@@ -30,6 +30,16 @@ __all__ = [
 T = TypeVar("T")
 
 
+def _show(value: Any, width: int = 60) -> str:
+    """``repr(value)`` cut to ``width`` characters (a 10**400 has 401 digits, 10**5000 no repr)."""
+    try:
+        text = repr(value)
+    except ValueError:  # int too large to convert to a string (sys.set_int_max_str_digits)
+        return f"an int of {value.bit_length()} bits"
+    return text if len(text) <= width else f"{text[:width - 20]}...{text[-15:]} " \
+        f"({len(text)} characters)"
+
+
 def _fmt(bound: float) -> str:
     return {math.pi / 2: "pi/2", math.pi: "pi", -math.pi / 2: "-pi/2"}.get(bound, f"{bound:g}")
 
@@ -71,15 +81,20 @@ def real(
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise ValueError(f"`{name}` must be {expected}; got {value!r} ({type(value).__name__})")
-    x = float(value)
+        raise ValueError(f"`{name}` must be {expected}; got {_show(value)} "
+                         f"({type(value).__name__})")
+    try:
+        x = float(value)
+    except OverflowError:  # an int or Fraction beyond float64 (e.g. 10**400)
+        raise ValueError(f"`{name}` must be {expected}; got {_show(value)}, which is beyond "
+                         "float64's range (about 1.8e308)") from None
     ok = math.isfinite(x)
     if ok and low is not None:
         ok = x > low if low_open else x >= low
     if ok and high is not None:
         ok = x < high if high_open else x <= high
     if not ok:
-        raise ValueError(f"`{name}` must be {expected}; got {value!r}")
+        raise ValueError(f"`{name}` must be {expected}; got {_show(value)}")
     return x
 
 
@@ -101,10 +116,11 @@ def integer(name: str, value: Any, *, low: int | None = None, high: int | None =
     hi = "inf" if high is None else str(high)
     expected = f"an integer in [{lo}, {hi}]"
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
-        raise ValueError(f"`{name}` must be {expected}; got {value!r} ({type(value).__name__})")
+        raise ValueError(f"`{name}` must be {expected}; got {_show(value)} "
+                         f"({type(value).__name__})")
     n = int(value)
     if (low is not None and n < low) or (high is not None and n > high):
-        raise ValueError(f"`{name}` must be {expected}; got {value!r}")
+        raise ValueError(f"`{name}` must be {expected}; got {_show(value)}")
     return n
 
 

@@ -45,3 +45,19 @@ def test_vector_is_a_float64_copy():
     assert out.dtype == np.float64 and out is not source
     with pytest.raises(ValueError, match=r"shape \(3,\)"):
         check.vector("x0", [1.0, 2.0], size=3)
+
+
+@pytest.mark.parametrize("value", [10**400, -(10**400), 10**5000],
+                         ids=["1e400", "-1e400", "1e5000"])
+def test_integers_beyond_float64_are_a_value_error_naming_the_argument(value):
+    # hawkmoth(mass=10**400) was an OverflowError from float(); 10**5000 has no repr at all
+    # (Python's int-to-string limit), so the message must not print it in full.
+    with pytest.raises(ValueError, match=r"`mass` must be a real number in \(0, inf\) kg") as e:
+        check.positive("mass", value, unit="kg")
+    assert "float64" in str(e.value) and len(str(e.value)) < 300
+
+
+def test_a_huge_count_is_named_without_printing_every_digit():
+    with pytest.raises(ValueError, match=r"`n_points` must be an integer in \[1, 100\]") as e:
+        check.integer("n_points", 10**5000, low=1, high=100)
+    assert len(str(e.value)) < 300

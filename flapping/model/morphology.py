@@ -15,6 +15,7 @@ have closed forms in beta functions (:meth:`Insect.span_integral`).
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
@@ -22,24 +23,62 @@ import numpy as np
 from scipy import special
 
 import flapping._validation as _validation
+from flapping.errors import PlausibilityWarning
 from flapping.model.kinematics import check_amplitude
 
-__all__ = ["Insect", "hawkmoth", "beta_shape_parameters", "lev_lift_slope"]
+__all__ = ["Insect", "hawkmoth", "beta_shape_parameters", "lev_lift_slope", "MAGNITUDE_LIMIT",
+           "PLAUSIBLE_RANGES"]
 
 AspectRatioConvention = Literal["pair", "single"]
 
 #: The accepted aspect-ratio conventions of eq. (4) (see :class:`Insect`).
 ASPECT_RATIO_CONVENTIONS: tuple[AspectRatioConvention, ...] = ("pair", "single")
 
-#: Numeric fields of :class:`Insect`: (accepted range, unit). Ranges: "positive", "nonnegative",
-#: "fraction" (of the chord, [0, 1]), "real", "amplitude" (:func:`~.kinematics.check_amplitude`),
-#: "stroke_mean" (real in (-pi/2, pi/2));
-#: r1 and r2 are checked together by :func:`beta_shape_parameters`.
+#: Largest magnitude [SI] of any numeric :class:`Insect` field, and the inverse of the smallest
+#: magnitude of a positive one. Beyond it the model's products leave float64's range (span
+#: integrals reach R^-3 S^4, i.e. LIMIT^7; loads multiply these by rho f^2), so a value outside
+#: [1/LIMIT, LIMIT] is an error, not a warning. Plausible values lie far inside: see
+#: :data:`PLAUSIBLE_RANGES`.
+MAGNITUDE_LIMIT = 1e30
+
+#: Magnitudes of real insects and flapping vehicles, generously bounded: (low, high, unit). A
+#: field outside its range is accepted (the model is still defined) with a
+#: :class:`~flapping.errors.PlausibilityWarning`. Lower ends: fairyflies (Mymaridae, ~0.2 mm
+#: wings, ~1e-10 kg); upper ends: large flapping MAVs and birds (~1 m half span, 2 kg, 1 Hz).
+#: Frequencies reach ~1000 Hz in midges (Forcipomyia); air from Mars' surface (~0.02 kg/m^3) to
+#: dense cold air; gravity from the Moon (1.62 m/s^2) to a few g; a0 around thin-aerofoil 2 pi.
+#: ``"aspect_ratio_1"`` is the derived one-wing aspect ratio R^2/S (presets 2.8-3.5, damselflies
+#: ~10). Fields whose hard range (:data:`_FIELDS`) is already physical (r1, r2, pitch_axis,
+#: center_of_pressure) are not listed.
+PLAUSIBLE_RANGES: dict[str, tuple[float, float, str]] = {
+    "semi_span": (1e-4, 1.0, "m"),
+    "wing_area": (1e-9, 1.0, "m^2"),
+    "aspect_ratio_1": (0.5, 20.0, "(R^2/S of one wing)"),
+    "frequency": (0.5, 2000.0, "Hz"),
+    "stroke_amplitude": (math.radians(5.0), math.pi / 2, "rad"),
+    "mass": (1e-10, 2.0, "kg"),
+    "pitch_inertia": (1e-20, 1.0, "kg m^2"),
+    "air_density": (0.01, 5.0, "kg/m^3"),
+    "gravity": (1.0, 30.0, "m/s^2"),
+    "a0": (1.0, 10.0, "1/rad"),
+    "mu1": (0.0, 10.0, ""),
+    "mu2": (0.0, 10.0, ""),
+    "hinge_offset": (-1.0, 1.0, "m"),
+    "hinge_height": (-1.0, 1.0, "m"),
+    "stroke_mean": (-math.pi / 3, math.pi / 3, "rad"),
+}
+
+#: Numeric fields of :class:`Insect`: (accepted range, unit). Ranges: "positive" (magnitude in
+#: [1/MAGNITUDE_LIMIT, MAGNITUDE_LIMIT]), "nonnegative" (0 or up to MAGNITUDE_LIMIT),
+#: "fraction" (of the chord, [0, 1]), "real" (magnitude up to MAGNITUDE_LIMIT), "amplitude"
+#: (:func:`~.kinematics.check_amplitude`), "stroke_mean" (real in (-pi/2, pi/2));
+#: r1 and r2 are checked together by :func:`beta_shape_parameters`. Gravity is positive: with
+#: g = 0 there is no weight to carry, so no hover (the angle alpha_m of eq. 40 is zero).
 _FIELDS: dict[str, tuple[str, str]] = {
     "semi_span": ("positive", "m"), "wing_area": ("positive", "m^2"),
     "frequency": ("positive", "Hz"), "mass": ("positive", "kg"),
     "pitch_inertia": ("positive", "kg m^2"), "air_density": ("positive", "kg/m^3"),
-    "a0": ("positive", "1/rad"), "gravity": ("nonnegative", "m/s^2"),
+    "a0": ("positive", "1/rad"), "gravity": ("positive", "m/s^2"),
     "mu1": ("nonnegative", ""), "mu2": ("nonnegative", ""),
     "pitch_axis": ("fraction", ""), "center_of_pressure": ("fraction", ""),
     "hinge_offset": ("real", "m"), "stroke_amplitude": ("amplitude", "rad"),
@@ -134,7 +173,7 @@ class Insect:
     air_density : float
         rho [kg/m^3]. Not given in the paper; 1.225 (sea-level standard air).
     gravity : float
-        g [m/s^2]. Not given in the paper; 9.81.
+        g [m/s^2], > 0 (no weight, no hover). Not given in the paper; 9.81.
     a0 : float
         Two-dimensional lift-curve slope in eq. (4) [1/rad]; the paper uses 2 pi.
     aspect_ratio_convention : {"pair", "single"}
@@ -164,7 +203,14 @@ class Insect:
     ValueError
         If a field is outside its range; the message names the field and the range. Numbers of
         any real type (``int``, ``np.float32``, ``np.int64``, ...) are stored as Python floats;
-        bools and strings are refused.
+        bools and strings are refused. Magnitudes beyond :data:`MAGNITUDE_LIMIT` (positive
+        ones also below its inverse) are refused, including integers too large for float64.
+
+    Warns
+    -----
+    PlausibilityWarning
+        For each value outside :data:`PLAUSIBLE_RANGES` (magnitudes no insect or flapping
+        vehicle has, e.g. a wing beat of 1e12 Hz), naming the field, its value and the range.
     """
 
     name: str
@@ -196,6 +242,8 @@ class Insect:
         _validation.choice("aspect_ratio_convention", self.aspect_ratio_convention,
                            ASPECT_RATIO_CONVENTIONS)
         object.__setattr__(self, "_shape", beta_shape_parameters(self.r1, self.r2))
+        for message in _implausible(self):
+            warnings.warn(message, PlausibilityWarning, stacklevel=4)
 
     # ----------------------------------------------------------------- geometry
     @property
@@ -355,12 +403,29 @@ def hawkmoth(**overrides: Any) -> Insect:
     return Insect(**values)
 
 
+def _implausible(insect: Insect) -> list[str]:
+    """One message per value outside :data:`PLAUSIBLE_RANGES` (field, value, range)."""
+    messages = []
+    for name, (low, high, unit) in PLAUSIBLE_RANGES.items():
+        if name == "aspect_ratio_1":
+            value, what = insect.semi_span**2 / insect.wing_area, "semi_span**2 / wing_area"
+        else:
+            value, what = getattr(insect, name), f"`{name}`"
+        if not low <= value <= high:
+            messages.append(
+                f"{what} = {value:.6g} {unit} of {insect.name!r} is outside the range of insects "
+                f"and flapping vehicles [{low:.6g}, {high:.6g}] {unit}; the model accepts it, but "
+                "check the units (SI: m, kg, s, rad)")
+    return messages
+
+
 def _check_field(name: str, value: object, kind: str, unit: str) -> float:
     """One numeric field of :class:`Insect` as a float in its range (see :data:`_FIELDS`)."""
     if kind == "positive":
-        return _validation.positive(name, value, unit=unit)
+        return _validation.real(name, value, low=1.0 / MAGNITUDE_LIMIT, high=MAGNITUDE_LIMIT,
+                                unit=unit)
     if kind == "nonnegative":
-        return _validation.nonnegative(name, value, unit=unit)
+        return _validation.real(name, value, low=0.0, high=MAGNITUDE_LIMIT, unit=unit)
     if kind == "fraction":
         return _validation.real(name, value, low=0.0, high=1.0, unit="(fraction of the chord)")
     if kind == "amplitude":
@@ -368,4 +433,4 @@ def _check_field(name: str, value: object, kind: str, unit: str) -> float:
     if kind == "stroke_mean":
         return _validation.real(name, value, low=-math.pi / 2, high=math.pi / 2, low_open=True,
                                 high_open=True, unit=unit)
-    return _validation.real(name, value, unit=unit)
+    return _validation.real(name, value, low=-MAGNITUDE_LIMIT, high=MAGNITUDE_LIMIT, unit=unit)
