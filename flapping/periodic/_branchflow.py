@@ -67,13 +67,15 @@ class _Params:
     def __init__(self, n_q: int) -> None:
         self.n_q = n_q
 
+    def extra(self, P: np.ndarray) -> tuple[Any, ...]:
+        """The trailing arguments ``(p,)`` or ``(p, q)`` of ``fun(t, x, *extra)`` at P."""
+        p = float(P[0])
+        return (p, P[1:].copy()) if self.n_q else (p,)
+
     def bind(self, fun: Callable[..., Any], P: np.ndarray) -> Callable[[float, np.ndarray], Any]:
         """``g(t, x) = fun(t, x, P[0][, P[1:]])``."""
-        p = float(P[0])
-        if self.n_q:
-            q = P[1:].copy()
-            return lambda t, x: fun(t, x, p, q)
-        return lambda t, x: fun(t, x, p)
+        extra = self.extra(P)
+        return lambda t, x: fun(t, x, *extra)
 
 
 class _Field:
@@ -82,14 +84,20 @@ class _Field:
     def __init__(self, fun: Callable[..., Any], P: np.ndarray, params: _Params, n: int,
                  counter: seg.Counter) -> None:
         self.fun, self.P, self.params, self.n, self.counter = fun, P, params, n, counter
-        self.g = params.bind(fun, P)
+        self.extra = params.extra(P)
+        self.shape = (n,)
+
+    def g(self, t: float, x: np.ndarray) -> Any:
+        """The user's ``fun`` at the bound parameters, unchecked and uncounted."""
+        return self.fun(t, x, *self.extra)
 
     def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
+        # direct call, no bound lambda: this runs at every stage of every plain integration
         self.counter.n += 1
-        out = np.asarray(self.g(t, x), dtype=float)
-        if out.shape == (self.n,) and math.isfinite(out.dot(out)):
+        out = np.asarray(self.fun(t, x, *self.extra), dtype=float)
+        if out.shape == self.shape and math.isfinite(out.dot(out)):
             return out
-        if out.shape != (self.n,):
+        if out.shape != self.shape:
             raise ValueError(f"`fun` must return an array of shape ({self.n},), got {out.shape}")
         if not np.isfinite(x).all():
             raise seg.Diverged(f"the state became non-finite at t = {t!r}")
@@ -106,14 +114,16 @@ class _VariationalField:
 
     def __init__(self, field: _Field, jac: Callable[..., Any] | None, n_par: int) -> None:
         self.field, self.n_par = field, n_par
+        self.fun, self.extra, self.user_jac = field.fun, field.extra, jac
         self.jac = None if jac is None else field.params.bind(jac, field.P)
         self.width = field.n + n_par   # y = (x, [Phi | S]), the block row-major
+        self.shape, self.jshape = (field.n,), (field.n, field.n)
         self.shifted = []
         for j in range(n_par):
             h = _EPS ** 0.5 * max(1.0, abs(float(field.P[j])))
             P = field.P.copy()
             P[j] += h
-            self.shifted.append((field.params.bind(field.fun, P), h))
+            self.shifted.append((field.params.extra(P), h))
 
     def _jac(self, t: float, x: np.ndarray) -> np.ndarray:
         if self.jac is None:
@@ -128,20 +138,25 @@ class _VariationalField:
         return J
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
-        # The hot loop of continuation: the user's functions are called directly and the
-        # output checked once (a failure is diagnosed by the checked paths, in _reject).
-        field, n = self.field, self.field.n
+        # The hot loop of continuation: the user's functions are called directly (no bound
+        # lambdas) and their outputs checked at once (a failure is diagnosed by the checked
+        # paths, in _reject).
+        n, fun = self.field.n, self.fun
         x = y[:n]
-        f = np.asarray(field.g(t, x), dtype=float)
-        J = self._jac(t, x) if self.jac is None else np.asarray(self.jac(t, x), dtype=float)
-        if f.shape != (n,) or J.shape != (n, n) or not math.isfinite(f.dot(f) + np.vdot(J, J)):
+        f = np.asarray(fun(t, x, *self.extra), dtype=float)
+        uj = self.user_jac
+        J = self._jac(t, x) if uj is None else np.asarray(uj(t, x, *self.extra), dtype=float)
+        if f.shape != self.shape or J.shape != self.jshape or not math.isfinite(
+                f.dot(f) + np.vdot(J, J)):
             self._reject(t, x)
-        # Phi and S side by side: one product J [Phi | S].
-        block = J @ y[n:].reshape(n, self.width)
-        for j, (g, h) in enumerate(self.shifted):
-            block[:, n + j] += (np.asarray(g(t, x), dtype=float) - f) / h
-        out = np.concatenate((f, block.ravel()))
-        field.counter.n += 1 + self.n_par
+        # Phi and S side by side: one product J [Phi | S], written in place into the output.
+        out = np.empty(y.size)
+        out[:n] = f
+        block = out[n:].reshape(n, self.width)
+        np.matmul(J, y[n:].reshape(n, self.width), out=block)
+        for j, (extra, h) in enumerate(self.shifted):
+            block[:, n + j] += (np.asarray(fun(t, x, *extra), dtype=float) - f) / h
+        self.field.counter.n += 1 + self.n_par
         if not math.isfinite(out.dot(out)):
             self._reject(t, x)
         return out

@@ -48,6 +48,7 @@ Conventions as in :mod:`flapping.periodic.integrate`: counters ``nfev`` (evaluat
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
@@ -57,8 +58,9 @@ from scipy.integrate import OdeSolver
 from scipy.optimize import least_squares
 
 import flapping._validation as check
-from flapping.errors import ConvergenceError
+from flapping.errors import AliasedPeriodWarning, ConvergenceError
 from flapping.periodic import _segments as seg
+from flapping.periodic import settings as opt
 from flapping.periodic._problem import (
     IntegrationFailed,
     MultipleShootingProblem,
@@ -80,6 +82,14 @@ _EPS = float(np.finfo(float).eps)
 
 #: Relative motion over a period below which an autonomous "orbit" is an equilibrium.
 _EQUILIBRIUM = math.sqrt(_EPS)
+
+#: An autonomous orbit that returns to ``x0`` at ``T / k`` (k = 2 .. ALIAS_ORDERS) within this
+#: distance, relative to ``max(1, |x0|)``, is the orbit of period ``T / k`` traversed k times.
+ALIAS_TOL = 1e-6
+ALIAS_ORDERS = 8
+
+#: Residual points closer than this in phase (fraction of the period) sample the same phase.
+_ALIAS_PHASE = 1e-9
 
 
 @dataclass(frozen=True)
@@ -205,18 +215,19 @@ def _check_fixed(fixed: Any, n: int) -> tuple[int, ...]:
 def _check_stopping(tol: Any, xtol: Any, ftol: Any, max_nfev: Any, min_period: Any,
                     T: float) -> _Stopping:
     return _Stopping(
-        tol=check.positive("tol", tol),
+        tol=tol,
         xtol=check.real("xtol", xtol, low=_EPS),
         ftol=check.real("ftol", ftol, low=_EPS),
-        max_nfev=None if max_nfev is None else check.integer("max_nfev", max_nfev, low=1),
+        max_nfev=max_nfev,
         min_period=1e-2 * T if min_period is None else check.positive("min_period", min_period),
     )
 
 
 def _check_shape_options(settings: seg.Settings, n_points: Any, delta: Any
                          ) -> tuple[int, float]:
-    n_points = check.integer("n_points", n_points, low=1)
+    n_points = opt.capped("n_points", n_points)
     delta = check.real("delta", delta, low=0.0, high=1.0, low_open=True, high_open=True)
+    _warn_aliased_sampling(n_points, delta)
     steps = settings.rk4_steps
     if settings.fixed_step and n_points > 1 and abs(delta * steps - round(delta * steps)) > 1e-9:
         raise ValueError(
@@ -225,8 +236,22 @@ def _check_shape_options(settings: seg.Settings, n_points: Any, delta: Any
     return n_points, delta
 
 
+def _warn_aliased_sampling(n_points: int, delta: float) -> None:
+    """Warn when two residual points ``k delta`` fall on the same phase of the period."""
+    if n_points < 2:
+        return
+    phase = np.sort(np.mod(np.arange(n_points) * delta, 1.0))
+    gaps = np.diff(np.append(phase, phase[0] + 1.0))
+    if gaps.min() <= _ALIAS_PHASE:
+        warnings.warn(
+            f"aliased sampling: with n_points = {n_points} and delta = {delta!r} two residual "
+            f"points k delta fall on the same phase of the period (gap {gaps.min():.2e}), so "
+            f"their residual blocks repeat each other; keep (n_points - 1) * delta < 1",
+            AliasedPeriodWarning, stacklevel=4)
+
+
 def _check_segments(settings: seg.Settings, segments: Any, n_points: int) -> int:
-    segments = check.integer("segments", segments, low=1)
+    segments = opt.capped("segments", segments)
     if segments > 1 and n_points > 1:
         raise ValueError(f"`segments` > 1 (multiple shooting) needs n_points = 1, got "
                          f"n_points={n_points}: the continuity conditions replace eq. (38)'s "
@@ -304,7 +329,8 @@ def _check_size(setup: ShootingSetup) -> None:
 
 def _solve(problem: ShootingProblem, stopping: _Stopping) -> _Outcome:
     """Levenberg-Marquardt (MINPACK ``lmder``) on the problem; failures become an outcome."""
-    max_nfev = stopping.max_nfev or 100 * (problem.setup.n_unknowns + 1)
+    max_nfev = stopping.max_nfev or min(100 * (problem.setup.n_unknowns + 1),
+                                        opt.CAPS["max_nfev"])
     failure = None
     try:
         result = least_squares(problem.residual, problem.z0, jac=problem.jacobian, method="lm",
@@ -387,20 +413,21 @@ def find_periodic_orbit(
     fixed: Sequence[int] = (),
     breakpoints: Sequence[float] = (),
     jacobian: str = "variational",
-    method: str | type[OdeSolver] = "DOP853",
+    method: str | type[OdeSolver] | None = None,
     n_points: int = 1,
     delta: float = 2.0**-10,
     segments: int = 1,
-    rtol: float = 1e-11,
-    atol: float = 1e-12,
-    rk4_steps: int = 1024,
+    rtol: float | None = None,
+    atol: float | None = None,
+    rk4_steps: int | None = None,
     max_steps: int | None = None,
-    tol: float = 1e-10,
+    tol: float | None = None,
     max_nfev: int | None = None,
     xtol: float = 1e-12,
     ftol: float = 1e-12,
     min_period: float | None = None,
     args: tuple[Any, ...] = (),
+    settings: opt.SolverSettings | None = None,
 ) -> PeriodicOrbit:
     """Find a periodic orbit by the optimized shooting method (eqs. 30-38).
 
@@ -451,7 +478,8 @@ def find_periodic_orbit(
         Integrator: ``"DOP853"`` (default), another solve_ivp method, or ``"RK4"`` (fixed step
         ``T / rk4_steps``, the paper's).
     n_points : int, optional
-        Number ``p`` of residual blocks in eq. (38) (>= 1).
+        Number ``p`` of residual blocks in eq. (38), in [1, 1024]. Two blocks at the same phase
+        (``k delta`` equal modulo 1) warn: the sampling aliases.
     delta : float, optional
         Spacing of the residual blocks in normalised time (paper: ``2**-10``), in (0, 1).
     segments : int, optional
@@ -462,16 +490,18 @@ def find_periodic_orbit(
         strongly unstable orbits, out of reach of single shooting, converge (multiflap's Roessler
         example). Needs ``n_points == 1``; with RK4, ``rk4_steps`` a multiple of M.
     rtol, atol : float, optional
-        Integration tolerances (adaptive methods).
+        Integration tolerances (adaptive methods; default 1e-11 and 1e-12). An ``rtol`` below
+        ``100 eps`` is raised to it with a :class:`~flapping.errors.ToleranceWarning`.
     rk4_steps : int, optional
-        RK4 steps per period.
+        RK4 steps per period (default 1024, at most 2**22).
     max_steps : int, optional
-        Step budget of each integration (default 100 000, see
+        Step budget of each integration (default 100 000, at most 10**7, see
         :mod:`flapping.periodic.integrate`); running out ends the iteration with advice.
     tol : float, optional
-        Required final residual norm (absolute, in the units of the state).
+        Required final residual norm (absolute, in the units of the state; default 1e-10).
     max_nfev : int, optional
-        Maximum residual evaluations of Levenberg-Marquardt (default ``100 * (n_unknowns + 1)``).
+        Maximum residual evaluations of Levenberg-Marquardt (default ``100 * (n_unknowns + 1)``,
+        at most 10**5).
     xtol, ftol : float, optional
         MINPACK's termination tolerances (relative step and relative reduction), >= 2.2e-16.
     min_period : float, optional
@@ -479,6 +509,10 @@ def find_periodic_orbit(
         ``T -> 0`` every autonomous shooting residual has (default ``1e-2 * period``).
     args : tuple, optional
         Extra arguments of ``fun`` and ``jac`` (before ``p``).
+    settings : SolverSettings, optional
+        ``method``, ``rtol``, ``atol``, ``rk4_steps``, ``max_steps``, ``tol`` and ``max_nfev``
+        as one object (:mod:`flapping.periodic.settings`); a keyword given explicitly
+        overrides the same field.
 
     Returns
     -------
@@ -492,16 +526,33 @@ def find_periodic_orbit(
         Bad arguments: non-positive or non-finite period, x0 not a finite 1-D array, wrong output
         shape or non-finite output of ``fun``/``jac``/``extra_residual``, ``fixed`` out of
         range, ``n_points < 1``, ``segments < 1`` or ``segments > 1`` with ``n_points > 1``,
-        fewer residuals than unknowns, breakpoints with an autonomous system, RK4 grid mismatch.
+        fewer residuals than unknowns, breakpoints with an autonomous system, RK4 grid mismatch,
+        a size beyond its cap (``n_points``, ``segments``, ``rk4_steps``, ``max_steps``,
+        ``max_nfev``: :data:`flapping.periodic.settings.CAPS`).
     ConvergenceError
         Levenberg-Marquardt stopped without reaching ``residual_norm <= tol``, the integration
         failed (or ran out of its step budget), the period collapsed, or the answer is an
         equilibrium; carries the last iterate (unknowns), the residual norm, the iteration
         count, and the :class:`PeriodicOrbit` as ``result``.
+
+    Warns
+    -----
+    AliasedPeriodWarning
+        An autonomous orbit that closes already at ``T / k`` (``k = 2 .. 8``, within
+        ``ALIAS_TOL = 1e-6`` of ``max(1, |x0|)``): the period found is k times the minimal one
+        (usually a period guess near a multiple of it); checked by one integration over half a
+        period after convergence. A forced orbit is not checked: its period is the forcing's,
+        and a response with a shorter period (a symmetric stroke) is legitimate. Also two
+        residual points at the same phase (see ``n_points``).
+    ToleranceWarning
+        ``rtol`` raised to ``100 eps``.
     """
+    o = opt.resolve(settings, _DEFAULTS, method=method, rtol=rtol, atol=atol,
+                    rk4_steps=rk4_steps, max_steps=max_steps, tol=tol, max_nfev=max_nfev)
     x_init = check.vector("x0", x0)
     T_init = check.positive("period", period)
-    settings = seg.check_settings(method, rtol, atol, rk4_steps, max_steps)
+    integration = seg.check_settings(o["method"], o["rtol"], o["atol"], o["rk4_steps"],
+                                     o["max_steps"])
     b = seg.check_breakpoints(breakpoints)
     if not isinstance(autonomous, (bool, np.bool_)):
         raise ValueError(f"`autonomous` must be True or False; got {autonomous!r}")
@@ -509,17 +560,17 @@ def find_periodic_orbit(
         raise ValueError(
             "`breakpoints` move with the unknown period, so they make the system non-autonomous: "
             "use autonomous=False (known period) with breakpoints")
-    seg.fixed_step(settings, 0.0, T_init, T_init, b)
+    seg.fixed_step(integration, 0.0, T_init, T_init, b)
     jacobian = check.choice("jacobian", jacobian, JACOBIANS)
-    n_points, delta = _check_shape_options(settings, n_points, delta)
-    segments = _check_segments(settings, segments, n_points)
-    stopping = _check_stopping(tol, xtol, ftol, max_nfev, min_period, T_init)
+    n_points, delta = _check_shape_options(integration, n_points, delta)
+    segments = _check_segments(integration, segments, n_points)
+    stopping = _check_stopping(o["tol"], xtol, ftol, o["max_nfev"], min_period, T_init)
     fixed_given = _check_fixed(fixed, x_init.size)
     p_init = None if free_params is None else check.vector("free_params",
                                                                  np.atleast_1d(free_params))
     funs, jacs, pjacs = _check_callables(fun, jac, param_jac, len(b) + 1, p_init is not None)
     setup = ShootingSetup(funs, jacs, pjacs, tuple(args), x_init, T_init, p_init, fixed_given,
-                          bool(autonomous), b, settings, n_points, delta, extra_residual, 0,
+                          bool(autonomous), b, integration, n_points, delta, extra_residual, 0,
                           jacobian, segments)
     counter = seg.Counter()
     f0, n_extra = _probe(setup, counter)
@@ -532,4 +583,38 @@ def find_periodic_orbit(
     if not orbit.success:
         raise ConvergenceError(f"no periodic orbit found: {orbit.message}", x=orbit.unknowns,
                                residual=orbit.residual_norm, iterations=orbit.nit, result=orbit)
+    if setup.autonomous:
+        _warn_if_multiple(problem, orbit)
     return orbit
+
+
+#: Defaults of the :class:`~flapping.periodic.settings.SolverSettings` fields used here.
+_DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": 1e-11, "atol": 1e-12, "rk4_steps": 1024,
+                             "max_steps": None, "tol": 1e-10, "max_nfev": None}
+
+
+def _warn_if_multiple(problem: ShootingProblem, orbit: PeriodicOrbit) -> None:
+    """Warn if the autonomous orbit closes at ``T / k``: its period is k times the minimal."""
+    s, T = problem.setup, orbit.period
+    ks = range(ALIAS_ORDERS, 1, -1)
+    t_out = tuple(T / k for k in ks)  # increasing
+    g = tuple(seg.Checked(f, s.args, orbit.params, (orbit.x0.size,), seg.Counter())
+              for f in s.funs)
+    # RK4's grid does not hold T / k: the check then runs DOP853 (its accuracy, ~1e-10, is far
+    # below ALIAS_TOL, and so is RK4's error on the orbit)
+    how = (seg.check_settings("DOP853", 1e-10, 1e-10, 1024, s.settings.max_steps)
+           if s.settings.fixed_step else s.settings)
+    out = seg.propagate(g, 0.0, t_out[-1], orbit.x0, period=T, breakpoints=s.breakpoints,
+                        settings=how, h=None, t_out=t_out)
+    if not out.success:
+        return  # a diagnostic: a failure here is not the solve's
+    scale = max(1.0, float(np.linalg.norm(orbit.x0)))
+    for k, x in zip(ks, out.y_out, strict=True):
+        gap = float(np.linalg.norm(x - orbit.x0))
+        if gap <= ALIAS_TOL * scale:
+            warnings.warn(
+                f"aliased period: the orbit returns to x0 at T / {k} (|x(T/{k}) - x0| = "
+                f"{gap:.2e}): T = {T:.10g} is {k} times its minimal period "
+                f"{T / k:.10g} (a period guess near a multiple of it?); its multipliers are "
+                f"the {k}-th powers of the orbit's", AliasedPeriodWarning, stacklevel=3)
+            return

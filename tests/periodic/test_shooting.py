@@ -168,7 +168,7 @@ def test_unbounded_drift_forced_system_raises_convergence_error():
         (dict(x0=[1.0, math.inf, 3.0]), "`x0` must be finite"),
         (dict(fixed=[3]), r"`fixed` must be a sequence of distinct integer indices in \[0, 3\)"),
         (dict(fixed=[0, 0]), "distinct"),
-        (dict(n_points=0), r"`n_points` must be an integer in \[1, inf\]"),
+        (dict(n_points=0), r"`n_points` must be an integer in \[1, 1024\]"),
         (dict(breakpoints=(0.5,)), "autonomous=False"),
         (dict(jacobian="broyden"), "`jacobian` must be one of"),
         (dict(delta=1.5), r"`delta` must be a real number in \(0, 1\)"),
