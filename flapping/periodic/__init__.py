@@ -8,14 +8,17 @@
 - :mod:`~flapping.periodic.floquet`: monodromy matrices and Floquet multipliers;
 - :mod:`~flapping.periodic.continuation`: branches of orbits as a parameter changes
   (pseudo-arclength), with folds, period doublings and Neimark-Sacker points located;
-- :mod:`~flapping.periodic.testproblems`: Lorenz, Roessler and a forced oscillator.
+- :mod:`~flapping.periodic.testproblems`: Lorenz, Roessler and a forced oscillator;
+- :mod:`~flapping.periodic.settings`: :class:`SolverSettings`, the options shared by shooting,
+  Floquet analysis and continuation (``settings=``), and the checks and caps of those options.
 
 Conventions, the same in every module: time along the last axis (as ``solve_ivp``'s ``y``);
 counters ``nfev``, ``njev``, ``nit`` as scipy names them; ``rtol``, ``atol``, ``method``,
 ``rk4_steps`` and ``max_steps`` wherever something is integrated; arguments checked once, at the
 public functions, numbers converted to float64 and bools or strings refused. Every integration
 checks that ``fun`` and ``jac`` return finite values and has a step budget, so a NaN or a stiff
-problem fails with a message instead of hanging.
+problem fails with a message instead of hanging. Result arrays are read-only
+(``writeable=False``).
 
 This subpackage imports nothing from :mod:`flapping.model`; other projects can reuse it alone.
 (``_segments``, ``_problem``, ``_branchflow``, ``_bifurcation`` and ``_branchplot`` are
@@ -27,9 +30,11 @@ from flapping.periodic.continuation import Bifurcation, Branch, continue_orbit
 from flapping.periodic.floquet import Monodromy, monodromy
 from flapping.periodic.integrate import FlowResult, VariationalFlow, flow, variational_flow
 from flapping.periodic.rk4 import RK4
+from flapping.periodic.settings import SolverSettings
 from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
 
 __all__ = [
     "find_periodic_orbit", "PeriodicOrbit", "monodromy", "Monodromy", "flow", "FlowResult",
     "variational_flow", "VariationalFlow", "RK4", "continue_orbit", "Branch", "Bifurcation",
+    "SolverSettings",
 ]

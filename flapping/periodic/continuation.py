@@ -48,6 +48,7 @@ import flapping._validation as check
 from flapping.errors import ConvergenceError
 from flapping.periodic import _bifurcation as bif
 from flapping.periodic import _segments as seg
+from flapping.periodic import settings as opt
 from flapping.periodic._branchflow import OrbitSystem
 from flapping.periodic._readonly import freeze
 from flapping.periodic.shooting import find_periodic_orbit
@@ -263,21 +264,33 @@ def _as_dict(opts: ContinuationOptions) -> dict[str, Any]:
     return {k: getattr(opts, k) for k in ContinuationOptions.__dataclass_fields__}
 
 
-def _check_options(options: dict[str, Any]) -> ContinuationOptions:
-    """The options, checked; unknown names are a ValueError naming the accepted ones."""
+#: The :class:`~flapping.periodic.settings.SolverSettings` fields that continuation uses.
+_SETTINGS_FIELDS = ("method", "rtol", "atol", "max_steps", "tol", "max_newton")
+
+
+def _check_options(options: dict[str, Any], settings: Any = None) -> ContinuationOptions:
+    """The options, checked; unknown names are a ValueError naming the accepted ones.
+
+    Precedence: ``options`` (keywords), then the fields of ``settings``, then the defaults.
+    """
     names = ContinuationOptions.__dataclass_fields__
     unknown = sorted(set(options) - set(names))
     if unknown:
         raise ValueError(f"unknown option(s) {unknown}; accepted: {sorted(names)}")
-    o = {**_as_dict(ContinuationOptions()), **options}
+    defaults = _as_dict(ContinuationOptions())
+    given = opt.resolve(settings, {k: defaults[k] for k in _SETTINGS_FIELDS},
+                        **{k: options.get(k) for k in _SETTINGS_FIELDS})
+    o = {**defaults, **options, **given}
     for k in ("ds", "ds_min", "ds_max", "tol", "rtol", "atol", "locate_rtol", "locate_atol",
               "locate_tol", "switch_amplitude"):
         o[k] = check.positive(k, o[k])
     if not o["ds_min"] <= o["ds"] <= o["ds_max"]:
         raise ValueError(f"need ds_min <= ds <= ds_max; got {o['ds_min']}, {o['ds']}, "
                          f"{o['ds_max']}")
-    for k, low in (("max_points", 2), ("max_newton", 1), ("segments", 1)):
-        o[k] = check.integer(k, o[k], low=low)
+    o["max_points"] = opt.capped("max_points", o["max_points"], low=2)
+    o["segments"] = opt.capped("segments", o["segments"])
+    for k in ("locate_rtol", "rtol"):
+        o[k] = opt.check_rtol(k, o[k])
     detect = (o["detect"],) if isinstance(o["detect"], str) else tuple(o["detect"])
     for kind in detect:
         check.choice("detect", kind, KINDS)
@@ -534,6 +547,7 @@ def continue_orbit(
     *,
     autonomous: bool = True,
     jac: Callable[..., Any] | Sequence[Callable[..., Any]] | None = None,
+    settings: opt.SolverSettings | None = None,
     **options: Any,
 ) -> Branch:
     """Follow a periodic orbit from ``p0`` to ``p_end`` by pseudo-arclength continuation.
@@ -564,7 +578,13 @@ def continue_orbit(
         as many ``free_params`` (initial values of extra unknowns q; e.g. an amplitude fixed by
         an extra periodic state), ``floquet_states`` (the states whose block of the monodromy
         matrix gives the multipliers, default all), ``switch_amplitude`` (1e-2, relative size
-        of the first step onto a doubled orbit).
+        of the first step onto a doubled orbit). ``max_points`` is at most 10**5,
+        ``max_newton`` at most 100, ``segments`` at most 1024; an ``rtol`` or ``locate_rtol``
+        below ``100 eps`` is raised to it with a :class:`~flapping.errors.ToleranceWarning`.
+    settings : SolverSettings, optional
+        ``method``, ``rtol``, ``atol``, ``max_steps``, ``tol`` and ``max_newton`` as one object
+        (:mod:`flapping.periodic.settings`; ``rk4_steps`` and ``max_nfev`` are not used); an
+        option given as a keyword overrides the same field.
 
     Returns
     -------
@@ -587,7 +607,7 @@ def continue_orbit(
         raise ValueError(f"`autonomous` must be True or False; got {autonomous!r}")
     if autonomous and callable(period):
         raise ValueError("`period` must be a number (a guess) for an autonomous system")
-    opts = _check_options(options)
+    opts = _check_options(options, settings)
     if autonomous and opts.breakpoints:
         raise ValueError("`breakpoints` need a forced system (autonomous=False)")
     system, u0 = _start(fun, jac, x, period, p0, bool(autonomous), opts)

@@ -45,8 +45,9 @@ import numpy as np
 from scipy.integrate import OdeSolver
 
 import flapping._validation as check
-from flapping.errors import ConvergenceError
+from flapping.errors import ClosureWarning, ConvergenceError
 from flapping.periodic import _segments as seg
+from flapping.periodic import settings as opt
 from flapping.periodic._readonly import freeze
 
 __all__ = [
@@ -57,9 +58,17 @@ __all__ = [
     "floquet_exponents",
     "trivial_multiplier",
     "nontrivial_multipliers",
+    "CLOSURE_TOL",
 ]
 
 _EPS = np.finfo(float).eps
+
+#: Relative closure error ``|x(T) - x(0)| / max(1, |x(0)|)`` above which :func:`monodromy`
+#: warns that its point is on no periodic orbit. A shooting solution closes to its ``tol``
+#: (1e-10) plus the integration error (~1e-10 relative); 1e-6 leaves four orders for
+#: orbits found at looser tolerances or by RK4, while a point off the orbit by a
+#: millionth of its size already has multipliers wrong in the sixth digit.
+CLOSURE_TOL = 1e-6
 
 
 class FloquetAccuracyWarning(UserWarning):
@@ -91,6 +100,9 @@ class Monodromy:
         State after one period (closure check: equals ``x0`` on a periodic orbit).
     closure_error : float
         ``|x_end - x0|`` (Euclidean).
+    relative_closure_error : float
+        ``|x_end - x0| / max(1, |x0|)``: above :data:`CLOSURE_TOL` the point is on no periodic
+        orbit of this period and a :class:`~flapping.errors.ClosureWarning` was issued.
     period : float
         The period used.
     factors : ndarray, shape (n, n, K)
@@ -118,6 +130,7 @@ class Monodromy:
     multiplier_method: str
     nfev: int
     njev: int
+    relative_closure_error: float = math.nan
 
     def __post_init__(self) -> None:
         freeze(self)
@@ -287,7 +300,7 @@ def _check_monodromy(x0: Any, period: Any, method: Any, rtol: Any, atol: Any, rk
     T = check.positive("period", period)
     settings = seg.check_settings(method, rtol, atol, rk4_steps, max_steps)
     b = seg.check_breakpoints(breakpoints)
-    n_sub = check.integer("n_sub", n_sub, low=1)
+    n_sub = opt.capped("n_sub", n_sub)
     if not (isinstance(max_cond, (float, np.floating)) and max_cond == math.inf):
         max_cond = check.real("max_cond", max_cond, low=1.0, low_open=True)
     if settings.fixed_step and settings.rk4_steps % n_sub:
@@ -328,7 +341,8 @@ def _factorise(funs: Sequence[Callable[..., Any]], jacs: Sequence[Callable[..., 
         out.njev += var.njev
         if not var.success:
             raise ConvergenceError(
-                f"the orbit could not be integrated over [{a:.6g}, {b:.6g}]: {var.message}")
+                f"the orbit could not be integrated over [{a:.6g}, {b:.6g}]: {var.message}",
+                x=out.x_end, iterations=out.nfev + var.nfev, result=var)
         F = var.stm_end
         steps = round((b - a) / h_rk4)
         splittable = (b - a) > T * 2.0**-12 and (not settings.fixed_step or steps % 2 == 0)
@@ -399,14 +413,15 @@ def monodromy(
     *,
     jac: Callable[..., Any] | Sequence[Callable[..., Any]] | None = None,
     breakpoints: Sequence[float] = (),
-    method: str | type[OdeSolver] = "DOP853",
-    rtol: float = 1e-12,
-    atol: float = 1e-12,
-    rk4_steps: int = 1024,
+    method: str | type[OdeSolver] | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    rk4_steps: int | None = None,
     max_steps: int | None = None,
     n_sub: int = 4,
     max_cond: float = 100.0,
     args: tuple[Any, ...] = (),
+    settings: opt.SolverSettings | None = None,
 ) -> Monodromy:
     """Monodromy matrix, Floquet multipliers and Liouville check of a periodic orbit (eqs. 42-49).
 
@@ -423,7 +438,8 @@ def monodromy(
         Analytic ``df/dx(t, x, *args)``; default central finite differences of ``fun`` at every
         evaluation (relative error ~ eps**(2/3) in the variational equations).
     breakpoints, method, rtol, atol, rk4_steps, max_steps
-        As in :func:`flapping.periodic.integrate.flow` (``max_steps``: per sub-interval).
+        As in :func:`flapping.periodic.integrate.flow` (``max_steps``: per sub-interval);
+        defaults ``"DOP853"``, 1e-12, 1e-12, 1024, 100 000.
     n_sub : int, optional
         Initial number of equal sub-intervals of the period, each integrated from ``Phi = I``
         (see the module notes); with RK4, ``rk4_steps`` must be a multiple of it.
@@ -434,6 +450,9 @@ def monodromy(
         multipliers. ``math.inf`` keeps the ``n_sub`` equal pieces.
     args : tuple, optional
         Extra arguments of ``fun`` and ``jac``.
+    settings : SolverSettings, optional
+        ``method``, ``rtol``, ``atol``, ``rk4_steps`` and ``max_steps`` as one object
+        (:mod:`flapping.periodic.settings`); a keyword given explicitly overrides its field.
 
     Returns
     -------
@@ -446,21 +465,28 @@ def monodromy(
         For a bad argument, or ``fun``/``jac`` returning a wrong shape or a non-finite value.
     ConvergenceError
         If the orbit could not be integrated (the integrator gave up, the step budget ran out:
-        the message suggests what to try, or the state overflowed).
+        the message suggests what to try, or the state overflowed); carries the state at the
+        start of the failing sub-interval and the failed integration.
 
     Warns
     -----
+    ClosureWarning
+        When ``|x(T) - x0| / max(1, |x0|)`` exceeds :data:`CLOSURE_TOL` (1e-6): ``x0`` is on no
+        orbit of period ``T``, and the matrix is a transition matrix, not a monodromy matrix.
     FloquetAccuracyWarning
         When the multipliers come from ``eig(M)`` and one is below eps times the largest.
     RuntimeWarning
         When ``det M`` or Liouville's ``exp(trace_integral)`` overflows (reported as inf).
     """
-    x, T, settings, breakpoints, n_sub, max_cond, h = _check_monodromy(
-        x0, period, method, rtol, atol, rk4_steps, max_steps, breakpoints, n_sub, max_cond)
+    o = opt.resolve(settings, _DEFAULTS, method=method, rtol=rtol, atol=atol,
+                    rk4_steps=rk4_steps, max_steps=max_steps)
+    x, T, integration, breakpoints, n_sub, max_cond, h = _check_monodromy(
+        x0, period, o["method"], o["rtol"], o["atol"], o["rk4_steps"], o["max_steps"],
+        breakpoints, n_sub, max_cond)
     n_seg = len(breakpoints) + 1
     funs = seg.segment_callables(fun, n_seg, "fun")
     jacs = (None,) * n_seg if jac is None else seg.segment_callables(jac, n_seg, "jac")
-    parts = _factorise(funs, jacs, x, T, args=tuple(args), settings=settings, h=h,
+    parts = _factorise(funs, jacs, x, T, args=tuple(args), settings=integration, h=h,
                        breakpoints=breakpoints, n_sub=n_sub, max_cond=max_cond)
     M = np.eye(x.size)
     with np.errstate(over="ignore", invalid="ignore"):
@@ -468,10 +494,29 @@ def monodromy(
             M = F @ M
     det, liouville, error = _determinants(parts.matrices, parts.trace_integral)
     mu, exponents, how = _multipliers(parts.matrices, M, T)
+    closure = float(np.linalg.norm(parts.x_end - x))
+    relative = _warn_if_open(closure, x, T)
     return Monodromy(
         matrix=M, multipliers=mu, exponents=exponents, det=det,
         trace_integral=parts.trace_integral, liouville_det=liouville, liouville_error=error,
-        x_end=parts.x_end, closure_error=float(np.linalg.norm(parts.x_end - x)), period=T,
+        x_end=parts.x_end, closure_error=closure, period=T,
         factors=np.stack(parts.matrices, axis=-1), multiplier_method=how, nfev=parts.nfev,
-        njev=parts.njev,
+        njev=parts.njev, relative_closure_error=relative,
     )
+
+
+#: Defaults of the :class:`~flapping.periodic.settings.SolverSettings` fields used here.
+_DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-12, "rk4_steps": 1024,
+                             "max_steps": None}
+
+
+def _warn_if_open(closure: float, x: np.ndarray, T: float) -> float:
+    """The relative closure error; a ClosureWarning above :data:`CLOSURE_TOL`."""
+    relative = closure / max(1.0, float(np.linalg.norm(x)))
+    if relative > CLOSURE_TOL:
+        warnings.warn(
+            f"monodromy: x0 is on no periodic orbit of period T = {T:.10g}: |x(T) - x0| = "
+            f"{closure:.3e} ({relative:.1e} relative > CLOSURE_TOL = {CLOSURE_TOL:g}); the "
+            f"multipliers are those of a transition matrix, not of an orbit (find the orbit "
+            f"first with find_periodic_orbit)", ClosureWarning, stacklevel=3)
+    return relative
