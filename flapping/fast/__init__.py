@@ -1,8 +1,9 @@
 """flapping.fast: the compiled hover kernel (numba), for sweeps of thousands of orbits.
 
 :func:`solve_hover` finds the hover orbit of eq. (29)'s linear model and its Floquet multipliers
-in about a millisecond, with an error estimate and an automatic step count
-(:mod:`flapping.fast.kernel`). The sweeps over insect parameters built on it are in
+in about half a millisecond, with an error estimate and an automatic step count, and
+:func:`orbit_quadrature` gives the cycle-averaged Jacobian and mean velocities along it in one
+compiled call (:mod:`flapping.fast.kernel`). The sweeps over insect parameters built on it are in
 :mod:`flapping.sweep`; :func:`flapping.hover.find_hover_orbit` can use it as its backend.
 
 Importing this package does not import numba: the kernel is compiled (or loaded from numba's
@@ -12,22 +13,34 @@ on-disk cache) the first time it runs. numba is the optional ``fast`` extra
 
 from flapping.fast.kernel import (
     AMPLITUDE_TOL_DEG,
+    AMPLITUDE_TOL_FLOOR_DEG,
     MULTIPLIER_TOL,
+    MULTIPLIER_TOL_FLOOR,
+    SUPPORTED_FIELDS,
     HoverSolution,
+    KernelCompileWarning,
     KernelProblem,
+    OrbitQuadrature,
     monodromy_at,
     numba_available,
+    orbit_quadrature,
     sample_orbit,
     solve_hover,
 )
 
 __all__ = [
     "AMPLITUDE_TOL_DEG",
+    "AMPLITUDE_TOL_FLOOR_DEG",
     "MULTIPLIER_TOL",
+    "MULTIPLIER_TOL_FLOOR",
+    "SUPPORTED_FIELDS",
     "HoverSolution",
+    "KernelCompileWarning",
     "KernelProblem",
+    "OrbitQuadrature",
     "monodromy_at",
     "numba_available",
+    "orbit_quadrature",
     "sample_orbit",
     "solve_hover",
 ]

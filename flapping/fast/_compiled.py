@@ -14,8 +14,9 @@ State layouts (float64 arrays):
 (g [m/s^2], omega = 2 pi f [rad/s], 1/m [1/kg], 1/I_y [1/(kg m^2)]).
 
 Integration: the 12-stage, 8th-order Runge-Kutta formula of Dormand and Prince (the tableau of
-scipy's DOP853) at a fixed step, ``n`` steps per half-stroke, restarted at stroke reversal where the
-right-hand side jumps (eq. 11): each half-stroke is smooth, so the global error is O(h^8).
+:mod:`flapping.fast._dop853`, equal to scipy's DOP853) at a fixed step, ``n`` steps per
+half-stroke, restarted at stroke reversal where the right-hand side jumps (eq. 11): each
+half-stroke is smooth, so the global error is O(h^8).
 """
 
 from __future__ import annotations
@@ -24,18 +25,38 @@ import math
 
 import numba
 import numpy as np
-from scipy.integrate._ivp import dop853_coefficients as _dop853
 
-from flapping.fast import _generated
+from flapping.fast import _dop853, _generated
+
+#: Whether numba found a writable place for its on-disk cache (see :func:`_jit`).
+CACHED = True
+
+
+def _jit(fn):
+    """``numba.njit(cache=True)``, or without the disk cache if numba finds no writable place.
+
+    numba looks for one at decoration time (``NUMBA_CACHE_DIR``, then ``__pycache__`` beside this
+    file, then the user-wide cache directory) and raises RuntimeError ("cannot cache function")
+    if none is writable. The kernel then still runs, compiled again in every process.
+    """
+    global CACHED
+    try:
+        return numba.njit(cache=True)(fn)
+    except RuntimeError as error:
+        if "cannot cache" not in str(error):
+            raise
+        CACHED = False
+        return numba.njit(fn)
+
 
 # The generated formulas (plain Python, from the SymPy derivation), compiled here.
-derivatives = numba.njit(cache=True)(_generated.derivatives)
-derivatives_and_amplitude = numba.njit(cache=True)(_generated.derivatives_and_amplitude)
+derivatives = _jit(_generated.derivatives)
+derivatives_and_amplitude = _jit(_generated.derivatives_and_amplitude)
 
 N_STAGES = _dop853.N_STAGES
-RK_A = np.ascontiguousarray(_dop853.A[:N_STAGES, :N_STAGES])
+RK_A = np.ascontiguousarray(_dop853.A)
 RK_B = np.ascontiguousarray(_dop853.B)
-RK_C = np.ascontiguousarray(_dop853.C[:N_STAGES])
+RK_C = np.ascontiguousarray(_dop853.C)
 
 N_PLAIN = 5
 N_VAR = 31
@@ -48,7 +69,7 @@ NOT_FINITE = 3
 SINGULAR = 4
 
 
-@numba.njit(cache=True)
+@_jit
 def _phase(t, amp, sign, p):  # pragma: no cover - compiled
     """phi, phi_dot, |phi_dot| and the sines and cosines of phi and 2 phi at time t (eq. 39)."""
     wt = p[1] * t
@@ -58,7 +79,7 @@ def _phase(t, amp, sign, p):  # pragma: no cover - compiled
     return phi, phidot, sign * phidot, sphi, cphi, 2.0 * sphi * cphi, cphi * cphi - sphi * sphi
 
 
-@numba.njit(cache=True)
+@_jit
 def plain_rhs(t, x, amp, sign, k, p, d, out):  # pragma: no cover - compiled
     """dx/dt of eq. (2) with eq. (29)'s loads, and z' = -u sin(theta) + w cos(theta)."""
     phi, phidot, absphidot, sphi, cphi, s2phi, c2phi = _phase(t, amp, sign, p)
@@ -72,7 +93,7 @@ def plain_rhs(t, x, amp, sign, k, p, d, out):  # pragma: no cover - compiled
     out[4] = -u * sth + w * cth
 
 
-@numba.njit(cache=True)
+@_jit
 def variational_rhs(t, y, amp, sign, k, p, d, out):  # pragma: no cover - compiled
     """d/dt of the variational state: x, Y' = J Y, s' = J s + df/dPhi, and trace J."""
     phi, phidot, absphidot, sphi, cphi, s2phi, c2phi = _phase(t, amp, sign, p)
@@ -106,7 +127,7 @@ def variational_rhs(t, y, amp, sign, k, p, d, out):  # pragma: no cover - compil
     out[30] = d[3] + d[7] + d[11]
 
 
-@numba.njit(cache=True)
+@_jit
 def _rk_step(variational, t, h, y, amp, sign, k, p, d, stages, tmp):  # pragma: no cover
     """One fixed step of the 8th-order Dormand-Prince formula, in place on y."""
     n = y.size
@@ -127,7 +148,7 @@ def _rk_step(variational, t, h, y, amp, sign, k, p, d, stages, tmp):  # pragma: 
         y[i] += h * acc
 
 
-@numba.njit(cache=True)
+@_jit
 def integrate_period(variational, y, amp, n_steps, k, p, samples):  # pragma: no cover
     """Integrate y in place over one period, ``n_steps`` per half-stroke; returns the RHS count.
 
@@ -155,7 +176,7 @@ def integrate_period(variational, y, amp, n_steps, k, p, samples):  # pragma: no
     return 2 * n_steps * N_STAGES
 
 
-@numba.njit(cache=True)
+@_jit
 def variational_period(z, n_steps, k, p):  # pragma: no cover - compiled
     """The variational state after one period from x0 = z[:4] (z = 0) at Phi = z[4]."""
     y = np.zeros(N_VAR)
@@ -166,7 +187,7 @@ def variational_period(z, n_steps, k, p):  # pragma: no cover - compiled
     return y
 
 
-@numba.njit(cache=True)
+@_jit
 def residual_and_jacobian(y, z):  # pragma: no cover - compiled
     """The hover residual x(T) - x(0) (z(0) = 0) and its Jacobian in (u0, w0, q0, theta0, Phi)."""
     r = np.empty(5)
@@ -179,7 +200,7 @@ def residual_and_jacobian(y, z):  # pragma: no cover - compiled
     return r, J
 
 
-@numba.njit(cache=True)
+@_jit
 def newton(z, n_steps, k, p, max_iter, xtol):  # pragma: no cover - compiled
     """Newton's method on the hover residual, from z = (u0, w0, q0, theta0, Phi), in place.
 
@@ -213,7 +234,7 @@ def newton(z, n_steps, k, p, max_iter, xtol):  # pragma: no cover - compiled
     return MAX_ITERATIONS, max_iter, norm, y
 
 
-@numba.njit(cache=True)
+@_jit
 def sample_period(x0, amp, n_steps, k, p):  # pragma: no cover - compiled
     """The plain state (u, w, q, theta, z) after each of 2 n_steps steps over one period."""
     y = np.zeros(N_PLAIN)
@@ -223,7 +244,7 @@ def sample_period(x0, amp, n_steps, k, p):  # pragma: no cover - compiled
     return samples
 
 
-@numba.njit(cache=True)
+@_jit
 def states_at(x0, amp, n_steps, k, p, times):  # pragma: no cover - compiled
     """The plain state at sorted ``times`` in (0, T): the step grid, then one shorter step."""
     samples = sample_period(x0, amp, n_steps, k, p)
@@ -242,3 +263,71 @@ def states_at(x0, amp, n_steps, k, p, times):  # pragma: no cover - compiled
         _rk_step(False, t_grid, times[i] - t_grid, y, amp, sign, k, p, d, stages, tmp)
         out[i] = y
     return out
+
+
+@_jit
+def _advance(t0, t1, y, amp, sign, k, p, h_max, d, stages, tmp):  # pragma: no cover - compiled
+    """Carry the plain state y from t0 to t1 (one half-stroke) in equal steps of at most h_max."""
+    n = max(1, int(math.ceil((t1 - t0) / h_max)))
+    h = (t1 - t0) / n
+    for j in range(n):
+        _rk_step(False, t0 + j * h, h, y, amp, sign, k, p, d, stages, tmp)
+
+
+@_jit
+def _add_jacobian(d, x, g, weight, total):  # pragma: no cover - compiled
+    """total += weight J, with J the Jacobian of eq. (2) + eq. (29)'s loads at x (eqs. 44-47)."""
+    u, w, q, th = x[0], x[1], x[2], x[3]
+    sth, cth = math.sin(th), math.cos(th)
+    total[0, 0] += weight * d[3]
+    total[0, 1] += weight * (d[4] - q)
+    total[0, 2] += weight * (d[5] - w)
+    total[0, 3] += weight * (-g * cth)
+    total[1, 0] += weight * (d[6] + q)
+    total[1, 1] += weight * d[7]
+    total[1, 2] += weight * (d[8] + u)
+    total[1, 3] += weight * (-g * sth)
+    total[2, 0] += weight * d[9]
+    total[2, 1] += weight * d[10]
+    total[2, 2] += weight * d[11]
+    total[3, 2] += weight
+
+
+@_jit
+def orbit_quadrature(x0, amp, k, p, nodes, weights, min_steps):  # pragma: no cover - compiled
+    """Cycle means of the Jacobian and of the inertial velocities along the orbit from x0.
+
+    Gauss-Legendre (``nodes``, ``weights`` on [-1, 1]) on each half-stroke, where the integrands
+    are smooth. The state is carried from node to node by the fixed-step formula, each gap split
+    into equal steps of at most T / (2 min_steps). Returns (J_mean (4, 4), v_mean (2,)) with
+    v = (forward, climb) = (u cos(theta) + w sin(theta), u sin(theta) - w cos(theta)).
+    """
+    period = 2.0 * math.pi / p[1]
+    half = 0.5 * period
+    h = 0.5 * half  # half-width of a half-stroke, as in the (0, T/2, T) split of the adaptive path
+    h_max = half / min_steps
+    total = np.zeros((4, 4))
+    velocity = np.zeros(2)
+    y = np.zeros(N_PLAIN)
+    y[:4] = x0
+    d = np.empty(24)
+    stages = np.empty((N_STAGES, N_PLAIN))
+    tmp = np.empty(N_PLAIN)
+    for segment in range(2):
+        sign = -1.0 if segment == 0 else 1.0
+        a = half * segment
+        t = a
+        for i in range(nodes.size):
+            t_node = h * nodes[i] + a + h
+            _advance(t, t_node, y, amp, sign, k, p, h_max, d, stages, tmp)
+            t = t_node
+            phi, phidot, absphidot, sphi, cphi, s2phi, c2phi = _phase(t, amp, sign, p)
+            derivatives(phi, phidot, absphidot, sphi, cphi, s2phi, c2phi, k, d)
+            weight = h * weights[i]
+            _add_jacobian(d, y, p[0], weight, total)
+            sth, cth = math.sin(y[3]), math.cos(y[3])
+            velocity[0] += weight * (y[0] * cth + y[1] * sth)
+            velocity[1] += weight * (y[0] * sth - y[1] * cth)
+        if segment == 0:  # on to the stroke reversal, where the forward stroke starts
+            _advance(t, half, y, amp, sign, k, p, h_max, d, stages, tmp)
+    return total / period, velocity / period

@@ -23,18 +23,37 @@ x0; for the multipliers it is the change of the eigenvalues when the monodromy i
 If an estimate exceeds its tolerance (by default Phi to 1e-9 deg, every multiplier to 1e-8) the
 step count grows by the predicted factor and the solve is repeated.
 
-numba is imported the first time a kernel function runs (not when :mod:`flapping` is imported);
-its compiled code is cached on disk (``cache=True``), so later processes load it in ~0.1 s.
+Smallest tolerances. The unknowns come out of Newton's method right to rounding level, not
+better: :data:`AMPLITUDE_TOL_FLOOR_DEG` and :data:`MULTIPLIER_TOL_FLOOR` are the smallest
+tolerances accepted (see their notes); a smaller one is a ValueError, since an error estimate
+below the rounding noise is itself noise and the claim "tolerance met" would be false.
+
+Compilation and its cache. numba is imported the first time a kernel function runs (never when
+:mod:`flapping` is imported). Its compiled code is cached on disk where numba puts it: the
+directory named by ``NUMBA_CACHE_DIR`` if set, else ``__pycache__`` beside this package if it is
+writable, else numba's user-wide cache directory (``$XDG_CACHE_HOME/numba`` or
+``~/.cache/numba`` on Linux, one sub-directory per installed package directory), which is where an
+installed wheel in a read-only ``site-packages`` caches (checked for numba 0.60-0.68:
+``numba.core.caching.UserWideCacheLocator``). If no place is writable the kernel still runs,
+compiled again in every process. The first use in an environment compiles (~12 s of CPU) and says
+so once (a :class:`KernelCompileWarning`); every use logs one INFO line on the ``"flapping"``
+logger with the time and the cache directory. Later processes load the cache in ~0.1-0.5 s.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import functools
+import hashlib
 import importlib.util
+import logging
 import math
 import time
+import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from types import ModuleType
+from types import MappingProxyType, ModuleType
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -49,13 +68,20 @@ from flapping.model.morphology import Insect
 __all__ = [
     "AMPLITUDE_TOL_DEG",
     "MULTIPLIER_TOL",
+    "AMPLITUDE_TOL_FLOOR_DEG",
+    "MULTIPLIER_TOL_FLOOR",
     "DEFAULT_STEPS",
+    "SUPPORTED_FIELDS",
     "HoverSolution",
+    "KernelCompileWarning",
     "KernelProblem",
+    "OrbitQuadrature",
+    "cache_dir",
     "numba_available",
     "load",
     "solve_hover",
     "monodromy_at",
+    "orbit_quadrature",
     "sample_orbit",
     "states_at",
 ]
@@ -63,6 +89,20 @@ __all__ = [
 #: Default accuracy of the stroke amplitude [deg] and of every Floquet multiplier (absolute).
 AMPLITUDE_TOL_DEG = 1e-9
 MULTIPLIER_TOL = 1e-8
+
+#: Smallest accepted ``amplitude_tol_deg`` [deg]. Newton stops when its next step is below
+#: _XTOL = 1e-13 max(1, |Phi|) rad (the step is then rounding noise: the residual's rounding,
+#: ~1e-16 of the states, times the inverse Jacobian), so the solve can promise that bound at
+#: Phi <= pi/2, 1.6e-13 rad = 9e-12 deg, rounded up. Measured (hawkmoth, 20-32 Hz, h_w 0-5 mm):
+#: Phi solved at 32 to 256 steps per half-stroke, where discretisation errors are < 1e-15 deg,
+#: scatters by up to 7e-13 deg, and the Richardson estimate there is that noise (~1e-12 deg).
+AMPLITUDE_TOL_FLOOR_DEG = 1e-11
+
+#: Smallest accepted ``multiplier_tol``. The monodromy sums ~10^3 RK stage terms of size
+#: |M| ~ 1, so its rounding error is ~1e-13, and the Richardson estimate (a difference of two
+#: such matrices) is noise at that level. Measured as above: the multipliers scatter by up to
+#: 8e-14 and the estimate at 32 steps reads ~1.7e-13; the floor keeps a factor ~6 above it.
+MULTIPLIER_TOL_FLOOR = 1e-12
 
 #: Steps per half-stroke to start with (enough for the hawkmoth; the estimate adds more if needed).
 DEFAULT_STEPS = 12
@@ -82,12 +122,63 @@ _SAFETY = 2.0
 #: rounding level: the convergence is quadratic), and its iteration cap.
 _XTOL, _MAX_ITER = 1e-13, 40
 
+#: Quadrature along the orbit: Gauss nodes per half-stroke at most (a cap on the work), and the
+#: fewest steps per half-stroke that carry the state between nodes. At 32 steps the formula's
+#: error is (12/32)^8 ~ 4e-4 of the 12-step solve's (~1e-11 relative): rounding level.
+_MAX_NODES, _QUADRATURE_STEPS = 1 << 16, 32
+
+#: Samples per period of :func:`sample_orbit` at most (a cap on the work and the memory).
+_MAX_SAMPLES = 2**20
+
 _STATUS = {
     1: "Newton's method reached its iteration cap",
     2: "an iterate's stroke amplitude left (0, 90] deg",
     3: "the integration produced a non-finite value",
     4: "the Jacobian of the hover residual is singular",
 }
+
+#: The :class:`~flapping.model.morphology.Insect` fields the kernel follows, and how each enters.
+#: :meth:`KernelProblem.of` refuses an insect whose other fields differ from their defaults, so
+#: a field added to ``Insect`` (say a wing mass) is refused until the kernel models it and is
+#: listed here.
+SUPPORTED_FIELDS: Mapping[str, str] = MappingProxyType({
+    "name": "label only",
+    "semi_span": "R of the span integrals I_mn (K, Krot, K_nu)",
+    "wing_area": "S of the span integrals and of the aspect ratio in eq. (4)",
+    "r1": "the beta chord distribution of the span integrals",
+    "r2": "the beta chord distribution of the span integrals",
+    "frequency": "omega = 2 pi f of eq. (39), the period and the rotational damping",
+    "stroke_amplitude": "the first guess of Phi and the trim of alpha_m (eq. 40)",
+    "mass": "1/m of eq. (2) and the trim",
+    "pitch_inertia": "1/I_y of eq. (2)",
+    "air_density": "rho of K, Krot and K_nu",
+    "gravity": "g of eq. (2) and the trim",
+    "a0": "the 2-D lift slope in A of eq. (4)",
+    "aspect_ratio_convention": "the aspect ratio in A of eq. (4)",
+    "pitch_axis": "3/4 - x0_hat of the rotational circulation (eq. 5, Krot)",
+    "center_of_pressure": "x_hat of the moments (eqs. 21-23)",
+    "hinge_offset": "x_h of the moments",
+    "mu1": "the rotational damping of M_q (mu1 f K_nu)",
+    "mu2": "none: eq. (29)'s loads have no mu2 term (as on the adaptive linear path)",
+    "hinge_height": "h_w terms of the generated derivatives",
+})
+
+_LOG = logging.getLogger("flapping")
+
+
+class KernelCompileWarning(UserWarning):
+    """The compiled kernel was (or is being) compiled by numba: said once per process.
+
+    A warning, not a log record: Python shows it by default (once) in scripts, notebooks and
+    pytest's summary, whereas a log record below WARNING is dropped without a configured
+    handler; and its own category lets a user or a test silence it alone
+    (``warnings.simplefilter("ignore", KernelCompileWarning)``).
+    """
+
+
+#: Seconds above which the first load of the kernel is worth a note (loading the cache takes
+#: ~0.1-0.5 s; compiling ~12 s).
+_NOTE_AFTER_S = 1.0
 
 
 def numba_available() -> bool:
@@ -99,7 +190,13 @@ _MODULE: list[ModuleType] = []
 
 
 def load() -> ModuleType:
-    """Import (and on first use in this environment, compile) the kernel's numba code.
+    """Import the kernel's numba code and compile it, or load it from the cache, once.
+
+    The first call in a process runs every compiled function once on the hawkmoth, so that
+    compiling (first use in an environment: ~12 s of CPU) or loading the on-disk cache
+    (~0.1-0.5 s) happens here, timed: one INFO line on the ``"flapping"`` logger reports it, and
+    a :class:`KernelCompileWarning` says so when numba compiles (before it starts, if no cache
+    exists; after, if it took more than a second anyway).
 
     Returns
     -------
@@ -112,36 +209,102 @@ def load() -> ModuleType:
         If numba is not installed (``pip install flapping[fast]``).
     """
     if not _MODULE:
-        _drop_stale_cache()
+        start = time.perf_counter()
         from flapping.fast import _compiled
 
+        cache = cache_dir(_compiled)
+        if cache is not None:
+            _drop_stale_cache(cache, Path(__file__).with_name("_generated.py"))
+        fresh = cache is None or not any(cache.glob("_compiled.newton-*.nbi"))
+        if fresh:
+            _note_compiling(cache)
+        _touch(_compiled)
+        _announce(time.perf_counter() - start, _compiled_anew(_compiled), cache, noted=fresh)
         _MODULE.append(_compiled)
     return _MODULE[0]
 
 
-def _drop_stale_cache(here: Path | None = None) -> None:
-    """Remove numba's on-disk cache of :mod:`flapping.fast._compiled` if ``_generated`` changed.
+def cache_dir(compiled: ModuleType | None = None) -> Path | None:
+    """The directory of numba's on-disk cache of the kernel, or None if it is not cached.
 
-    numba keys a cached function on the time stamp of its own file only, so the functions of
-    ``_compiled`` that inline the generated derivatives would keep the old arithmetic (and the
-    old layout of the constants) after a regeneration. A stamp of the generated source beside
-    the cache (in ``__pycache__``, numba's default place) detects that. ``here`` is the package
-    directory (default this module's; a test passes another).
+    Parameters
+    ----------
+    compiled : module, optional
+        :mod:`flapping.fast._compiled` (default: :func:`load` it).
+
+    Returns
+    -------
+    pathlib.Path or None
+        Where numba chose to cache (see the module notes); None if no place was writable.
     """
-    import hashlib
+    compiled = load() if compiled is None else compiled
+    path = compiled.newton.stats.cache_path
+    return Path(path) if compiled.CACHED and path else None
 
-    here = Path(__file__).parent if here is None else here
-    cache = here / "__pycache__"
-    digest = hashlib.sha256((here / "_generated.py").read_bytes()).hexdigest()
+
+def _compiled_anew(compiled: ModuleType) -> bool:
+    """Whether numba compiled (rather than loaded) a kernel function in this process."""
+    return any(fn.stats.cache_misses for fn in (compiled.newton, compiled.orbit_quadrature,
+                                                 compiled.sample_period))
+
+
+def _touch(compiled: ModuleType) -> None:
+    """Run every entry point once (compiling it or loading it), with the argument types of use."""
+    from flapping.model.morphology import hawkmoth
+
+    problem = KernelProblem.of(hawkmoth())
+    z = np.append(np.zeros(4), problem.insect.stroke_amplitude)
+    compiled.newton(z.copy(), _MIN_STEPS, problem.k, problem.p, 2, _XTOL)
+    compiled.residual_and_jacobian(compiled.variational_period(z, _MIN_STEPS, problem.k,
+                                                               problem.p), z)
+    compiled.states_at(z[:4], z[4], _MIN_STEPS, problem.k, problem.p, np.array([0.001]))
+    nodes, weights = _gauss(2)
+    compiled.orbit_quadrature(z[:4], z[4], problem.k, problem.p, nodes, weights, _MIN_STEPS)
+
+
+def _cache_text(cache: Path | None) -> str:
+    return (f"later runs load it from numba's cache in {cache}" if cache is not None else
+            "numba found no writable cache directory, so every process compiles it again "
+            "(set NUMBA_CACHE_DIR to a writable directory)")
+
+
+def _note_compiling(cache: Path | None) -> None:
+    """The one-time note before numba compiles the kernel (no cache yet)."""
+    warnings.warn(f"compiling flapping's hover kernel with numba (first use in this "
+                  f"environment: ~10-20 s, once); {_cache_text(cache)}", KernelCompileWarning,
+                  stacklevel=4)
+
+
+def _announce(seconds: float, compiled: bool, cache: Path | None, noted: bool) -> None:
+    """One INFO line on the "flapping" logger; a note if numba compiled for long, unannounced."""
+    what = "compiled" if compiled else "loaded from the cache"
+    _LOG.info("hover kernel %s in %.2f s (numba cache: %s)", what, seconds,
+              cache if cache is not None else "none")
+    if compiled and seconds > _NOTE_AFTER_S and not noted:
+        warnings.warn(f"flapping's hover kernel was compiled with numba in {seconds:.1f} s "
+                      f"(first use in this environment or after an upgrade); "
+                      f"{_cache_text(cache)}", KernelCompileWarning, stacklevel=4)
+
+
+def _drop_stale_cache(cache: Path, generated: Path) -> None:
+    """Remove numba's cached :mod:`flapping.fast._compiled` in ``cache`` if ``generated`` changed.
+
+    numba keys a cached function on the content of its own file only, so the functions of
+    ``_compiled`` that inline the generated derivatives would keep the old arithmetic (and the
+    old layout of the constants) after a regeneration or an upgrade that changed
+    ``_generated.py`` alone. A stamp of the generated source in the cache directory numba uses
+    detects that.
+    """
+    digest = hashlib.sha256(generated.read_bytes()).hexdigest()
     stamp = cache / "_compiled.generated-sha256"
     try:
         if stamp.is_file() and stamp.read_text() == digest:
             return
         for old in list(cache.glob("_compiled.*.nbi")) + list(cache.glob("_compiled.*.nbc")):
             old.unlink()
-        cache.mkdir(exist_ok=True)
+        cache.mkdir(parents=True, exist_ok=True)
         stamp.write_text(digest)
-    except OSError:  # a read-only install: numba then caches elsewhere or not at all
+    except OSError:  # numba checked the directory is writable; a race with another process
         pass
 
 
@@ -154,8 +317,9 @@ def warm_up() -> float:
 
     start = time.perf_counter()
     problem = KernelProblem.of(hawkmoth())
-    solve_hover(problem)
+    sol = solve_hover(problem)
     sample_orbit(problem, np.zeros(4), problem.insect.stroke_amplitude, 8)
+    orbit_quadrature(problem, sol.x0, sol.amplitude)
     return time.perf_counter() - start
 
 
@@ -171,9 +335,9 @@ class KernelProblem:
         Mean geometric angle of attack [rad] (fixed while Phi is solved for, as in the paper).
     k : ndarray
         The constants of the generated derivatives, laid out as
-        :data:`flapping.fast._generated.CONSTANTS`.
+        :data:`flapping.fast._generated.CONSTANTS` (read-only).
     p : ndarray
-        (g [m/s^2], 2 pi f [rad/s], 1/m [1/kg], 1/I_y [1/(kg m^2)]).
+        (g [m/s^2], 2 pi f [rad/s], 1/m [1/kg], 1/I_y [1/(kg m^2)]) (read-only).
     """
 
     insect: Insect
@@ -185,30 +349,54 @@ class KernelProblem:
     def of(cls, insect: Insect, alpha_m: float | None = None) -> KernelProblem:
         """Pack ``insect`` (and alpha_m, default the trim of eq. 40 at its nominal amplitude).
 
+        Packing is cached per (insect, alpha_m) (``Insect`` is a frozen, hashable dataclass):
+        asking again for the same insect returns the same problem at no cost.
+
         Raises
         ------
         ValueError
-            For a bad insect or alpha_m, an insect too heavy to trim (eq. 40), or a non-zero
-            ``stroke_mean`` (the kernel's stroke is phi = Phi cos(2 pi f t): use the adaptive
+            For a bad insect or alpha_m, an insect too heavy to trim (eq. 40), or an insect
+            whose fields outside :data:`SUPPORTED_FIELDS` differ from their defaults (today
+            ``stroke_mean``: the kernel's stroke is phi = Phi cos(2 pi f t); use the adaptive
             path).
         """
         _validation.instance("insect", insect, Insect)
-        if insect.stroke_mean != 0.0:
-            raise ValueError(
-                f"the compiled kernel has no mean stroke angle: stroke_mean = "
-                f"{insect.stroke_mean!r} rad must be 0 (use backend='adaptive')")
-        if alpha_m is None:
-            alpha_m = trim_angle_of_attack(insect, insect.stroke_amplitude)
-        alpha_m = check_alpha_m(alpha_m)
-        k = _pack(aero_constants(insect), alpha_m)
-        p = np.array([insect.gravity, 2.0 * math.pi * insect.frequency, 1.0 / insect.mass,
-                      1.0 / insect.pitch_inertia])
-        return cls(insect, alpha_m, k, p)
+        return _packed(insect, None if alpha_m is None else check_alpha_m(alpha_m))
 
     @property
     def period(self) -> float:
         """Flapping period T [s]."""
         return self.insect.period
+
+
+@functools.lru_cache(maxsize=256)
+def _packed(insect: Insect, alpha_m: float | None) -> KernelProblem:
+    """:meth:`KernelProblem.of` on validated arguments (cached)."""
+    _check_supported(insect)
+    if alpha_m is None:
+        alpha_m = check_alpha_m(trim_angle_of_attack(insect, insect.stroke_amplitude))
+    k = _pack(aero_constants(insect), alpha_m)
+    p = np.array([insect.gravity, 2.0 * math.pi * insect.frequency, 1.0 / insect.mass,
+                  1.0 / insect.pitch_inertia])
+    return KernelProblem(insect, alpha_m, _read_only(k), _read_only(p))
+
+
+def _check_supported(insect: Insect) -> None:
+    """Refuse an insect whose fields outside :data:`SUPPORTED_FIELDS` are not at their defaults."""
+    for f in dataclasses.fields(insect):
+        if not f.init or f.name in SUPPORTED_FIELDS:
+            continue
+        value = getattr(insect, f.name)
+        if f.default is dataclasses.MISSING or value != f.default:
+            default = "" if f.default is dataclasses.MISSING else f" (its default {f.default!r})"
+            raise ValueError(
+                f"the compiled kernel does not model the insect field `{f.name}` = {value!r}: "
+                f"it supports the default only{default}; use backend='adaptive'")
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
 
 
 def _pack(c: AeroConstants, alpha_m: float) -> np.ndarray:
@@ -313,6 +501,8 @@ def _sorted(values: np.ndarray) -> np.ndarray:
     """By descending modulus; in a complex-conjugate pair, positive imaginary part first."""
     values = np.asarray(values, dtype=complex)
     values = values[np.argsort(-np.abs(values), kind="stable")]
+    if not np.any(values.imag < 0.0):  # no pair to reorder (the loop below would do nothing)
+        return values
     for i in range(values.size - 1):
         a, b = values[i], values[i + 1]
         if a.imag < 0.0 and abs(a - np.conj(b)) <= 1e-12 * max(1.0, abs(a)):
@@ -320,10 +510,51 @@ def _sorted(values: np.ndarray) -> np.ndarray:
     return values
 
 
-def _eigenvalue_shift(M: np.ndarray, dM: np.ndarray) -> float:
+def _eigenvalue_shift(eigenvalues: np.ndarray, M: np.ndarray, dM: np.ndarray) -> float:
     """max over the eigenvalues of M of the distance to the nearest eigenvalue of M + dM."""
-    a, b = np.linalg.eigvals(M), np.linalg.eigvals(M + dM)
-    return float(max(np.min(np.abs(b - mu)) for mu in a))
+    moved = np.linalg.eigvals(M + dM)
+    return float(np.max(np.min(np.abs(moved[None, :] - eigenvalues[:, None]), axis=1)))
+
+
+def _read_only_array(a: np.ndarray) -> np.ndarray:
+    """A read-only copy of ``a`` (results are read-only: an analysis is of what was solved)."""
+    return _read_only(np.array(a))
+
+
+# =========================================================================== argument checks
+def _problem(problem: KernelProblem | Insect) -> KernelProblem:
+    if isinstance(problem, Insect):
+        return KernelProblem.of(problem)
+    return _validation.instance("problem", problem, KernelProblem)
+
+
+def _steps(n_steps: int | None) -> int:
+    """The starting steps per half-stroke: even, in [_MIN_STEPS, _MAX_STEPS]."""
+    if n_steps is None:
+        return DEFAULT_STEPS
+    n = _validation.integer("n_steps", n_steps, low=_MIN_STEPS, high=_MAX_STEPS)
+    return n + n % 2
+
+
+def _tolerance(name: str, value: float, floor: float, unit: str = "") -> float:
+    """A tolerance >= its floor (the float64 limit of the fixed-step solve), as a float."""
+    return _validation.real(name, value, low=floor, unit=unit)
+
+
+def _amplitude_tol(value: float) -> float:
+    """``amplitude_tol_deg`` checked against its floor, in radians."""
+    if value is AMPLITUDE_TOL_DEG:  # the default: checked once, at import
+        return _AMPLITUDE_TOL_RAD
+    return math.radians(_tolerance("amplitude_tol_deg", value, AMPLITUDE_TOL_FLOOR_DEG, "deg"))
+
+
+def _multiplier_tol(value: float) -> float:
+    """``multiplier_tol`` checked against its floor."""
+    return value if value is MULTIPLIER_TOL else _tolerance("multiplier_tol", value,
+                                                               MULTIPLIER_TOL_FLOOR)
+
+
+_AMPLITUDE_TOL_RAD = math.radians(AMPLITUDE_TOL_DEG)
 
 
 # =========================================================================== solving
@@ -340,18 +571,21 @@ def _newton(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int
     return y, int(nit), r
 
 
+#: Richardson's factor: the n/2-step correction over 2^8 - 1, with the safety factor.
+_FACTOR = _SAFETY / (_COARSE**_ORDER - 1.0)
+
+
 def _estimate(kc: ModuleType, problem: KernelProblem, z: np.ndarray, y: np.ndarray,
-              n: int) -> tuple[np.ndarray, float]:
-    """Richardson estimates: the error of z (5,) and the largest multiplier error at n steps."""
-    z_at = z.copy()  # the point of the last integration: the variational state y belongs to it
-    coarse = kc.variational_period(z_at, n // _COARSE, problem.k, problem.p)
-    r_c, J_c = kc.residual_and_jacobian(coarse, z_at)
-    r_f, _ = kc.residual_and_jacobian(y, z_at)
-    factor = _SAFETY / (_COARSE**_ORDER - 1.0)
-    dz = np.linalg.solve(J_c, -(r_c - r_f)) * factor
+              r: np.ndarray, n: int) -> tuple[np.ndarray, float, np.ndarray]:
+    """Richardson estimates at n steps: the error of z (5,), the largest multiplier error, and
+    the eigenvalues of the monodromy of ``y`` (whose residual at ``z`` is ``r``)."""
+    coarse = kc.variational_period(z, n // _COARSE, problem.k, problem.p)
+    r_c, J_c = kc.residual_and_jacobian(coarse, z)
+    dz = np.linalg.solve(J_c, -(r_c - r)) * _FACTOR
     M = _monodromy(y)
-    dM = (M - _monodromy(coarse)) * factor
-    return np.abs(dz), _eigenvalue_shift(M, dM)
+    eigenvalues = np.linalg.eigvals(M)
+    dM = (M - _monodromy(coarse)) * _FACTOR
+    return np.abs(dz), _eigenvalue_shift(eigenvalues, M, dM), eigenvalues
 
 
 def _monodromy(y: np.ndarray) -> np.ndarray:
@@ -388,8 +622,10 @@ def solve_hover(
     n_steps : int, optional
         Steps per half-stroke to start with (even, >= 4; default :data:`DEFAULT_STEPS`). More
         are taken if the error estimate asks for them.
-    amplitude_tol_deg, multiplier_tol : float
-        Required accuracy of Phi [deg] and of every multiplier (absolute).
+    amplitude_tol_deg : float
+        Required accuracy of Phi [deg], >= :data:`AMPLITUDE_TOL_FLOOR_DEG`.
+    multiplier_tol : float
+        Required accuracy of every multiplier (absolute), >= :data:`MULTIPLIER_TOL_FLOOR`.
 
     Returns
     -------
@@ -398,34 +634,32 @@ def solve_hover(
     Raises
     ------
     ValueError
-        For bad arguments.
+        For bad arguments, tolerances below their floors included (the message names the
+        argument and the accepted range).
     ConvergenceError
         If Newton's method fails (iteration cap, amplitude outside (0, 90] deg, non-finite
         values), or if the tolerances are not met with the largest step count.
     ImportError
         If numba is not installed.
     """
-    if isinstance(problem, Insect):
-        problem = KernelProblem.of(problem)
-    problem = _validation.instance("problem", problem, KernelProblem)
-    insect = problem.insect
-    amp = check_amplitude(insect.stroke_amplitude if amplitude_guess is None else amplitude_guess,
-                          "amplitude_guess")
+    problem = _problem(problem)
+    amp = (problem.insect.stroke_amplitude if amplitude_guess is None
+           else check_amplitude(amplitude_guess, "amplitude_guess"))
     x0 = np.zeros(4) if x0_guess is None else _validation.vector("x0_guess", x0_guess, size=4)
-    n = DEFAULT_STEPS if n_steps is None else _validation.integer(
-        "n_steps", n_steps, low=_MIN_STEPS, high=_MAX_STEPS)
-    n += n % 2
-    tol_amp = math.radians(_validation.positive("amplitude_tol_deg", amplitude_tol_deg))
-    tol_mu = _validation.positive("multiplier_tol", multiplier_tol)
-    kc = load()
-    z = np.append(x0, amp)
+    n = _steps(n_steps)
+    tol_amp, tol_mu = _amplitude_tol(amplitude_tol_deg), _multiplier_tol(multiplier_tol)
+    return _solve(load(), problem, np.append(x0, amp), n, tol_amp, tol_mu)
+
+
+def _solve(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int, tol_amp: float,
+           tol_mu: float) -> HoverSolution:
+    """:func:`solve_hover` on checked arguments, from z = (x0, Phi) (modified in place)."""
     total_nit = nfev = 0
     for _ in range(_MAX_REFINEMENTS + 1):
         y, nit, r = _newton(kc, problem, z, n)
         total_nit += nit
         nfev += nit * 2 * n * kc.N_STAGES + n * kc.N_STAGES
-        z_at = z.copy()
-        z_err, mu_err = _estimate(kc, problem, z_at, y, n)
+        z_err, mu_err, eigenvalues = _estimate(kc, problem, z, y, r, n)
         ratio = max(z_err[4] / tol_amp, mu_err / tol_mu)
         if ratio <= 1.0 or n >= _MAX_STEPS:
             break
@@ -435,12 +669,12 @@ def solve_hover(
             f"the compiled kernel could not meet the tolerances with {n} steps per half-stroke "
             f"(estimated errors: Phi {math.degrees(z_err[4]):.2e} deg, multipliers "
             f"{mu_err:.2e})", x=z, residual=float(np.linalg.norm(r)), iterations=total_nit)
-    M = _monodromy(y)
     return HoverSolution(
-        x0=z[:4].copy(), amplitude=float(z[4]), alpha_m=problem.alpha_m, period=problem.period,
-        monodromy=M, multipliers=_sorted(np.linalg.eigvals(M)), trace_integral=float(y[30]),
-        residual=r, nit=total_nit, nfev=nfev, n_steps=n, amplitude_error=float(z_err[4]),
-        x0_error=float(z_err[:4].max()), multiplier_error=mu_err)
+        x0=_read_only(z[:4].copy()), amplitude=float(z[4]), alpha_m=problem.alpha_m,
+        period=problem.period, monodromy=_read_only(_monodromy(y)),
+        multipliers=_read_only(_sorted(eigenvalues)), trace_integral=float(y[30]),
+        residual=_read_only(r), nit=total_nit, nfev=nfev, n_steps=n,
+        amplitude_error=float(z_err[4]), x0_error=float(z_err[:4].max()), multiplier_error=mu_err)
 
 
 # =========================================================================== given orbits
@@ -464,33 +698,119 @@ def monodromy_at(
     n_steps : int, optional
         Steps per half-stroke to start with (default :data:`DEFAULT_STEPS`).
     multiplier_tol : float
-        Required accuracy of every multiplier.
+        Required accuracy of every multiplier, >= :data:`MULTIPLIER_TOL_FLOOR`.
 
     Returns
     -------
     monodromy : ndarray, shape (4, 4)
+        Read-only.
     trace_integral : float
         int_0^T trace J dt.
     multiplier_error : float
         Estimated error of the multipliers.
     n_steps : int
         Steps per half-stroke used.
+
+    Raises
+    ------
+    ValueError
+        For bad arguments.
+    ConvergenceError
+        If the estimate exceeds ``multiplier_tol`` at the largest step count.
     """
     problem = _validation.instance("problem", problem, KernelProblem)
     z = np.append(_validation.vector("x0", x0, size=4), check_amplitude(amplitude))
-    tol = _validation.positive("multiplier_tol", multiplier_tol)
-    n = DEFAULT_STEPS if n_steps is None else _validation.integer(
-        "n_steps", n_steps, low=_MIN_STEPS, high=_MAX_STEPS)
-    n += n % 2
+    tol = _multiplier_tol(multiplier_tol)
+    n = _steps(n_steps)
     kc = load()
     while True:
         y = kc.variational_period(z, n, problem.k, problem.p)
         coarse = kc.variational_period(z, n // _COARSE, problem.k, problem.p)
         M = _monodromy(y)
-        err = _eigenvalue_shift(M, (M - _monodromy(coarse)) * _SAFETY / (_COARSE**_ORDER - 1.0))
-        if err <= tol or n >= _MAX_STEPS:
-            return M, float(y[30]), err, n
+        err = _eigenvalue_shift(np.linalg.eigvals(M), M, (M - _monodromy(coarse)) * _FACTOR)
+        if err <= tol:
+            return _read_only(M), float(y[30]), err, n
+        if n >= _MAX_STEPS:
+            raise ConvergenceError(
+                f"the compiled kernel could not integrate the monodromy to multiplier_tol = "
+                f"{tol:g} with {n} steps per half-stroke (estimated error {err:.2e})", x=z)
         n = _next_steps(n, err / tol)
+
+
+@dataclass(frozen=True)
+class OrbitQuadrature:
+    """Cycle means along an orbit of the kernel (Gauss-Legendre on each half-stroke).
+
+    Attributes
+    ----------
+    averaged_jacobian : ndarray, shape (4, 4)
+        (1/T) int_0^T J(t, x(t)) dt, J the Jacobian of eq. (2) with eq. (29)'s loads in
+        (u, w, q, theta) (eqs. 44-47): the averaged system of the stability chapter. Read-only.
+    mean_velocity : ndarray, shape (2,)
+        Cycle means (forward, climb) [m/s] of the centre of gravity's inertial velocity,
+        forward = u cos(theta) + w sin(theta), climb = u sin(theta) - w cos(theta); both ~0 on
+        a hover orbit. Read-only.
+    n_nodes : int
+        Gauss-Legendre nodes per half-stroke.
+    """
+
+    averaged_jacobian: np.ndarray
+    mean_velocity: np.ndarray
+    n_nodes: int
+
+    @property
+    def forward_velocity(self) -> float:
+        """Mean forward velocity [m/s]."""
+        return float(self.mean_velocity[0])
+
+    @property
+    def climb_velocity(self) -> float:
+        """Mean climb velocity [m/s] (minus the mean descent rate)."""
+        return float(self.mean_velocity[1])
+
+
+@functools.lru_cache(maxsize=32)
+def _gauss(n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes (ascending) and weights on [-1, 1], read-only, per node count."""
+    nodes, weights = np.polynomial.legendre.leggauss(n_nodes)
+    return _read_only(nodes), _read_only(weights)
+
+
+def orbit_quadrature(problem: KernelProblem | Insect, x0: ArrayLike, amplitude: float,
+                     n_nodes: int = 64) -> OrbitQuadrature:
+    """The cycle-averaged Jacobian and mean velocities along the orbit from x0, in one call.
+
+    Gauss-Legendre with ``n_nodes`` nodes on each half-stroke (the integrands are smooth there
+    and jump at stroke reversal, eq. 11), the same rule as the adaptive path's averaged
+    Jacobian; the state is carried between nodes by the kernel's fixed-step formula with at
+    least 32 steps per half-stroke (its error is then at rounding level).
+
+    Parameters
+    ----------
+    problem : KernelProblem or Insect
+    x0 : sequence of 4 floats
+        (u, w, q, theta) at t = 0 [m/s, m/s, rad/s, rad], e.g. ``HoverSolution.x0``.
+    amplitude : float
+        Phi [rad].
+    n_nodes : int
+        Nodes per half-stroke, in [1, 65536].
+
+    Returns
+    -------
+    OrbitQuadrature
+
+    Raises
+    ------
+    ValueError
+        For bad arguments.
+    """
+    problem = _problem(problem)
+    x = _validation.vector("x0", x0, size=4)
+    amp = check_amplitude(amplitude)
+    nodes, weights = _gauss(_validation.integer("n_nodes", n_nodes, low=1, high=_MAX_NODES))
+    J, v = load().orbit_quadrature(x, amp, problem.k, problem.p, nodes, weights,
+                                   _QUADRATURE_STEPS)
+    return OrbitQuadrature(_read_only(J), _read_only(v), nodes.size)
 
 
 def sample_orbit(problem: KernelProblem, x0: ArrayLike, amplitude: float,
@@ -505,7 +825,7 @@ def sample_orbit(problem: KernelProblem, x0: ArrayLike, amplitude: float,
     amplitude : float
         Phi [rad].
     n_samples : int
-        Even number >= 2 of steps per period (n_samples / 2 per half-stroke).
+        Even number in [2, 2^20] of steps per period (n_samples / 2 per half-stroke).
 
     Returns
     -------
@@ -516,9 +836,10 @@ def sample_orbit(problem: KernelProblem, x0: ArrayLike, amplitude: float,
         Net descent over the period [m].
     """
     problem = _validation.instance("problem", problem, KernelProblem)
-    n = _validation.integer("n_samples", n_samples, low=2)
+    n = _validation.integer("n_samples", n_samples, low=2, high=_MAX_SAMPLES)
     if n % 2:
-        raise ValueError(f"`n_samples` must be an even integer >= 2; got {n_samples!r}")
+        raise ValueError(f"`n_samples` must be an even integer in [2, {_MAX_SAMPLES}]; got "
+                         f"{n_samples!r}")
     x = _validation.vector("x0", x0, size=4)
     samples = load().sample_period(x, check_amplitude(amplitude), n // 2, problem.k, problem.p)
     t = np.linspace(0.0, problem.period, n + 1)

@@ -90,9 +90,12 @@ def test_error_estimate_converges_at_eighth_order():
 
 def test_a_tight_tolerance_raises_the_step_count():
     problem = KernelProblem.of(flapping.hawkmoth())
-    tight = solve_hover(problem, amplitude_tol_deg=1e-12, multiplier_tol=1e-12)
+    floors = dict(amplitude_tol_deg=kernel.AMPLITUDE_TOL_FLOOR_DEG,
+                  multiplier_tol=kernel.MULTIPLIER_TOL_FLOOR)
+    tight = solve_hover(problem, **floors)
     assert tight.n_steps > kernel.DEFAULT_STEPS
-    assert math.degrees(tight.amplitude_error) <= 1e-12 and tight.multiplier_error <= 1e-12
+    assert math.degrees(tight.amplitude_error) <= kernel.AMPLITUDE_TOL_FLOOR_DEG
+    assert tight.multiplier_error <= kernel.MULTIPLIER_TOL_FLOOR
 
 
 def test_monodromy_at_the_solution_is_the_solutions(hawkmoth_pair):
@@ -167,19 +170,20 @@ def test_a_regenerated_kernel_drops_the_stale_numba_cache(tmp_path):
     # _generated.py it loaded the old arithmetic (and the old constants layout) until the stamp.
     from flapping.fast.kernel import _drop_stale_cache
 
-    (tmp_path / "_generated.py").write_text("NAMES = ()\n")
-    cache = tmp_path / "__pycache__"
+    generated = tmp_path / "_generated.py"
+    generated.write_text("NAMES = ()\n")
+    cache = tmp_path / "cache"
     cache.mkdir()
     stale = [cache / "_compiled.newton-182.py311.nbi", cache / "_compiled.newton-182.py311.1.nbc"]
-    other = cache / "kernel.cpython-311.pyc"
+    other = cache / "_generated.derivatives-27.py311.nbi"  # keyed on _generated.py by numba
     for path in (*stale, other):
         path.write_text("x")
-    _drop_stale_cache(tmp_path)
+    _drop_stale_cache(cache, generated)
     assert not any(p.exists() for p in stale) and other.exists()
     for path in stale:  # a second load with the same source keeps the (new) cache
         path.write_text("x")
-    _drop_stale_cache(tmp_path)
+    _drop_stale_cache(cache, generated)
     assert all(p.exists() for p in stale)
-    (tmp_path / "_generated.py").write_text("NAMES = ('X0',)\n")
-    _drop_stale_cache(tmp_path)
+    generated.write_text("NAMES = ('X0',)\n")
+    _drop_stale_cache(cache, generated)
     assert not any(p.exists() for p in stale)
