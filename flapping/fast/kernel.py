@@ -35,7 +35,7 @@ writable, else numba's user-wide cache directory (``$XDG_CACHE_HOME/numba`` or
 ``~/.cache/numba`` on Linux, one sub-directory per installed package directory), which is where an
 installed wheel in a read-only ``site-packages`` caches (checked for numba 0.60-0.68:
 ``numba.core.caching.UserWideCacheLocator``). If no place is writable the kernel still runs,
-compiled again in every process. The first use in an environment compiles (~12 s of CPU) and says
+compiled again in every process. The first use in an environment compiles (12-30 s of CPU) and says
 so once (a :class:`KernelCompileWarning`); every use logs one INFO line on the ``"flapping"``
 logger with the time and the cache directory. Later processes load the cache in ~0.1-0.5 s.
 """
@@ -271,7 +271,7 @@ def _cache_text(cache: Path | None) -> str:
 def _note_compiling(cache: Path | None) -> None:
     """The one-time note before numba compiles the kernel (no cache yet)."""
     warnings.warn(f"compiling flapping's hover kernel with numba (first use in this "
-                  f"environment: ~10-20 s, once); {_cache_text(cache)}", KernelCompileWarning,
+                  f"environment: 10-30 s of CPU, once); {_cache_text(cache)}", KernelCompileWarning,
                   stacklevel=4)
 
 
