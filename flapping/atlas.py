@@ -229,7 +229,7 @@ def hover_by_homotopy(
         s = s_next
         points.append((s, _unknowns(orbit, trial)))
         path.append(s)
-        nit.append(int(orbit.shooting.nit))
+        nit.append(int(orbit.nit))
     return Homotopy(orbit, start.name, tuple(path), tuple(nit), failures)
 
 
@@ -440,7 +440,7 @@ def species_stability(insect: Insect | None = None, orbit: HoverOrbit | None = N
         mode=np.real(mode) if np.iscomplexobj(mode) else mode,
         fixed_attitude=fixed, fixed_attitude_averaged=fixed_avg,
         liouville_error=stab.liouville_error,
-        climb_speed=orbit.mean_inertial_velocity["climb"], nit=int(orbit.shooting.nit))
+        climb_speed=orbit.mean_inertial_velocity["climb"], nit=int(orbit.nit))
 
 
 # =========================================================================== sweeps

@@ -26,9 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from flapping.hover import find_hover_orbit
-from flapping.model.dynamics import LongitudinalDynamics, inertial_velocity, inertial_velocity_jac
-from flapping.model.kinematics import segment_stroke_sign
+from flapping.hover import HoverProblem, find_hover_orbit
+from flapping.model.dynamics import LongitudinalDynamics
 from flapping.model.morphology import Insect
 from flapping.periodic.continuation import Branch, continue_orbit
 
@@ -42,7 +41,9 @@ class HoverFields:
     """The hover problem's right-hand sides and Jacobians as functions of one insect field.
 
     ``funs[k](t, y, p, q)`` and ``jacs[k](t, y, p, q)`` on half-stroke k, y = (u, w, q, theta, z),
-    p the field's value, ``q = [Phi]``; :meth:`period` gives the flapping period at p.
+    p the field's value, ``q = [Phi]``; :meth:`period` gives the flapping period at p. Each value
+    of p is a :class:`~flapping.hover.HoverProblem` (a few are kept), whose fields are the ones
+    :func:`~flapping.hover.find_hover_orbit` solves.
 
     Parameters
     ----------
@@ -60,43 +61,40 @@ class HoverFields:
             raise ValueError(f"`parameter_name` must be a numeric field of Insect, one of "
                              f"{numeric}; got {name!r}")
         self.insect, self.name, self.aerodynamics = insect, name, aerodynamics
-        self.models: OrderedDict[float, LongitudinalDynamics] = OrderedDict()
-        first = self.model(float(getattr(insect, name)))
-        self.breakpoints = first.breakpoints
-        self.funs = [self._rhs(segment_stroke_sign(k)) for k in range(len(self.breakpoints) + 1)]
-        self.jacs = [self._jac(segment_stroke_sign(k)) for k in range(len(self.breakpoints) + 1)]
+        self.problems: OrderedDict[float, tuple[HoverProblem, tuple[list[Any], ...]]] = \
+            OrderedDict()
+        first = self.problem(float(getattr(insect, name)))
+        self.breakpoints = first.model.breakpoints
+        segments = range(len(self.breakpoints) + 1)
+        self.funs = [self._field(0, k) for k in segments]
+        self.jacs = [self._field(1, k) for k in segments]
+
+    def problem(self, p: float) -> HoverProblem:
+        """The hover problem of the insect with the field at p (cached)."""
+        return self._at(p)[0]
 
     def model(self, p: float) -> LongitudinalDynamics:
         """The model of the insect with the field at p (cached)."""
-        model = self.models.get(p)
-        if model is None:
+        return self.problem(p).model
+
+    def _at(self, p: float) -> tuple[HoverProblem, tuple[list[Any], ...]]:
+        found = self.problems.get(p)
+        if found is None:
             changed: dict[str, Any] = {self.name: p}
-            model = LongitudinalDynamics(replace(self.insect, **changed),
-                                         aerodynamics=self.aerodynamics)
-            self.models[p] = model
-            if len(self.models) > _CACHE:
-                self.models.popitem(last=False)
-        return model
+            problem = HoverProblem(replace(self.insect, **changed), self.aerodynamics)
+            found = self.problems[p] = (problem, problem.fields())
+            if len(self.problems) > _CACHE:
+                self.problems.popitem(last=False)
+        return found
 
     def period(self, p: float) -> float:
         """Flapping period at p [s]."""
-        return self.model(float(p)).period
+        return self.problem(float(p)).period
 
-    def _rhs(self, s: float) -> Any:
+    def _field(self, which: int, k: int) -> Any:
         def f(t: float, y: np.ndarray, p: float, q: np.ndarray) -> np.ndarray:
-            out = np.empty(5)
-            out[:4] = self.model(p).rhs(t, y[:4], s, float(q[0]))
-            out[4] = inertial_velocity(y[0], y[1], y[3])[1]  # descent rate
-            return out
+            return self._at(p)[1][which][k](t, y, q)
         return f
-
-    def _jac(self, s: float) -> Any:
-        def J(t: float, y: np.ndarray, p: float, q: np.ndarray) -> np.ndarray:
-            out = np.zeros((5, 5))
-            out[:4, :4] = self.model(p).jac(t, y[:4], s, float(q[0]))
-            out[4, :4] = inertial_velocity_jac(y[0], y[1], y[3])[1]
-            return out
-        return J
 
 
 def continue_hover(insect: Insect, parameter_name: str, end: float, *,
@@ -134,7 +132,7 @@ def continue_hover(insect: Insect, parameter_name: str, end: float, *,
     """
     problem = HoverFields(insect, parameter_name, aerodynamics)
     p0 = float(getattr(insect, parameter_name))
-    start = find_hover_orbit(insect, aerodynamics=aerodynamics)
+    start = find_hover_orbit(problem.problem(p0))
     defaults: dict[str, Any] = {"rtol": 1e-10, "atol": 1e-12, "tol": 1e-9}
     return continue_orbit(
         problem.funs, np.append(start.x0, 0.0), problem.period, p0, end, autonomous=False,

@@ -32,6 +32,7 @@ from flapping.hover import (
     find_hover_orbit,
     use_kernel,
 )
+from flapping.hover.orbit import _frozen
 from flapping.model.morphology import Insect
 from flapping.periodic.floquet import monodromy
 from flapping.periodic.integrate import flow, variational_flow
@@ -193,7 +194,8 @@ def hover_stability(
         The integration path (:data:`flapping.hover.BACKENDS`): the compiled kernel gives the
         monodromy to 1e-8 in every multiplier (reusing the one of the orbit's last Newton
         integration when the kernel found the orbit); ``method``, ``rtol``, ``atol`` and
-        ``rk4_steps`` belong to the adaptive path.
+        ``rk4_steps`` belong to the adaptive path. ``"auto"`` (the default) analyses the orbit
+        on the path that solved it (:attr:`HoverOrbit.backend`).
 
     Returns
     -------
@@ -207,10 +209,13 @@ def hover_stability(
         If an integration fails.
     """
     orbit = _validation.instance("orbit", orbit, HoverOrbit)
-    n_average = _validation.integer("n_average", n_average, low=1)
+    n_average = _validation.integer("n_average", n_average, low=1, high=1 << 16)
     rtol, atol = _validation.tolerances(rtol, atol)
     model = orbit.model
-    compiled = use_kernel(backend, model, method == "DOP853")
+    # "auto" analyses an orbit on the path that solved it (an adaptive orbit keeps the adaptive
+    # path's accuracy and diagnostics); the kernel where it applies otherwise.
+    follow = backend == "auto" and orbit.backend == "adaptive"
+    compiled = not follow and use_kernel(backend, model, method == "DOP853")
     if compiled:
         matrix, values, det, liouville, trace = _kernel_monodromy(orbit)
     else:
@@ -227,8 +232,17 @@ def hover_stability(
     averaged = _averaged_jacobian(orbit, n_average, rtol, atol, compiled)
     avg_eig = np.linalg.eigvals(averaged).astype(complex)  # always complex: one dtype for all
     avg_eig = avg_eig[np.argsort(-avg_eig.real, kind="stable")]
-    return HoverStability(orbit, matrix, values, _exponents(values, orbit.period), vectors,
-                          float(det), float(liouville), averaged, avg_eig, float(trace))
+    return HoverStability(orbit, _frozen(matrix), _frozen(values, complex),
+                          _frozen(_exponents(values, orbit.period), complex),
+                          _frozen(vectors, complex), float(det), float(liouville),
+                          _frozen(averaged), _frozen(avg_eig, complex), float(trace))
+
+
+def _kernel_problem(orbit: HoverOrbit) -> _kernel.KernelProblem:
+    """The orbit's insect packed for the kernel (the problem's own packing when it has one)."""
+    if orbit.problem is not None and orbit.problem.alpha_m == orbit.model.alpha_m:
+        return orbit.problem.kernel_problem
+    return _kernel.KernelProblem.of(orbit.model.insect, orbit.model.alpha_m)
 
 
 def _kernel_monodromy(orbit: HoverOrbit) -> tuple[np.ndarray, np.ndarray, float, float, float]:
@@ -238,8 +252,8 @@ def _kernel_monodromy(orbit: HoverOrbit) -> tuple[np.ndarray, np.ndarray, float,
             and sol.amplitude == orbit.amplitude):
         matrix, trace = sol.monodromy, sol.trace_integral  # the last Newton integration's
     else:
-        problem = _kernel.KernelProblem.of(orbit.model.insect, orbit.model.alpha_m)
-        matrix, trace, _, _ = _kernel.monodromy_at(problem, orbit.x0, orbit.amplitude)
+        matrix, trace, _, _ = _kernel.monodromy_at(_kernel_problem(orbit), orbit.x0,
+                                                   orbit.amplitude)
     values = np.linalg.eigvals(matrix).astype(complex)
     values = values[np.argsort(-np.abs(values), kind="stable")]
     log_det = float(np.sum(np.log(np.abs(values))))
@@ -259,6 +273,13 @@ def _exponents(multipliers: np.ndarray, period: float) -> np.ndarray:
 
 def _averaged_jacobian(orbit: HoverOrbit, n_nodes: int, rtol: float, atol: float,
                        compiled: bool = False) -> np.ndarray:
+    """(1/T) int_0^T J(t, x(t)) dt by Gauss-Legendre, ``n_nodes`` nodes per half-stroke."""
+    if compiled:
+        quad = orbit.quadrature
+        if quad is None or quad.n_nodes != n_nodes:
+            quad = _kernel.orbit_quadrature(_kernel_problem(orbit), orbit.x0, orbit.amplitude,
+                                            n_nodes)
+        return np.array(quad.averaged_jacobian)
     model = orbit.model
     rhs, jac = model.segment_functions()
     nodes, weights = np.polynomial.legendre.leggauss(n_nodes)  # ascending nodes
@@ -266,14 +287,10 @@ def _averaged_jacobian(orbit: HoverOrbit, n_nodes: int, rtol: float, atol: float
     half = 0.5 * np.diff(bounds)
     # Gauss-Legendre nodes of every segment, in time order: one integration of the orbit.
     t_all = np.concatenate([h * nodes + a + h for a, h in zip(bounds[:-1], half, strict=True)])
-    if compiled:
-        problem = _kernel.KernelProblem.of(model.insect, model.alpha_m)
-        x_all = _kernel.states_at(problem, orbit.x0, orbit.amplitude, t_all)
-    else:
-        x_all = require_success(
-            flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
-                 period=orbit.period, t_eval=t_all, rtol=rtol, atol=atol),
-            "the averaged Jacobian").x
+    x_all = require_success(
+        flow(rhs, (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints,
+             period=orbit.period, t_eval=t_all, rtol=rtol, atol=atol),
+        "the averaged Jacobian").x
     total = np.zeros((4, 4))
     for i, (t, x) in enumerate(zip(t_all, x_all.T, strict=True)):
         k = i // n_nodes

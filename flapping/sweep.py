@@ -33,9 +33,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 import flapping._validation as _validation
-from flapping.errors import ConvergenceError
+from flapping.errors import ConvergenceError, HoverDriftWarning
 from flapping.fast import kernel
+from flapping.hover import HoverOrbit, HoverProblem, find_hover_orbit
 from flapping.model.morphology import Insect
+from flapping.stability import HoverStability, hover_stability
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas
@@ -51,8 +53,8 @@ SWEEPABLE: tuple[str, ...] = tuple(
 COLUMNS: tuple[str, ...] = (
     "amplitude_deg", "alpha_m_deg", "u0", "w0", "q0", "theta0",
     "mu1_real", "mu1_imag", "mu2_real", "mu2_imag", "mu3_real", "mu3_imag", "mu4_real",
-    "mu4_imag", "max_abs_mu", "stable", "converged", "amplitude_error_deg", "multiplier_error",
-    "nit", "n_steps", "backend", "message",
+    "mu4_imag", "max_abs_mu", "stable", "converged", "status", "forward_speed", "climb_speed",
+    "amplitude_error_deg", "multiplier_error", "nit", "n_steps", "backend", "message",
 )
 
 #: Points per chunk: the unit of work sent to an executor (warm starts run within a chunk).
@@ -118,58 +120,56 @@ def _snake(shape: tuple[int, ...]) -> list[int]:
 
 
 # =========================================================================== one point
-def _row(solution: kernel.HoverSolution | None, message: str, backend: str) -> dict[str, Any]:
-    """The result columns of one point (NaN where there is no answer)."""
+def _row(orbit: HoverOrbit | None, stab: HoverStability | None, message: str,
+         backend: str) -> dict[str, Any]:
+    """The result columns of one point (NaN where there is no answer).
+
+    ``converged`` is true only for a hover orbit: a periodic orbit that drifts (a hinge off the
+    centre of gravity with the amplitude as the only trim) is a row with its drift speeds,
+    ``status`` and a message, never a converged hover.
+    """
     row: dict[str, Any] = dict.fromkeys(COLUMNS, math.nan)
-    row.update(converged=False, stable=False, nit=0, n_steps=0, backend=backend, message=message)
-    if solution is None:
+    row.update(converged=False, stable=False, status=-1, nit=0, n_steps=0, backend=backend,
+               message=message)
+    if orbit is None or stab is None:
         return row
-    mu = solution.multipliers
-    row.update(amplitude_deg=solution.amplitude_deg, alpha_m_deg=math.degrees(solution.alpha_m),
-               max_abs_mu=solution.max_modulus, stable=solution.is_stable, converged=True,
-               amplitude_error_deg=math.degrees(solution.amplitude_error),
-               multiplier_error=solution.multiplier_error, nit=solution.nit,
-               n_steps=solution.n_steps)
-    row.update(zip(("u0", "w0", "q0", "theta0"), map(float, solution.x0), strict=True))
+    mu = stab.multipliers
+    v = orbit.mean_inertial_velocity
+    row.update(amplitude_deg=orbit.amplitude_deg, alpha_m_deg=math.degrees(orbit.model.alpha_m),
+               max_abs_mu=float(np.max(np.abs(mu))), stable=stab.is_stable,
+               converged=orbit.is_hover, status=int(orbit.status), forward_speed=v["forward"],
+               climb_speed=v["climb"], nit=orbit.nit, backend=orbit.backend,
+               message="" if orbit.is_hover else orbit.message)
+    if orbit.kernel is not None:
+        row.update(amplitude_error_deg=math.degrees(orbit.kernel.amplitude_error),
+                   multiplier_error=orbit.kernel.multiplier_error, n_steps=orbit.kernel.n_steps)
+    row.update(zip(("u0", "w0", "q0", "theta0"), map(float, orbit.x0), strict=True))
     for i in range(4):
         row[f"mu{i + 1}_real"], row[f"mu{i + 1}_imag"] = float(mu[i].real), float(mu[i].imag)
     return row
 
 
-def _adaptive(insect: Insect) -> kernel.HoverSolution:
-    """The reference: the adaptive scipy path, in the kernel's result type."""
-    from flapping.hover import find_hover_orbit
-    from flapping.stability import hover_stability
-
-    orbit = find_hover_orbit(insect, **_ADAPTIVE)
-    stab = hover_stability(orbit, **_ADAPTIVE)
-    return kernel.HoverSolution(
-        x0=orbit.x0, amplitude=orbit.amplitude, alpha_m=orbit.model.alpha_m,
-        period=orbit.period, monodromy=stab.monodromy, multipliers=stab.multipliers,
-        trace_integral=stab.trace_integral, residual=np.asarray(orbit.shooting.residual),
-        nit=orbit.shooting.nit, nfev=orbit.shooting.nfev, n_steps=0, amplitude_error=math.nan,
-        x0_error=math.nan, multiplier_error=math.nan)
-
-
-#: Keywords that select the adaptive path of find_hover_orbit / hover_stability.
-_ADAPTIVE: dict[str, Any] = {}
-
-
 def _solve_point(insect: Insect, settings: _Settings,
-                 start: kernel.HoverSolution | None) -> kernel.HoverSolution:
-    """One point: the kernel warm-started from ``start`` (then cold if that fails), or adaptive."""
-    if settings.backend == "adaptive":
-        return _adaptive(insect)
-    problem = kernel.KernelProblem.of(insect)
-    tol_deg, tol_mu = settings.amplitude_tol_deg, settings.multiplier_tol
-    if start is not None:
-        try:
-            return kernel.solve_hover(problem, amplitude_guess=start.amplitude,
-                                      x0_guess=start.x0, n_steps=start.n_steps,
-                                      amplitude_tol_deg=tol_deg, multiplier_tol=tol_mu)
-        except ConvergenceError:
-            pass  # a neighbour across a fold or a failure: start afresh
-    return kernel.solve_hover(problem, amplitude_tol_deg=tol_deg, multiplier_tol=tol_mu)
+                 start: HoverOrbit | None) -> tuple[HoverOrbit, HoverStability]:
+    """One point: warm-started from ``start`` (then cold if that fails)."""
+    problem = HoverProblem(insect)
+    options: dict[str, Any] = {"backend": settings.backend, "kernel_options": {
+        "amplitude_tol_deg": settings.amplitude_tol_deg, "multiplier_tol": settings.multiplier_tol}}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", HoverDriftWarning)  # the row records the drift
+        orbit = None
+        if start is not None:
+            if start.kernel is not None:
+                options["kernel_options"]["n_steps"] = start.kernel.n_steps
+            try:
+                orbit = find_hover_orbit(problem, amplitude_guess=start.amplitude,
+                                         x0_guess=start.x0, **options)
+            except ConvergenceError:
+                options["kernel_options"].pop("n_steps", None)
+                # a neighbour across a fold or a failure: start afresh
+        if orbit is None:
+            orbit = find_hover_orbit(problem, **options)
+    return orbit, hover_stability(orbit, backend=settings.backend)
 
 
 def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insect],
@@ -179,17 +179,18 @@ def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insec
     Module-level (picklable) so that executors can run it. A point's failure (bad parameters,
     no convergence) is its row's message.
     """
-    rows, start = [], None
+    rows: list[dict[str, Any]] = []
+    start = None
     for point in points:
         try:
             insect = point if isinstance(point, Insect) else _with(base, point)
-            solution = _solve_point(insect, settings, start)
+            orbit, stab = _solve_point(insect, settings, start)
         except (ValueError, ConvergenceError, ArithmeticError, np.linalg.LinAlgError) as exc:
-            rows.append(_row(None, f"{type(exc).__name__}: {exc}", settings.backend))
+            rows.append(_row(None, None, f"{type(exc).__name__}: {exc}", settings.backend))
             start = None
             continue
-        rows.append(_row(solution, "", settings.backend))
-        start = solution
+        rows.append(_row(orbit, stab, "", settings.backend))
+        start = orbit
     return rows
 
 
@@ -204,7 +205,7 @@ def _backend(backend: str) -> str:
     if backend == "adaptive":
         return backend
     if kernel.numba_available():
-        return "compiled"
+        return backend  # each point's HoverProblem decides where "auto" runs
     if backend == "compiled":
         raise ImportError("backend='compiled' needs numba: pip install flapping[fast]")
     warnings.warn("numba is not installed: the sweep uses the adaptive scipy path, ~1000 times "
@@ -280,7 +281,10 @@ def sweep_hover(
         One row per point in grid order: the swept fields (or ``insect`` and ``name`` for a list),
         then :data:`COLUMNS`: ``amplitude_deg``; ``u0, w0, q0, theta0`` (SI); the multipliers
         ``mu1..mu4`` (real and imaginary parts, by descending modulus); ``max_abs_mu``;
-        ``stable``; ``converged``; the error estimates; ``nit``; ``n_steps`` (per half-stroke);
+        ``stable``; ``converged`` (a hover orbit was found: false for one that drifts);
+        ``status`` (:class:`~flapping.hover.HoverStatus`, -1 for a failed point);
+        ``forward_speed`` and ``climb_speed`` (cycle means of the inertial velocities [m/s]);
+        the error estimates; ``nit``; ``n_steps`` (per half-stroke);
         ``backend``; ``message`` (why a point failed; empty otherwise).
 
     Raises

@@ -12,4 +12,6 @@ def insect():
 
 @pytest.fixture(scope="session")
 def orbit(insect):
-    return flapping.find_hover_orbit(insect)
+    # The reference: the paper's method (LM shooting on adaptive DOP853), whose diagnostics the
+    # tests read; the compiled default is checked against it in tests/test_hover_problem.py.
+    return flapping.find_hover_orbit(insect, backend="adaptive")

@@ -59,8 +59,10 @@ def test_interpolation_refuses_a_fraction_outside_0_1():
 def test_homotopy_finds_an_orbit_the_default_guess_misses():
     target = preset("monarch", frequency=MONARCH_SLOW_HZ)
     with pytest.raises(ConvergenceError):
-        find_hover_orbit(target)  # the shooting steps the amplitude past 90 deg
-    result = hover_by_homotopy(target)
+        # LM shooting steps the amplitude past 90 deg (the kernel's Newton does not: see
+        # tests/test_hover_problem.py)
+        find_hover_orbit(target, backend="adaptive")
+    result = hover_by_homotopy(target, backend="adaptive")
     assert result.path[-1] == 1.0 and result.start == "hawkmoth"
     orbit = result.orbit
     assert orbit.model.insect == target

@@ -272,7 +272,7 @@ def test_bad_trims_are_named(trims):
 
 
 def test_two_trims_refuse_the_compiled_kernel():
-    with pytest.raises(ValueError, match="stroke_mean"):
+    with pytest.raises(ValueError, match="no mean stroke angle"):
         flapping.find_hover_orbit(flapping.hawkmoth(), trims=("amplitude", "stroke_mean"),
                                   backend="compiled")
 

@@ -29,23 +29,31 @@ Conventions: SI units inside (angles in rad); sampled trajectories have time alo
 
 from __future__ import annotations
 
+import enum
+import logging
 import math
 import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from flapping import _validation
 from flapping.errors import ConvergenceError, HoverDriftWarning, require_success
 from flapping.fast import kernel as _kernel
-from flapping.model.dynamics import (
-    STATE_NAMES,
-    LongitudinalDynamics,
-    inertial_velocity,
-    inertial_velocity_jac,
+from flapping.hover.problem import (
+    BACKENDS,
+    DEFAULT_BACKEND,
+    TRIMS,
+    HoverProblem,
+    check_trims,
+    even_samples,
+    state_guess,
 )
+from flapping.model.dynamics import STATE_NAMES, LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
 from flapping.periodic.integrate import flow, variational_flow
@@ -60,11 +68,15 @@ __all__ = [
     "HALF_PERIOD_SYMMETRY",
     "HOVER_SPEED_RTOL",
     "HoverOrbit",
+    "HoverProblem",
+    "HoverStatus",
     "find_hover_orbit",
     "forced_orbit",
     "paper_hover_problem",
     "force_budget",
 ]
+
+_LOG = logging.getLogger("flapping")
 
 #: x(t + T/2) = S x(t) for the symmetric stroke (x_h = 0): u, q, theta change sign, w does not.
 HALF_PERIOD_SYMMETRY = np.diag([-1.0, 1.0, -1.0, -1.0])
@@ -83,82 +95,144 @@ ANALYSIS_RTOL = 1e-12
 #: Default absolute tolerance of those analysis integrations (see :data:`ANALYSIS_RTOL`).
 ANALYSIS_ATOL = 1e-12
 
-#: How the orbit and the monodromy are integrated: ``"compiled"``, the numba kernel of
-#: :mod:`flapping.fast` (eq. 29's linear loads only: fixed-step 8th-order Runge-Kutta per
-#: half-stroke, Newton, Phi to 1e-9 deg and the multipliers to 1e-8, ~1 ms); ``"adaptive"``, the
-#: scipy path (adaptive DOP853, the reference, ~0.3 s); ``"auto"``, the kernel where it applies
-#: (linear loads, the default ``method`` and ``jacobian``, numba installed), else adaptive.
-BACKENDS: tuple[str, ...] = ("auto", "compiled", "adaptive")
-
-#: The trim sets of :func:`find_hover_orbit`: the stroke amplitude alone (zero mean vertical
-#: speed, the paper's hover), or the amplitude and the mean stroke angle phi_bar together (zero
-#: mean vertical *and* horizontal speed: a true hover orbit for any hinge offset).
-TRIMS: tuple[tuple[str, ...], ...] = (("amplitude",), ("amplitude", "stroke_mean"))
-
-#: The default backend of :func:`find_hover_orbit` and :func:`flapping.stability.hover_stability`.
-#: ``"adaptive"`` for now, although the kernel agrees to 1e-10 deg in Phi and 1e-10 in the
-#: multipliers (the same printed digits): the book shows the adaptive path's own diagnostics
-#: (Levenberg-Marquardt's iteration history, a Liouville error of 5e-14 where the kernel's is
-#: 2e-11, a half-period symmetry error of 1e-10 where its own is 2e-9). Use ``backend="auto"`` (or
-#: :mod:`flapping.sweep`) for speed.
-DEFAULT_BACKEND = "adaptive"
 
 
 # =========================================================================== results
+class HoverStatus(enum.IntEnum):
+    """What a solved orbit is (a failed solve raises :class:`~flapping.errors.ConvergenceError`).
+
+    ``HOVER`` (0): periodic and in place on average. ``DRIFTING`` (1): periodic, holds its
+    altitude, but flies horizontally (a hinge off the centre of gravity with the amplitude as the
+    only trim). ``CLIMBING`` (2): periodic but climbs or sinks (:func:`forced_orbit` away from the
+    hover amplitude).
+    """
+
+    HOVER = 0
+    DRIFTING = 1
+    CLIMBING = 2
+
+
+def _frozen(values: Any, dtype: Any = float) -> np.ndarray:
+    """A read-only copy: an analysis of a result must be an analysis of what was solved."""
+    out = np.array(values, dtype=dtype)
+    out.flags.writeable = False
+    return out
+
+
 @dataclass(frozen=True)
+class _Sampled:
+    """Samples computed with the orbit (the adaptive path integrates them anyway)."""
+
+    t: np.ndarray
+    x: np.ndarray
+
+    def __call__(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.t, self.x
+
+
+@dataclass(frozen=True)
+class _KernelSamples:
+    """Samples the compiled kernel integrates on first use (they cost more than the solve)."""
+
+    problem: Any
+    x0: np.ndarray
+    amplitude: float
+    n_samples: int
+
+    def __call__(self) -> tuple[np.ndarray, np.ndarray]:
+        t, x, _ = _kernel.sample_orbit(self.problem, self.x0, self.amplitude, self.n_samples)
+        return t, x
+
+
+@dataclass(frozen=True, eq=False)
 class HoverOrbit:
     """A periodic orbit of the insect (the hovering one, or one at a prescribed amplitude).
 
+    Whatever backend produced it, the orbit has the same attributes; arrays are read-only.
+
     Attributes
     ----------
-    model : LongitudinalDynamics
-        The dynamics at the orbit's amplitude (and mean stroke angle, in ``model.insect``).
+    problem : HoverProblem or None
+        The hover problem solved (None for :func:`forced_orbit`, which solves no trim).
     x0 : ndarray, shape (4,)
         (u, w, q, theta) at t = 0 (stroke reversal at the forward extreme) [m/s, m/s, rad/s, rad].
     amplitude : float
         Stroke amplitude Phi [rad].
-    period : float
-        Flapping period T [s].
-    t, x : ndarray
-        One period sampled uniformly (``x`` has shape (4, len(t))), for plots and statistics.
+    stroke_mean : float
+        Mean stroke angle phi_bar [rad] (a trim when ``"stroke_mean"`` is in :attr:`trims`).
     z_drift : float
         Net descent z(T) - z(0) over one period [m]: for :func:`find_hover_orbit` the altitude
-        component of the shooting residual (0 to the solver's tolerance), for
-        :func:`forced_orbit` the descent integrated along the orbit.
-    shooting : PeriodicOrbit
-        The shooting solver's result, with its diagnostics.
+        component of the residual (0 to the solver's tolerance), for :func:`forced_orbit` the
+        descent integrated along the orbit.
+    backend : {"compiled", "adaptive"}
+        The path that solved it.
+    nit, nfev : int
+        Newton (or Levenberg-Marquardt) iterations and right-hand-side evaluations.
+    residual_norm : float
+        Norm of the periodicity residual at the solution.
+    shooting : PeriodicOrbit or None
+        The adaptive path's shooting result, with its diagnostics (None on the compiled path).
     kernel : HoverSolution or None
         The compiled kernel's result (monodromy, error estimates) when it found the orbit.
-    trims : tuple of str
-        The trim unknowns solved for: ``("amplitude",)`` or ``("amplitude", "stroke_mean")``
-        (see :data:`TRIMS`).
+    quadrature : OrbitQuadrature or None
+        The kernel's Gauss quadrature along the orbit (averaged Jacobian, mean velocities).
     """
 
-    model: LongitudinalDynamics
+    problem: HoverProblem | None
     x0: np.ndarray
     amplitude: float
-    period: float
-    t: np.ndarray
-    x: np.ndarray
+    stroke_mean: float
     z_drift: float
-    shooting: PeriodicOrbit = field(repr=False)
-    kernel: Any = field(default=None, repr=False, compare=False)
-    trims: tuple[str, ...] = ("amplitude",)
+    backend: str
+    nit: int
+    nfev: int
+    residual_norm: float
+    shooting: PeriodicOrbit | None = field(default=None, repr=False)
+    kernel: Any = field(default=None, repr=False)
+    quadrature: Any = field(default=None, repr=False)
+    samples: Any = field(default=None, repr=False)
+    model_given: LongitudinalDynamics | None = field(default=None, repr=False)
+
+    @cached_property
+    def model(self) -> LongitudinalDynamics:
+        """The dynamics at the orbit's amplitude and mean stroke angle."""
+        if self.model_given is not None:
+            return self.model_given
+        assert self.problem is not None
+        model = self.problem.model
+        if self.stroke_mean != model.insect.stroke_mean:
+            model = model.with_stroke_mean(self.stroke_mean)
+        return model if self.amplitude == model.amplitude else model.with_amplitude(self.amplitude)
 
     @property
-    def stroke_mean(self) -> float:
-        """Mean stroke angle phi_bar [rad] of the orbit (a trim when ``"stroke_mean"`` in trims)."""
-        return self.model.insect.stroke_mean
+    def period(self) -> float:
+        """Flapping period T [s]."""
+        return self.model.period if self.problem is None else self.problem.period
+
+    @property
+    def trims(self) -> tuple[str, ...]:
+        """The trim unknowns solved for (:data:`TRIMS`); empty for :func:`forced_orbit`."""
+        return () if self.problem is None else self.problem.trims
+
+    @cached_property
+    def _sampled(self) -> tuple[np.ndarray, np.ndarray]:
+        t, x = self.samples()
+        return _frozen(t), _frozen(x)
+
+    @property
+    def t(self) -> np.ndarray:
+        """One period's sample times [s] (uniform; integrated on first use on the compiled path)."""
+        return self._sampled[0]
+
+    @property
+    def x(self) -> np.ndarray:
+        """The states at :attr:`t`, shape (4, len(t)) [m/s, m/s, rad/s, rad]."""
+        return self._sampled[1]
 
     @property
     def amplitude_deg(self) -> float:
         """Stroke amplitude in degrees."""
         return math.degrees(self.amplitude)
-
-    @property
-    def residual_norm(self) -> float:
-        """Norm of the shooting residual at the solution."""
-        return float(self.shooting.residual_norm)
 
     @property
     def mean_state(self) -> dict[str, float]:
@@ -171,9 +245,15 @@ class HoverOrbit:
         return {k: (float(self.x[i].min()), float(self.x[i].max()))
                 for i, k in enumerate(STATE_NAMES)}
 
-    @property
+    @cached_property
     def mean_inertial_velocity(self) -> dict[str, float]:
-        """Cycle means of the inertial velocities [m/s]: ``forward`` and ``climb`` (up positive)."""
+        """Cycle means of the inertial velocities [m/s]: ``forward`` and ``climb`` (up positive).
+
+        From the kernel's Gauss quadrature on the compiled path, from the samples otherwise.
+        """
+        if self.quadrature is not None:
+            forward, climb = self.quadrature.mean_velocity
+            return {"forward": float(forward), "climb": float(climb)}
         u, w, _, th = self.x[:, :-1]
         return {"forward": float(np.mean(u * np.cos(th) + w * np.sin(th))),
                 "climb": float(np.mean(u * np.sin(th) - w * np.cos(th)))}
@@ -186,20 +266,45 @@ class HoverOrbit:
     @property
     def wingtip_speed(self) -> float:
         """Mean wingtip speed 4 Phi f R [m/s], the scale of :attr:`is_hover`'s tolerance."""
-        insect = self.model.insect
+        insect = self.model.insect if self.problem is None else self.problem.insect
         return 4.0 * self.amplitude * insect.frequency * insect.semi_span
 
     @property
+    def status(self) -> HoverStatus:
+        """:class:`HoverStatus`: hover, drifting horizontally, or climbing/sinking.
+
+        A mean speed counts if it exceeds :data:`HOVER_SPEED_RTOL` times the
+        :attr:`wingtip_speed`.
+        """
+        v = self.mean_inertial_velocity
+        limit = HOVER_SPEED_RTOL * self.wingtip_speed
+        if abs(v["climb"]) > limit:
+            return HoverStatus.CLIMBING
+        return HoverStatus.DRIFTING if abs(v["forward"]) > limit else HoverStatus.HOVER
+
+    @property
     def is_hover(self) -> bool:
-        """True if the orbit stays in place on average.
+        """True if the orbit stays in place on average (:attr:`status` is ``HOVER``).
 
         That is, if both cycle-mean inertial speeds (:attr:`mean_inertial_velocity`) are at most
         :data:`HOVER_SPEED_RTOL` times the :attr:`wingtip_speed`. False for an orbit that drifts
         horizontally (a hinge offset, see :class:`~flapping.errors.HoverDriftWarning`) or climbs
         or sinks (an orbit of :func:`forced_orbit` away from the hover amplitude).
         """
+        return self.status == HoverStatus.HOVER
+
+    @property
+    def message(self) -> str:
+        """What :attr:`status` means for this orbit, in words."""
         v = self.mean_inertial_velocity
-        return max(abs(v["forward"]), abs(v["climb"])) <= HOVER_SPEED_RTOL * self.wingtip_speed
+        if self.status == HoverStatus.HOVER:
+            return "hover: periodic, in place on average"
+        if self.status == HoverStatus.CLIMBING:
+            return (f"not hover: {'climbs' if v['climb'] > 0 else 'sinks'} at a mean "
+                    f"{abs(v['climb']):.3g} m/s")
+        return (f"not hover: flies {'forwards' if v['forward'] > 0 else 'backwards'} at a "
+                f"mean {abs(v['forward']):.3g} m/s; trims=('amplitude', 'stroke_mean') finds a "
+                "true hover orbit")
 
     @property
     def half_period_symmetry_error(self) -> float:
@@ -212,102 +317,9 @@ class HoverOrbit:
         return float(np.max(np.abs(second - HALF_PERIOD_SYMMETRY @ first) / scale))
 
 
-# =========================================================================== vector fields
-def _hover_fields(model: LongitudinalDynamics):
-    """Per-half-stroke (rhs, jac, param_jac) of the state with the descent z appended; p = [Phi]."""
-    rhs, jac, pjac = [], [], []
-    for k in range(len(model.breakpoints) + 1):
-        s = segment_stroke_sign(k)
-
-        def f(t, y, p, _s=s):
-            _check_iterate_amplitude(p[0])
-            out = np.empty(5)
-            out[:4] = model.rhs(t, y, _s, p[0])
-            out[4] = inertial_velocity(y[0], y[1], y[3])[1]
-            return out
-
-        def J(t, y, p, _s=s):
-            out = np.zeros((5, 5))
-            out[:4, :4] = model.jac(t, y, _s, p[0])
-            out[4, :4] = inertial_velocity_jac(y[0], y[1], y[3])[1]
-            return out
-
-        def P(t, y, p, _s=s):
-            out = np.zeros((5, 1))
-            out[:4] = model.amplitude_jac(t, y, _s, p[0])
-            return out
-
-        rhs.append(f)
-        jac.append(J)
-        pjac.append(P)
-    return rhs, jac, pjac
-
-
-class _TwoTrimFields:
-    """Per-half-stroke (rhs, jac, param_jac) with the descent z and the forward distance x_e
-    appended; p = [Phi, phi_bar]. Models at other mean stroke angles are kept (a few)."""
-
-    def __init__(self, model: LongitudinalDynamics) -> None:
-        self.model = model
-        self.models: dict[float, LongitudinalDynamics] = {}
-
-    def at(self, stroke_mean: float) -> LongitudinalDynamics:
-        """The model at mean stroke angle ``stroke_mean`` (an iterate's; validated)."""
-        stroke_mean = float(stroke_mean)
-        found = self.models.get(stroke_mean)
-        if found is None:
-            if not -math.pi / 2 < stroke_mean < math.pi / 2:
-                raise ConvergenceError(
-                    f"the shooting iteration stepped the mean stroke angle to "
-                    f"{math.degrees(stroke_mean):.4g} deg, outside (-90, 90) deg")
-            if len(self.models) >= 8:
-                del self.models[next(iter(self.models))]
-            found = self.models[stroke_mean] = self.model.with_stroke_mean(stroke_mean)
-        return found
-
-    def fields(self) -> tuple[list[Any], list[Any], list[Any]]:
-        """Lists of f(t, y, p), J(t, y, p), P(t, y, p), one per half-stroke."""
-        rhs, jac, pjac = [], [], []
-        for k in range(len(self.model.breakpoints) + 1):
-            s = segment_stroke_sign(k)
-            rhs.append(lambda t, y, p, _s=s: self.rhs(t, y, p, _s))
-            jac.append(lambda t, y, p, _s=s: self.jac(t, y, p, _s))
-            pjac.append(lambda t, y, p, _s=s: self.param_jac(t, y, p, _s))
-        return rhs, jac, pjac
-
-    def rhs(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
-        _check_iterate_amplitude(p[0])
-        out = np.empty(6)
-        out[:4] = self.at(p[1]).rhs(t, y, s, p[0])
-        out[5], out[4] = inertial_velocity(y[0], y[1], y[3])  # forward, down
-        return out
-
-    def jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
-        out = np.zeros((6, 6))
-        out[:4, :4] = self.at(p[1]).jac(t, y, s, p[0])
-        out[5, :4], out[4, :4] = inertial_velocity_jac(y[0], y[1], y[3])  # forward, down
-        return out
-
-    def param_jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
-        out = np.zeros((6, 2))
-        model = self.at(p[1])
-        out[:4, :1] = model.amplitude_jac(t, y, s, p[0])
-        out[:4, 1:] = model.stroke_mean_jac(t, y, s, p[0])
-        return out
-
-
-def _check_iterate_amplitude(amplitude: float) -> None:
-    """Stop the shooting when an iterate's stroke amplitude leaves (0, pi/2]."""
-    if not 0.0 < amplitude <= math.pi / 2:
-        raise ConvergenceError(
-            f"the shooting iteration stepped the stroke amplitude to {math.degrees(amplitude):.4g} "
-            "deg, outside (0, 90] deg: no hover orbit with wings that do not cross was found "
-            "from this guess")
-
-
 def _sample(model: LongitudinalDynamics, x0: np.ndarray, n_samples: int, method: str, **tol):
     """One period from x0 with the descent z alongside: (t, x (4 rows), z(T) - z(0))."""
-    rhs = _hover_fields(model)[0]
+    rhs = _problem_of(model).fields()[0]
     t = np.linspace(0.0, model.period, n_samples + 1)
     res = require_success(
         flow(rhs, (0.0, model.period), np.append(x0, 0.0), breakpoints=model.breakpoints,
@@ -319,12 +331,12 @@ def _sample(model: LongitudinalDynamics, x0: np.ndarray, n_samples: int, method:
 
 # =========================================================================== hover
 def find_hover_orbit(
-    insect: Insect,
+    insect: Insect | HoverProblem,
     *,
     aerodynamics: str = "linear",
     alpha_m: float | None = None,
     amplitude_guess: float | None = None,
-    x0_guess: Sequence[float] | None = None,
+    x0_guess: ArrayLike | None = None,
     method: str = "DOP853",
     jacobian: str | None = None,
     rtol: float = 1e-11,
@@ -333,8 +345,9 @@ def find_hover_orbit(
     n_samples: int = 512,
     backend: str = DEFAULT_BACKEND,
     trims: Sequence[str] = ("amplitude",),
+    kernel_options: Mapping[str, Any] | None = None,
 ) -> HoverOrbit:
-    """Find the hovering periodic orbit: initial state and stroke amplitude.
+    """Find the hovering periodic orbit: initial state and stroke amplitude (and phi_bar).
 
     Unknowns (u0, w0, q0, theta0, Phi); equations: periodicity of (u, w, q, theta) and zero net
     altitude change over one period (module docstring). The mean angle of attack alpha_m stays at
@@ -342,7 +355,9 @@ def find_hover_orbit(
 
     Parameters
     ----------
-    insect : Insect
+    insect : Insect or HoverProblem
+        The insect, or a hover problem already built (then ``aerodynamics``, ``alpha_m`` and
+        ``trims`` are the problem's and must be left at their defaults).
     aerodynamics : {"linear", "small-angle", "exact"}
         Loads model (:class:`~flapping.model.dynamics.LongitudinalDynamics`); ``"linear"`` is
         eq. (29).
@@ -353,31 +368,37 @@ def find_hover_orbit(
     x0_guess : sequence of 4 floats, optional
         Initial guess of (u, w, q, theta); default zeros.
     jacobian : {"variational", "finite-difference"}, optional
-        Jacobian of the shooting residual. Default: ``"variational"`` for the linear model (its
-        Jacobian is analytic), ``"finite-difference"`` for the blade-element models (their
-        Jacobian would itself be differenced at every step, which costs more, and the variational
-        system's step sequence then varies enough between iterates to hold the residual at the
-        integration-noise floor ~1e-10).
+        Jacobian of the shooting residual on the adaptive path. Default: ``"variational"`` for
+        the linear model (its Jacobian is analytic), ``"finite-difference"`` for the
+        blade-element models (their Jacobian would itself be differenced at every step, which
+        costs more, and the variational system's step sequence then varies enough between
+        iterates to hold the residual at the integration-noise floor ~1e-10).
     method, rtol, atol, tol
-        Passed to :func:`flapping.periodic.shooting.find_periodic_orbit` (``tol``: largest accepted
-        residual norm).
+        Passed to :func:`flapping.periodic.shooting.find_periodic_orbit` on the adaptive path
+        (``tol``: largest accepted residual norm).
     n_samples : int
-        Samples of the orbit over one period in the result (even, >= 2).
+        Samples of the orbit over one period in the result (even, >= 2; integrated when first
+        used on the compiled path).
     backend : {"auto", "compiled", "adaptive"}
-        The integration path (see :data:`BACKENDS`); ``method``, ``jacobian``, ``rtol``,
-        ``atol`` and ``tol`` belong to the adaptive one.
+        The integration path (see :data:`BACKENDS`): by default the compiled kernel where it
+        applies; ``method``, ``jacobian``, ``rtol``, ``atol`` and ``tol`` belong to the adaptive
+        one (setting ``method`` or ``jacobian`` selects it under ``"auto"``). Under ``"auto"``
+        a kernel that fails (a stiff insect) hands over to the adaptive path.
     trims : ("amplitude",) or ("amplitude", "stroke_mean")
         The trim unknowns (:data:`TRIMS`). With ``"stroke_mean"`` the mean stroke angle phi_bar
         of phi = phi_bar + Phi cos(2 pi f t) is solved for too (guess: ``insect.stroke_mean``),
         and the forward distance flown over a period joins the equations: zero mean vertical and
-        horizontal speed, a true hover orbit for any hinge offset. Adaptive path only (the
-        compiled kernel has no phi_bar; ``backend="auto"`` falls back).
+        horizontal speed, a true hover orbit for any hinge offset. Adaptive path only.
+    kernel_options : mapping, optional
+        Options of the compiled path, passed to :func:`flapping.fast.kernel.solve_hover`:
+        ``n_steps`` (steps per half-stroke to start with), ``amplitude_tol_deg``,
+        ``multiplier_tol``.
 
     Returns
     -------
     HoverOrbit
-        Check :attr:`HoverOrbit.is_hover`: with a hinge offset and the amplitude as the only trim
-        the orbit may drift horizontally. :attr:`HoverOrbit.trims` says which trims were used.
+        Check :attr:`HoverOrbit.status` (or :attr:`HoverOrbit.is_hover`): with a hinge offset
+        and the amplitude as the only trim the orbit may drift horizontally.
 
     Raises
     ------
@@ -394,92 +415,84 @@ def find_hover_orbit(
         wingtip speed (the orbit holds its altitude but is not hover; see
         :attr:`HoverOrbit.is_hover`).
     """
-    model = LongitudinalDynamics(insect, alpha_m=alpha_m, aerodynamics=aerodynamics)
-    amplitude = insect.stroke_amplitude if amplitude_guess is None else amplitude_guess
-    model.with_amplitude(amplitude)  # validates the guess
-    _check_trim(insect, model.alpha_m)
-    x0 = _state_guess(x0_guess)
-    n_samples = _even_samples(n_samples)
-    trims = _check_trims(trims)
-    if len(trims) == 2:
-        if _validation.choice("backend", backend, BACKENDS) == "compiled":
-            raise ValueError("trims=('amplitude', 'stroke_mean') needs the adaptive path: the "
-                             "compiled kernel has no mean stroke angle (use backend='auto')")
+    problem = _problem(insect, aerodynamics, alpha_m, trims)
+    guess = problem.guess(amplitude_guess)
+    x0 = state_guess(x0_guess)
+    n_samples = even_samples(n_samples)
+    adaptive_options = method != "DOP853" or jacobian not in (None, "variational")
+    orbit = None
+    if problem.backend(backend, adaptive_options=adaptive_options) == "compiled":
+        try:
+            orbit = _kernel_orbit(problem, float(guess[0]), x0, n_samples, kernel_options or {})
+        except ConvergenceError as exc:
+            if backend != "auto":
+                raise
+            # "auto" promises an answer where either path has one: the adaptive path's
+            # step control survives stiff insects the fixed-step kernel does not.
+            _LOG.info("the compiled kernel failed (%s); trying the adaptive path", exc)
+    if orbit is None:
         if jacobian is None:
-            jacobian = "variational" if aerodynamics == "linear" else "finite-difference"
-        orbit = _two_trim_orbit(model.with_amplitude(amplitude), x0, n_samples, method=method,
+            jacobian = "variational" if problem.aerodynamics == "linear" else "finite-difference"
+        orbit = _adaptive_orbit(problem, guess, x0, n_samples, method=method,
                                 jacobian=jacobian, rtol=rtol, atol=atol, tol=tol)
-        _warn_if_drifting(orbit)
-        return orbit
-    if use_kernel(backend, model, method == "DOP853" and jacobian in (None, "variational")):
-        orbit = _kernel_orbit(model, amplitude, x0, n_samples)
-        _warn_if_drifting(orbit)
-        return orbit
-    if jacobian is None:
-        jacobian = "variational" if aerodynamics == "linear" else "finite-difference"
-    rhs, jac, pjac = _hover_fields(model)
-    result = find_periodic_orbit(
-        rhs, np.append(x0, 0.0), model.period, autonomous=False, jac=jac, param_jac=pjac,
-        free_params=[amplitude], fixed=(4,), breakpoints=model.breakpoints,
-        jacobian=jacobian, method=method, rtol=rtol, atol=atol, tol=tol,
-    )
-    assert result.params is not None  # the amplitude is a free parameter
-    phi = float(result.params[0])
-    if not 0.0 < phi <= math.pi / 2:
-        raise ConvergenceError(
-            f"no hover orbit for {insect.name} with a stroke amplitude in (0, 90] deg: the "
-            f"shooting converged to Phi = {math.degrees(phi):.4g} deg",
-            x=np.append(result.x0, phi), residual=result.residual_norm,
-            iterations=result.nit, result=result)
-    hover_model = model.with_amplitude(phi)
-    x0 = np.asarray(result.x0[:4], dtype=float)
-    t, x, _ = _sample(hover_model, x0, n_samples, method, rtol=rtol, atol=atol)
-    orbit = HoverOrbit(hover_model, x0, phi, model.period, t, x, float(result.residual[4]), result)
     _warn_if_drifting(orbit)
     return orbit
 
 
-def _check_trims(trims: object) -> tuple[str, ...]:
-    """``trims`` as a tuple of :data:`TRIMS`, or a ValueError naming the accepted sets."""
-    value: tuple[Any, ...] = ()
-    if isinstance(trims, str):
-        value = (trims,)
-    elif isinstance(trims, (tuple, list)):
-        value = tuple(trims)
-    if value not in TRIMS:
-        raise ValueError(f"`trims` must be one of {TRIMS}; got {trims!r}")
-    return value
+def _problem(insect: Insect | HoverProblem, aerodynamics: str, alpha_m: float | None,
+             trims: Sequence[str]) -> HoverProblem:
+    """The hover problem of the arguments (or the one given, with the defaults left alone)."""
+    if not isinstance(insect, HoverProblem):
+        return HoverProblem(insect, aerodynamics, alpha_m, check_trims(trims))
+    if (aerodynamics, alpha_m, check_trims(trims)) != ("linear", None, TRIMS[0]):
+        raise ValueError("with a HoverProblem, `aerodynamics`, `alpha_m` and `trims` are the "
+                         "problem's own: leave them at their defaults")
+    return insect
 
 
-def _two_trim_orbit(model: LongitudinalDynamics, x0: np.ndarray, n_samples: int,
+def _adaptive_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, n_samples: int,
                     **options: Any) -> HoverOrbit:
-    """find_hover_orbit with (Phi, phi_bar) free: six equations, six unknowns."""
-    fields = _TwoTrimFields(model)
-    rhs, jac, pjac = fields.fields()
-    guess = [model.amplitude, model.insect.stroke_mean]
+    """find_hover_orbit on the scipy path: LM shooting with the trims free."""
+    rhs, jac, pjac = problem.fields()
+    extra = problem.n_conditions
     result = find_periodic_orbit(
-        rhs, np.concatenate([x0, [0.0, 0.0]]), model.period, autonomous=False, jac=jac,
-        param_jac=pjac, free_params=guess, fixed=(4, 5), breakpoints=model.breakpoints,
-        **options)
-    assert result.params is not None  # (Phi, phi_bar) are free parameters
-    phi, phi_bar = (float(v) for v in result.params)
-    if not (0.0 < phi <= math.pi / 2 and -math.pi / 2 < phi_bar < math.pi / 2):
-        raise ConvergenceError(
-            f"no hover orbit for {model.insect.name} with a stroke amplitude in (0, 90] deg and "
-            f"a mean stroke angle in (-90, 90) deg: the shooting converged to Phi = "
-            f"{math.degrees(phi):.4g} deg, phi_bar = {math.degrees(phi_bar):.4g} deg",
-            x=np.append(result.x0, result.params), residual=result.residual_norm,
-            iterations=result.nit, result=result)
-    hover_model = model.with_amplitude(phi).with_stroke_mean(phi_bar)
-    x_start = np.asarray(result.x0[:4], dtype=float)
+        rhs, np.concatenate([x0, np.zeros(extra)]), problem.period, autonomous=False, jac=jac,
+        param_jac=pjac, free_params=list(guess), fixed=tuple(range(4, 4 + extra)),
+        breakpoints=problem.model.breakpoints, **options)
+    assert result.params is not None  # the trims are free parameters
+    trims = [float(v) for v in result.params]
+    _check_converged_trims(problem, result, trims)
+    phi = trims[0]
+    phi_bar = trims[1] if extra == 2 else problem.insect.stroke_mean
+    orbit = HoverOrbit(problem, _frozen(result.x0[:4]), phi, phi_bar, float(result.residual[4]),
+                       "adaptive", int(result.nit), int(result.nfev),
+                       float(result.residual_norm), shooting=result)
     tol = {"rtol": options["rtol"], "atol": options["atol"]}
-    t, x, _ = _sample(hover_model, x_start, n_samples, options["method"], **tol)
-    return HoverOrbit(hover_model, x_start, phi, model.period, t, x, float(result.residual[4]),
-                      result, trims=TRIMS[1])
+    t, x, _ = _sample(orbit.model, orbit.x0, n_samples, options["method"], **tol)
+    object.__setattr__(orbit, "samples", _Sampled(t, x))
+    return orbit
+
+
+def _check_converged_trims(problem: HoverProblem, result: PeriodicOrbit,
+                           trims: list[float]) -> None:
+    """A converged solve whose trims left their ranges found no hover orbit: raise."""
+    phi = trims[0]
+    phi_bar = trims[1] if len(trims) == 2 else 0.0
+    if 0.0 < phi <= math.pi / 2 and -math.pi / 2 < phi_bar < math.pi / 2:
+        return
+    found = f"Phi = {math.degrees(phi):.4g} deg"
+    if len(trims) == 2:
+        found += f", phi_bar = {math.degrees(phi_bar):.4g} deg"
+    ranges = "a stroke amplitude in (0, 90] deg" + (
+        " and a mean stroke angle in (-90, 90) deg" if len(trims) == 2 else "")
+    raise ConvergenceError(
+        f"no hover orbit for {problem.insect.name} with {ranges}: the shooting converged to "
+        f"{found}", x=np.append(result.x0, trims), residual=result.residual_norm,
+        iterations=result.nit, result=result)
 
 
 def _warn_if_drifting(orbit: HoverOrbit) -> None:
-    if not orbit.is_hover:
+    if orbit.status == HoverStatus.DRIFTING:
         insect = orbit.model.insect
         warnings.warn(
             f"the orbit found for {insect.name} holds its altitude but is not hover: it flies "
@@ -496,87 +509,50 @@ def _warn_if_drifting(orbit: HoverOrbit) -> None:
 def use_kernel(backend: str, model: LongitudinalDynamics, default_settings: bool = True) -> bool:
     """Whether ``backend`` means the compiled kernel for this model (see :data:`BACKENDS`).
 
+    Kept for callers that hold a model; :meth:`HoverProblem.backend` decides.
+
     Parameters
     ----------
     backend : {"auto", "compiled", "adaptive"}
     model : LongitudinalDynamics
-        The kernel applies to ``aerodynamics="linear"`` (eq. 29) only.
     default_settings : bool
-        False if the caller asked for adaptive-path settings (another ``method``): then
-        ``"auto"`` means the adaptive path.
+        False if the caller asked for adaptive-path settings: then ``"auto"`` means adaptive.
 
     Raises
     ------
-    ValueError
-        For an unknown backend, or ``"compiled"`` with a blade-element model or a non-zero
-        ``insect.stroke_mean`` (``"auto"`` then means the adaptive path).
-    ImportError
-        For ``"compiled"`` without numba.
-
-    Warns
-    -----
-    RuntimeWarning
-        ``"auto"`` where the kernel applies but numba is missing: the adaptive path runs.
+    ValueError, ImportError
+        As :meth:`HoverProblem.backend`.
     """
-    backend = _validation.choice("backend", backend, BACKENDS)
-    if backend == "adaptive":
-        return False
-    if backend == "compiled":
-        if model.aerodynamics != "linear":
-            raise ValueError("backend='compiled' needs aerodynamics='linear' (eq. 29); the "
-                             "blade-element models run on backend='adaptive'")
-        if not _kernel.numba_available():
-            raise ImportError("backend='compiled' needs numba: pip install flapping[fast]")
-        if model.insect.stroke_mean != 0.0:
-            raise ValueError(
-                f"backend='compiled' has no mean stroke angle: stroke_mean = "
-                f"{model.insect.stroke_mean!r} rad must be 0 (use backend='adaptive' or 'auto')")
-        return True
-    if model.aerodynamics != "linear" or not default_settings or model.insect.stroke_mean != 0.0:
-        return False
-    if not _kernel.numba_available():
-        warnings.warn("numba is not installed: the hover orbit is computed by the adaptive "
-                      "scipy path (~300 times slower; pip install flapping[fast])",
-                      RuntimeWarning, stacklevel=3)
-        return False
-    return True
+    problem = _problem_of(model)
+    return problem.backend(backend, adaptive_options=not default_settings) == "compiled"
 
 
-def _kernel_orbit(model: LongitudinalDynamics, amplitude: float, x0: np.ndarray,
-                  n_samples: int) -> HoverOrbit:
-    """find_hover_orbit on the compiled kernel, its answer in the adaptive path's result types."""
-    problem = _kernel.KernelProblem.of(model.insect, model.alpha_m)
-    sol = _kernel.solve_hover(problem, amplitude_guess=amplitude, x0_guess=x0)
-    t, x, _ = _kernel.sample_orbit(problem, sol.x0, sol.amplitude, n_samples)
-    norm = sol.residual_norm
-    shooting = PeriodicOrbit(
-        x0=np.append(sol.x0, 0.0), period=sol.period, params=np.array([sol.amplitude]),
-        success=True, message=(f"compiled kernel: Newton converged with {sol.n_steps} fixed "
-                               f"8th-order steps per half-stroke (estimated errors: Phi "
-                               f"{math.degrees(sol.amplitude_error):.1e} deg, multipliers "
-                               f"{sol.multiplier_error:.1e})"),
-        residual=sol.residual, residual_norm=norm, residual_history=np.array([norm]),
-        iteration_history=np.array([norm]), nit=sol.nit, n_residual_evals=sol.nit,
-        nfev=sol.nfev, njev=sol.nfev, jacobian="variational",
-        method=f"DOP853 tableau, fixed step ({sol.n_steps} per half-stroke)", autonomous=False,
-        unknowns=np.append(sol.x0, sol.amplitude),
-        phase_condition="none: the period is known (forced system)")
-    return HoverOrbit(model.with_amplitude(sol.amplitude), sol.x0, sol.amplitude, sol.period, t,
-                      x, sol.z_drift, shooting, sol)
+def _problem_of(model: LongitudinalDynamics) -> HoverProblem:
+    """The hover problem a model belongs to (its insect, loads and alpha_m; one trim)."""
+    problem = HoverProblem.__new__(HoverProblem)
+    # No trim check: a model at any amplitude (forced_orbit's) has a problem to ask about.
+    for name, value in (("insect", model.insect), ("aerodynamics", model.aerodynamics),
+                        ("alpha_m", model.alpha_m), ("trims", TRIMS[0])):
+        object.__setattr__(problem, name, value)
+    problem.__dict__["model"] = model  # its rhs takes the amplitude: any amplitude's model serves
+    return problem
 
 
-def _check_trim(insect: Insect, alpha_m: float) -> None:
-    """Refuse at once an insect that cannot hover even at rest (eq. 40 needs Phi > 90 deg)."""
-    # Eq. (40) solved for the amplitude at this alpha_m: the stroke a body at rest needs. If even
-    # that exceeds 90 deg, no hover orbit exists with wings that do not cross.
-    k21 = 0.5 * insect.air_density * insect.lift_slope * insect.span_integral(2, 1)
-    needed = math.sqrt(insect.weight / (2.0 * math.pi**2 * insect.frequency**2 * k21
-                                        * math.sin(2.0 * alpha_m)))
-    if needed > math.pi / 2:
-        raise ValueError(
-            f"{insect.name} cannot hover with alpha_m = {math.degrees(alpha_m):.4g} deg: "
-            f"eq. (40) needs a stroke amplitude of {math.degrees(needed):.4g} deg > 90 deg "
-            f"(mass {insect.mass!r} kg); raise alpha_m towards 45 deg or lower the mass")
+def _kernel_orbit(problem: HoverProblem, amplitude: float, x0: np.ndarray, n_samples: int,
+                  options: Mapping[str, Any]) -> HoverOrbit:
+    """find_hover_orbit on the compiled kernel: the orbit, its monodromy and quadrature."""
+    kp = problem.kernel_problem
+    unknown = set(options) - {"n_steps", "amplitude_tol_deg", "multiplier_tol"}
+    if unknown:
+        raise ValueError(f"`kernel_options` accepts n_steps, amplitude_tol_deg and "
+                         f"multiplier_tol; got {sorted(unknown)}")
+    sol = _kernel.solve_hover(kp, amplitude_guess=amplitude, x0_guess=x0, **options)
+    quad = _kernel.orbit_quadrature(kp, sol.x0, sol.amplitude)
+    x_start = _frozen(sol.x0)
+    return HoverOrbit(problem, x_start, sol.amplitude, problem.insect.stroke_mean, sol.z_drift,
+                      "compiled", sol.nit, sol.nfev, sol.residual_norm, kernel=sol,
+                      quadrature=quad,
+                      samples=_KernelSamples(kp, x_start, sol.amplitude, n_samples))
 
 
 def forced_orbit(
@@ -619,15 +595,17 @@ def forced_orbit(
     """
     model = LongitudinalDynamics(insect, amplitude=amplitude, alpha_m=alpha_m,
                                  aerodynamics=aerodynamics)
-    x0 = _state_guess(x0_guess)
-    n_samples = _even_samples(n_samples)
+    x0 = state_guess(x0_guess)
+    n_samples = even_samples(n_samples)
     rhs, jac = model.segment_functions()
     result = find_periodic_orbit(rhs, x0, model.period, autonomous=False, jac=jac,
                                  breakpoints=model.breakpoints, method=method, rtol=rtol,
                                  atol=atol, tol=tol)
-    x0 = np.asarray(result.x0, dtype=float)
+    x0 = _frozen(result.x0)
     t, x, z_drift = _sample(model, x0, n_samples, method, rtol=rtol, atol=atol)
-    return HoverOrbit(model, x0, float(model.amplitude), model.period, t, x, z_drift, result)
+    return HoverOrbit(None, x0, float(model.amplitude), insect.stroke_mean, z_drift, "adaptive",
+                      int(result.nit), int(result.nfev), float(result.residual_norm),
+                      shooting=result, samples=_Sampled(t, x), model_given=model)
 
 
 def paper_hover_problem(
@@ -687,7 +665,7 @@ def paper_hover_problem(
         return f
 
     rhs = [field(k) for k in range(len(base))]
-    y0 = np.append(_state_guess(x0_guess), _validation.real("h0_guess", h0_guess, unit="m/s"))
+    y0 = np.append(state_guess(x0_guess), _validation.real("h0_guess", h0_guess, unit="m/s"))
     result = find_periodic_orbit(rhs, y0, model.period, autonomous=False,
                                  free_params=[amplitude], breakpoints=model.breakpoints,
                                  n_points=3,  # three points per state, as in eq. (41)
@@ -763,18 +741,3 @@ def force_budget(
         "q": {"M0/Iy": d[2] / Iy, "Mu u": d[9] * u, "Mw w": d[10] * w, "Mq q": d[11] * q},
     }
     return {eq: {k: float(np.mean(v)) for k, v in parts.items()} for eq, parts in terms.items()}
-
-
-def _state_guess(x0_guess) -> np.ndarray:
-    if x0_guess is None:
-        return np.zeros(4)
-    return _validation.vector("x0_guess", x0_guess, size=4)
-
-
-def _even_samples(n_samples) -> int:
-    """The number of samples per period of an orbit: an even integer >= 2 (for the symmetry)."""
-    n = _validation.integer("n_samples", n_samples, low=2)
-    if n % 2:
-        raise ValueError(f"`n_samples` must be an even integer >= 2; got {n_samples!r}")
-    return n
-

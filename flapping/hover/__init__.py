@@ -1,0 +1,44 @@
+"""The hover application: the insect model joined to the periodic-orbit tools.
+
+- :mod:`flapping.hover.problem`: :class:`HoverProblem`, the hover problem of one insect (its
+  right-hand sides, Jacobians and trim sensitivities, the kernel's packing, and the one place
+  that decides which backend runs);
+- :mod:`flapping.hover.orbit`: :func:`find_hover_orbit` and :class:`HoverOrbit`, the orbit at a
+  prescribed amplitude (:func:`forced_orbit`), the paper's own hover condition
+  (:func:`paper_hover_problem`) and the force budget.
+
+The stability of the orbit is in :mod:`flapping.stability`.
+"""
+
+from flapping.hover.orbit import (
+    ANALYSIS_ATOL,
+    ANALYSIS_RTOL,
+    HALF_PERIOD_SYMMETRY,
+    HOVER_SPEED_RTOL,
+    HoverOrbit,
+    HoverStatus,
+    find_hover_orbit,
+    force_budget,
+    forced_orbit,
+    paper_hover_problem,
+    use_kernel,
+)
+from flapping.hover.problem import BACKENDS, DEFAULT_BACKEND, TRIMS, HoverProblem
+
+__all__ = [
+    "ANALYSIS_ATOL",
+    "ANALYSIS_RTOL",
+    "BACKENDS",
+    "DEFAULT_BACKEND",
+    "HALF_PERIOD_SYMMETRY",
+    "HOVER_SPEED_RTOL",
+    "TRIMS",
+    "HoverOrbit",
+    "HoverProblem",
+    "HoverStatus",
+    "find_hover_orbit",
+    "force_budget",
+    "forced_orbit",
+    "paper_hover_problem",
+    "use_kernel",
+]

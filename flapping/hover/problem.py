@@ -1,0 +1,312 @@
+"""The hover problem of one insect, built once and asked by every solver.
+
+A :class:`HoverProblem` knows the insect, the aerodynamic model, the mean angle of attack and the
+trim unknowns. It hands out what the solvers need: the right-hand sides of the state augmented
+with the hover conditions, their Jacobians and their sensitivities to the trims (for
+:func:`flapping.periodic.shooting.find_periodic_orbit` and continuation), the compiled kernel's
+packing, and the decision of which backend runs (:meth:`HoverProblem.backend`, the one place that
+decides it). After BifurcationKit's ``BifurcationProblem``: the problem is built once, the solvers
+never rebuild it.
+
+The augmented state: (u, w, q, theta) and the descent z (z' = -u sin theta + w cos theta, z(0) = 0
+held fixed, so that periodicity of z is zero mean vertical speed); with the mean stroke angle as a
+second trim, the forward distance x_e too (zero mean horizontal speed). The trims are the free
+parameters: p = [Phi] or p = [Phi, phi_bar].
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from flapping import _validation
+from flapping.errors import ConvergenceError
+from flapping.fast import kernel as _kernel
+from flapping.model.aerodynamics import trim_angle_of_attack
+from flapping.model.dynamics import (
+    AERODYNAMIC_MODELS,
+    LongitudinalDynamics,
+    inertial_velocity,
+    inertial_velocity_jac,
+)
+from flapping.model.kinematics import check_alpha_m, segment_stroke_sign
+from flapping.model.morphology import Insect
+
+__all__ = ["BACKENDS", "DEFAULT_BACKEND", "TRIMS", "HoverProblem"]
+
+#: How the orbit and the monodromy are integrated: ``"compiled"``, the numba kernel of
+#: :mod:`flapping.fast` (eq. 29's linear loads only: fixed-step 8th-order Runge-Kutta per
+#: half-stroke, Newton, Phi to 1e-9 deg and the multipliers to 1e-8, ~1 ms); ``"adaptive"``, the
+#: scipy path (adaptive DOP853, the reference and the cross-check, ~0.3 s); ``"auto"``, the
+#: kernel where it applies (linear loads, one trim, the default ``method`` and ``jacobian``, numba
+#: installed), else adaptive.
+BACKENDS: tuple[str, ...] = ("auto", "compiled", "adaptive")
+
+#: The default backend of every hover path (:func:`~flapping.hover.find_hover_orbit`,
+#: :func:`~flapping.hover.hover_stability`, sweeps): the fast one where it applies. The kernel
+#: agrees with the adaptive path to 1e-10 deg in Phi and 1e-10 in the multipliers; the book asks
+#: for ``backend="adaptive"`` where it shows that path's own diagnostics.
+DEFAULT_BACKEND = "auto"
+
+#: The trim sets: the stroke amplitude alone (zero mean vertical speed, the paper's hover), or the
+#: amplitude and the mean stroke angle phi_bar together (zero mean vertical *and* horizontal
+#: speed: a true hover orbit for any hinge offset).
+TRIMS: tuple[tuple[str, ...], ...] = (("amplitude",), ("amplitude", "stroke_mean"))
+
+#: Models kept at other mean stroke angles while phi_bar is iterated (a few are revisited).
+_MODELS_KEPT = 8
+
+
+@dataclass(frozen=True, eq=False)
+class HoverProblem:
+    """The hover problem of one insect (build once; every solver asks it).
+
+    Parameters
+    ----------
+    insect : Insect
+    aerodynamics : {"linear", "small-angle", "exact"}
+        Loads model (:class:`~flapping.model.dynamics.LongitudinalDynamics`); ``"linear"`` is
+        eq. (29).
+    alpha_m : float, optional
+        Mean geometric angle of attack [rad], held fixed while the trims are solved for; default
+        the trim of eq. (40) at the insect's nominal amplitude, as in the paper.
+    trims : ("amplitude",) or ("amplitude", "stroke_mean")
+        The trim unknowns (:data:`TRIMS`).
+
+    Raises
+    ------
+    ValueError
+        For a bad argument, or an insect too heavy to trim (eq. 40 needs Phi > 90 deg).
+    """
+
+    insect: Insect
+    aerodynamics: str = "linear"
+    alpha_m: float | None = None
+    trims: tuple[str, ...] = ("amplitude",)
+
+    def __post_init__(self) -> None:
+        insect = _validation.instance("insect", self.insect, Insect)
+        aerodynamics = _validation.choice("aerodynamics", self.aerodynamics, AERODYNAMIC_MODELS)
+        alpha_m = (trim_angle_of_attack(insect, insect.stroke_amplitude) if self.alpha_m is None
+                   else self.alpha_m)
+        alpha_m = check_alpha_m(alpha_m)
+        trims = check_trims(self.trims)
+        check_trim(insect, alpha_m)
+        object.__setattr__(self, "aerodynamics", aerodynamics)
+        object.__setattr__(self, "alpha_m", alpha_m)
+        object.__setattr__(self, "trims", trims)
+
+    # ---------------------------------------------------------------- what the solvers ask
+    @property
+    def period(self) -> float:
+        """Flapping period T [s]."""
+        return self.insect.period
+
+    @property
+    def n_conditions(self) -> int:
+        """Hover conditions appended to the state: 1 (z) or 2 (z and x_e)."""
+        return len(self.trims)
+
+    @cached_property
+    def model(self) -> LongitudinalDynamics:
+        """The dynamics at the insect's nominal amplitude and mean stroke angle."""
+        return LongitudinalDynamics(self.insect, alpha_m=self.alpha_m,
+                                    aerodynamics=self.aerodynamics)
+
+    @cached_property
+    def kernel_problem(self) -> _kernel.KernelProblem:
+        """The insect packed for the compiled kernel (linear loads, one trim)."""
+        return _kernel.KernelProblem.of(self.insect, self.alpha_m)
+
+    def fields(self) -> tuple[list[Any], list[Any], list[Any]]:
+        """Per half-stroke ``f(t, y, p)``, ``J(t, y, p)``, ``P(t, y, p) = df/dp``.
+
+        y is the augmented state (u, w, q, theta, z[, x_e]) and p the trims [Phi[, phi_bar]].
+        """
+        return _Fields(self).lists()
+
+    def guess(self, amplitude: float | None = None) -> np.ndarray:
+        """The trims' starting values: [Phi] or [Phi, phi_bar] (default the insect's own)."""
+        amp = self.insect.stroke_amplitude if amplitude is None else amplitude
+        self.model.with_amplitude(amp)  # validates it
+        return np.array([amp, self.insect.stroke_mean][: self.n_conditions], dtype=float)
+
+    def backend(self, backend: str = DEFAULT_BACKEND, *, adaptive_options: bool = False) -> str:
+        """Which path runs: ``"compiled"`` or ``"adaptive"`` (the one place that decides).
+
+        Parameters
+        ----------
+        backend : {"auto", "compiled", "adaptive"}
+            What the user asked for (:data:`BACKENDS`).
+        adaptive_options : bool
+            True if the caller set options of the adaptive path only (another ``method`` or
+            ``jacobian``): ``"auto"`` then means the adaptive path.
+
+        Raises
+        ------
+        ValueError
+            For an unknown backend, or ``"compiled"`` where the kernel does not apply (a
+            blade-element model, two trims, a non-zero mean stroke angle).
+        ImportError
+            For ``"compiled"`` without numba.
+
+        Warns
+        -----
+        RuntimeWarning
+            ``"auto"`` where the kernel applies but numba is missing: the adaptive path runs.
+        """
+        backend = _validation.choice("backend", backend, BACKENDS)
+        if backend == "adaptive":
+            return "adaptive"
+        why_not = self._kernel_refusal()
+        if backend == "compiled":
+            if why_not:
+                raise ValueError(f"backend='compiled' does not apply: {why_not}; use "
+                                 "backend='adaptive' (or 'auto', which falls back)")
+            if not _kernel.numba_available():
+                raise ImportError("backend='compiled' needs numba: pip install flapping[fast]")
+            return "compiled"
+        if why_not or adaptive_options:
+            return "adaptive"
+        if not _kernel.numba_available():
+            warnings.warn("numba is not installed: the hover orbit is computed by the adaptive "
+                          "scipy path (~300 times slower; pip install flapping[fast])",
+                          RuntimeWarning, stacklevel=3)
+            return "adaptive"
+        return "compiled"
+
+    def _kernel_refusal(self) -> str:
+        """Why the compiled kernel cannot solve this problem ('' if it can)."""
+        if self.aerodynamics != "linear":
+            return (f"the kernel has eq. (29)'s linear loads only, not "
+                    f"aerodynamics={self.aerodynamics!r}")
+        if self.n_conditions != 1:
+            return "the kernel has no mean stroke angle, so it cannot trim it"
+        if self.insect.stroke_mean != 0.0:
+            return (f"the kernel has no mean stroke angle: stroke_mean = "
+                    f"{self.insect.stroke_mean!r} rad must be 0")
+        return ""
+
+    def with_insect(self, insect: Insect) -> HoverProblem:
+        """The same problem (model, trims; alpha_m re-trimmed if it was) for another insect."""
+        return HoverProblem(insect, self.aerodynamics, None, self.trims)
+
+
+# =========================================================================== right-hand sides
+class _Fields:
+    """The augmented right-hand side, its Jacobian and its trim sensitivity, per half-stroke.
+
+    With two trims the model is rebuilt at each iterate's phi_bar (a few are kept).
+    """
+
+    def __init__(self, problem: HoverProblem) -> None:
+        self.problem = problem
+        self.size = 4 + problem.n_conditions
+        self.models: dict[float, LongitudinalDynamics] = {}
+
+    def lists(self) -> tuple[list[Any], list[Any], list[Any]]:
+        signs = [segment_stroke_sign(k) for k in range(len(self.problem.model.breakpoints) + 1)]
+        return ([lambda t, y, p, _s=s: self.rhs(t, y, p, _s) for s in signs],
+                [lambda t, y, p, _s=s: self.jac(t, y, p, _s) for s in signs],
+                [lambda t, y, p, _s=s: self.param_jac(t, y, p, _s) for s in signs])
+
+    def at(self, p: np.ndarray) -> LongitudinalDynamics:
+        """The model at the iterate's mean stroke angle (the problem's own with one trim)."""
+        if self.size == 5:
+            return self.problem.model
+        stroke_mean = float(p[1])
+        found = self.models.get(stroke_mean)
+        if found is None:
+            if not -math.pi / 2 < stroke_mean < math.pi / 2:
+                raise ConvergenceError(
+                    f"the shooting iteration stepped the mean stroke angle to "
+                    f"{math.degrees(stroke_mean):.4g} deg, outside (-90, 90) deg")
+            if len(self.models) >= _MODELS_KEPT:
+                del self.models[next(iter(self.models))]
+            found = self.problem.model.with_stroke_mean(stroke_mean)
+            self.models[stroke_mean] = found
+        return found
+
+    def rhs(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
+        check_iterate_amplitude(p[0])
+        out = np.empty(self.size)
+        out[:4] = self.at(p).rhs(t, y, s, p[0])
+        forward, down = inertial_velocity(y[0], y[1], y[3])
+        out[4] = down
+        if self.size == 6:
+            out[5] = forward
+        return out
+
+    def jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
+        out = np.zeros((self.size, self.size))
+        out[:4, :4] = self.at(p).jac(t, y, s, p[0])
+        forward, down = inertial_velocity_jac(y[0], y[1], y[3])
+        out[4, :4] = down
+        if self.size == 6:
+            out[5, :4] = forward
+        return out
+
+    def param_jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
+        out = np.zeros((self.size, self.size - 4))
+        model = self.at(p)
+        out[:4, :1] = model.amplitude_jac(t, y, s, p[0])
+        if self.size == 6:
+            out[:4, 1:] = model.stroke_mean_jac(t, y, s, p[0])
+        return out
+
+
+# =========================================================================== checks
+def check_iterate_amplitude(amplitude: float) -> None:
+    """Stop the shooting when an iterate's stroke amplitude leaves (0, pi/2]."""
+    if not 0.0 < amplitude <= math.pi / 2:
+        raise ConvergenceError(
+            f"the shooting iteration stepped the stroke amplitude to {math.degrees(amplitude):.4g} "
+            "deg, outside (0, 90] deg: no hover orbit with wings that do not cross was found "
+            "from this guess")
+
+
+def check_trims(trims: object) -> tuple[str, ...]:
+    """``trims`` as a tuple of :data:`TRIMS`, or a ValueError naming the accepted sets."""
+    value: tuple[Any, ...] = ()
+    if isinstance(trims, str):
+        value = (trims,)
+    elif isinstance(trims, (tuple, list)):
+        value = tuple(trims)
+    if value not in TRIMS:
+        raise ValueError(f"`trims` must be one of {TRIMS}; got {trims!r}")
+    return value
+
+
+def check_trim(insect: Insect, alpha_m: float) -> None:
+    """Refuse at once an insect that cannot hover even at rest (eq. 40 needs Phi > 90 deg)."""
+    # Eq. (40) solved for the amplitude at this alpha_m: the stroke a body at rest needs. If even
+    # that exceeds 90 deg, no hover orbit exists with wings that do not cross.
+    k21 = 0.5 * insect.air_density * insect.lift_slope * insect.span_integral(2, 1)
+    needed = math.sqrt(insect.weight / (2.0 * math.pi**2 * insect.frequency**2 * k21
+                                        * math.sin(2.0 * alpha_m)))
+    if needed > math.pi / 2:
+        raise ValueError(
+            f"{insect.name} cannot hover with alpha_m = {math.degrees(alpha_m):.4g} deg: "
+            f"eq. (40) needs a stroke amplitude of {math.degrees(needed):.4g} deg > 90 deg "
+            f"(mass {insect.mass!r} kg); raise alpha_m towards 45 deg or lower the mass")
+
+
+def state_guess(x0_guess: ArrayLike | None) -> np.ndarray:
+    """The initial-state guess (u, w, q, theta): zeros by default."""
+    if x0_guess is None:
+        return np.zeros(4)
+    return _validation.vector("x0_guess", x0_guess, size=4)
+
+
+def even_samples(n_samples: Any) -> int:
+    """The number of samples per period of an orbit: an even integer >= 2 (for the symmetry)."""
+    n = _validation.integer("n_samples", n_samples, low=2, high=1 << 20)
+    if n % 2:
+        raise ValueError(f"`n_samples` must be an even integer >= 2; got {n_samples!r}")
+    return n
