@@ -13,6 +13,7 @@ margin of 100 on the method, 10 on the request).
 from __future__ import annotations
 
 import math
+from dataclasses import fields
 
 import numpy as np
 import pytest
@@ -133,6 +134,19 @@ def test_duffing_two_folds_located(duffing_branch):
     assert not duffing_branch.stable.all()
     for b in duffing_branch.bifurcations:
         assert abs(b.multipliers[0] - 1) < 1e-7
+
+
+def test_duffing_branch_and_bifurcations_are_read_only(duffing_branch):
+    # an analysis of a result must be an analysis of what was solved (issue 17)
+    located = [b.located for b in duffing_branch.bifurcations]
+    results = [duffing_branch, *duffing_branch.bifurcations, *located,
+               *[loc.evaluation for loc in located]]
+    for result in results:
+        for f in fields(result):
+            a = getattr(result, f.name)
+            if isinstance(a, np.ndarray):
+                with pytest.raises(ValueError, match="read-only"):
+                    a[...] = 0
 
 
 def test_duffing_liouville_exact(duffing_branch):
