@@ -24,7 +24,7 @@ import numpy as np
 
 __all__ = [
     "real", "positive", "nonnegative", "integer", "choice", "vector", "matrix",
-    "finite_output", "array", "instance", "tolerances",
+    "finite_output", "array", "instance", "tolerances", "boolean",
 ]
 
 T = TypeVar("T")
@@ -203,3 +203,14 @@ def instance(name: str, value: T, cls: type) -> T:
 def tolerances(rtol: Any, atol: Any) -> tuple[float, float]:
     """``(rtol, atol)`` of an integration as positive floats, or a ValueError naming the bad one."""
     return positive("rtol", rtol), positive("atol", atol)
+
+
+def boolean(name: str, value: Any) -> bool:
+    """``value`` if it is a bool (Python or NumPy), else a ValueError naming ``name``.
+
+    A flag is not a number: ``check=0`` or ``check="no"`` (truthy!) is refused.
+    """
+    if not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"`{name}` must be True or False; got {_show(value)} "
+                         f"({type(value).__name__})")
+    return bool(value)

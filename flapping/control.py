@@ -86,6 +86,48 @@ SPEED_PITCH = (0, 3)
 #: The pitch-rate and pitch-angle pair.
 PITCH_RATE_ANGLE = (2, 3)
 
+#: Caps on the work an argument can ask for (each is far above the book's use): the delay in
+#: wingbeats (the closed loop is 4(d+1) square: eigenvalues cost (4(d+1))^3), the points of a
+#: gain grid (one eigenvalue problem each), the hover solves of a passive sweep or map, the
+#: wingbeats of a simulation (one nonlinear integration each) and the directions of a ray search.
+MAX_DELAY = 100
+MAX_GAIN_POINTS = 1_000_000
+MAX_HOVER_SOLVES = 10_000
+MAX_WINGBEATS = 100_000
+MAX_ANGLES = 100_000
+
+_STATE_NAMES = ("u", "w", "q", "theta")
+
+
+def _states(states: Any) -> tuple[int, int]:
+    """``states`` as two different indices into (u, w, q, theta), or a ValueError naming it."""
+    expected = "two different indices into (u, w, q, theta), integers in [0, 3]"
+    try:
+        pair = tuple(states)
+    except TypeError:
+        raise ValueError(f"`states` must be {expected}; got {states!r}") from None
+    ok = len(pair) == 2 and all(
+        isinstance(i, (int, np.integer)) and not isinstance(i, (bool, np.bool_))
+        and 0 <= i <= 3 for i in pair) and pair[0] != pair[1]
+    if not ok:
+        raise ValueError(f"`states` must be {expected}; got {states!r}")
+    return int(pair[0]), int(pair[1])
+
+
+def _delay(delay: Any, name: str = "delay") -> int:
+    """A delay in wingbeats, an integer in [0, MAX_DELAY]."""
+    return _validation.integer(name, delay, low=0, high=MAX_DELAY)
+
+
+def _margin(margin: Any) -> float:
+    """A stability margin in [0, 1): the radius sought is 1 - margin > 0."""
+    return _validation.real("margin", margin, low=0.0, high=1.0, high_open=True)
+
+
+def _pair(name: str, value: Any) -> np.ndarray:
+    """Two gains as a float64 array of shape (2,)."""
+    return _validation.vector(name, value, size=2)
+
 
 # =========================================================================== passive stability
 def hover_multipliers(insect: Insect, *, guess: HoverOrbit | None = None,
@@ -117,12 +159,16 @@ def hover_multipliers(insect: Insect, *, guess: HoverOrbit | None = None,
 
     Raises
     ------
+    ValueError
+        If ``insect`` is not an Insect, ``guess`` not a HoverOrbit, or ``backend`` unknown.
     ConvergenceError
         If the solve fails, or lands on an orbit that is not hover (past a symmetry-breaking
         bifurcation the solver can find drifting orbits beside the symmetric one).
     """
+    _validation.instance("insect", insect, Insect)
     kwargs: dict[str, Any] = {}
     if guess is not None:
+        _validation.instance("guess", guess, HoverOrbit)
         kwargs = {"amplitude_guess": guess.amplitude, "x0_guess": guess.x0}
     backend = _validation.choice("backend", backend, ("adaptive", "auto", "compiled"))
     if backend != "adaptive" and insect.hinge_offset == 0.0 and kernel.numba_available():
@@ -202,14 +248,14 @@ def passive_sweep(insect: Insect, hinge_heights: Any, *, backend: str = "auto") 
     Raises
     ------
     ValueError
-        If hinge_heights is not finite and increasing.
+        If hinge_heights is not finite, increasing and at most MAX_HOVER_SOLVES long, or
+        ``insect`` or ``backend`` is bad.
     ConvergenceError
         If a point has no hover orbit (see :func:`hover_multipliers`).
     """
     _validation.instance("insect", insect, Insect)
-    h = _validation.array("hinge_heights", hinge_heights)
-    if h.ndim != 1 or h.size < 1 or np.any(np.diff(h) <= 0):
-        raise ValueError("`hinge_heights` must be a non-empty increasing 1-d array [m]")
+    h = _hinge_heights(hinge_heights)
+    backend = _validation.choice("backend", backend, ("adaptive", "auto", "compiled"))
     orbits, mus = [], []
     guess = None
     for value in h:
@@ -219,6 +265,18 @@ def passive_sweep(insect: Insect, hinge_heights: Any, *, backend: str = "auto") 
         mus.append(mu)
     return PassiveSweep(insect, h, np.array([o.amplitude for o in orbits]), np.array(mus),
                         tuple(orbits), backend)
+
+
+def _hinge_heights(hinge_heights: Any, solves: int = 1) -> np.ndarray:
+    """Increasing hinge heights [m], 1-D, with at most MAX_HOVER_SOLVES solves in all."""
+    h = _validation.array("hinge_heights", hinge_heights)
+    if h.ndim != 1 or h.size < 1 or np.any(np.diff(h) <= 0):
+        raise ValueError("`hinge_heights` must be a non-empty increasing 1-d array [m]; got "
+                         f"shape {h.shape}")
+    if h.size * solves > MAX_HOVER_SOLVES:
+        raise ValueError(f"`hinge_heights` asks for {h.size * solves} hover solves; at most "
+                         f"{MAX_HOVER_SOLVES} are allowed")
+    return h
 
 
 def closest_approach(sweep: PassiveSweep) -> tuple[float, np.ndarray]:
@@ -237,7 +295,13 @@ def closest_approach(sweep: PassiveSweep) -> tuple[float, np.ndarray]:
         h_w [m] (bounded Brent search, xatol 1e-7 m).
     multipliers : ndarray, complex
         The multipliers there, by modulus.
+
+    Raises
+    ------
+    ValueError
+        If ``sweep`` is not a PassiveSweep.
     """
+    _validation.instance("sweep", sweep, PassiveSweep)
     h, m = sweep.hinge_heights, sweep.max_modulus
     i = int(np.argmin(m))
     lo, hi = float(h[max(i - 1, 0)]), float(h[min(i + 1, len(h) - 1)])
@@ -301,13 +365,30 @@ def locate_passive_crossing(sweep: PassiveSweep, bracket: tuple[int, int], *,
     Raises
     ------
     ValueError
-        If the bracket does not bracket a crossing.
+        If ``sweep`` is not a PassiveSweep, ``bracket`` not two increasing indices into it, or
+        it does not bracket a crossing.
     """
-    i, j = bracket
+    _validation.instance("sweep", sweep, PassiveSweep)
+    i, j = _bracket(bracket, len(sweep.hinge_heights))
+    check = _validation.boolean("check", check)
     if (sweep.max_modulus[i] - 1.0) * (sweep.max_modulus[j] - 1.0) >= 0:
         raise ValueError(f"`bracket` {bracket} does not bracket max |mu| = 1")
     return _locate(sweep, float(sweep.hinge_heights[i]), float(sweep.hinge_heights[j]),
                    sweep.orbits[i], bool(sweep.max_modulus[j] < 1.0), check)
+
+
+def _bracket(bracket: Any, n: int) -> tuple[int, int]:
+    """Two indices i < j into a sweep of ``n`` points."""
+    expected = f"two indices (i, j) with 0 <= i < j <= {n - 1}"
+    try:
+        i, j = bracket
+        i = _validation.integer("bracket[0]", i, low=0, high=n - 1)
+        j = _validation.integer("bracket[1]", j, low=0, high=n - 1)
+    except (TypeError, ValueError):
+        raise ValueError(f"`bracket` must be {expected}; got {bracket!r}") from None
+    if i >= j:
+        raise ValueError(f"`bracket` must be {expected}; got {bracket!r}")
+    return i, j
 
 
 def _locate(sweep: PassiveSweep, lo: float, hi: float, guess: HoverOrbit,
@@ -355,7 +436,14 @@ def stable_window(sweep: PassiveSweep, *,
     (entry, exit) : (PassiveCrossing, PassiveCrossing) or None
         None if ``max |mu|`` stays above 1; ``exit`` is the last point of the sweep's range
         (with ``kind`` ``"none"``) if hover is still stable there.
+
+    Raises
+    ------
+    ValueError
+        If ``sweep`` is not a PassiveSweep or ``check`` not a bool.
     """
+    _validation.instance("sweep", sweep, PassiveSweep)
+    check = _validation.boolean("check", check)
     h_min, mu_min = closest_approach(sweep)
     if np.abs(mu_min).max() >= 1.0:
         return None
@@ -444,14 +532,17 @@ def passive_map(insect: Insect, hinge_heights: Any, centers_of_pressure: Any, *,
     Raises
     ------
     ValueError
-        For a bad grid.
+        For a bad grid (or one of more than MAX_HOVER_SOLVES points), insect or backend.
     ConvergenceError
         If a point has no hover orbit.
     """
     _validation.instance("insect", insect, Insect)
     x = _validation.array("centers_of_pressure", centers_of_pressure)
     if x.ndim != 1 or x.size < 1 or np.any((x < 0) | (x > 1)):
-        raise ValueError("`centers_of_pressure` must be a non-empty 1-d array in [0, 1]")
+        raise ValueError("`centers_of_pressure` must be a non-empty 1-d array in [0, 1]; got "
+                         f"{x!r}")
+    _hinge_heights(hinge_heights, solves=x.size)
+    backend = _validation.choice("backend", backend, ("adaptive", "auto", "compiled"))
     rows = [passive_sweep(insect.with_(center_of_pressure=float(v)), hinge_heights,
                           backend=backend) for v in x]
     return PassiveMap(insect, rows[0].hinge_heights, x,
@@ -478,6 +569,12 @@ class WingbeatMap:
     M: np.ndarray
     B: np.ndarray
 
+    def __post_init__(self) -> None:
+        _validation.instance("orbit", self.orbit, HoverOrbit)
+        M, B = _system(self.M, self.B)
+        object.__setattr__(self, "M", M)
+        object.__setattr__(self, "B", B)
+
 
 def linear_wingbeat_map(orbit: HoverOrbit, *, rtol: float = 1e-12,
                         atol: float = 1e-12) -> WingbeatMap:
@@ -492,7 +589,16 @@ def linear_wingbeat_map(orbit: HoverOrbit, *, rtol: float = 1e-12,
     Returns
     -------
     WingbeatMap
+
+    Raises
+    ------
+    ValueError
+        If ``orbit`` is not a HoverOrbit or a tolerance is not positive.
+    ConvergenceError
+        If the variational integration fails.
     """
+    _validation.instance("orbit", orbit, HoverOrbit)
+    rtol, atol = _validation.tolerances(rtol, atol)
     model = orbit.model
     segments = range(len(model.breakpoints) + 1)
     signs = [segment_stroke_sign(k) for k in segments]
@@ -528,11 +634,46 @@ def closed_loop_matrix(M: Any, B: Any, K: Any, delay: int) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (n (d+1), n (d+1))
+
+    Raises
+    ------
+    ValueError
+        If M is not square, B not (n, m) or (n,), K not (m, n) (or (n,) for one input), an
+        entry is not finite, or the delay is not an integer in [0, MAX_DELAY].
     """
-    M = np.asarray(M, dtype=float)
-    B = np.asarray(B, dtype=float).reshape(M.shape[0], -1)
-    K = np.asarray(K, dtype=float).reshape(B.shape[1], M.shape[0])
-    d = _validation.integer("delay", delay, low=0)
+    M, B = _system(M, B)
+    return _closed_loop(M, B, _gain_matrix(K, B.shape[1], M.shape[0]), _delay(delay))
+
+
+def _system(M: Any, B: Any) -> tuple[np.ndarray, np.ndarray]:
+    """M as a finite (n, n) float64 array and B as a finite (n, m) one ((n,) becomes (n, 1))."""
+    M = _validation.array("M", M)
+    if M.ndim != 2 or M.shape[0] != M.shape[1] or M.size == 0:
+        raise ValueError(f"`M` must be a square 2-d array of shape (n, n); got shape {M.shape}")
+    n = M.shape[0]
+    B = _validation.array("B", B)
+    B = B.reshape(n, 1) if B.shape == (n,) else B
+    if B.ndim != 2 or B.shape[0] != n or B.shape[1] == 0:
+        raise ValueError(f"`B` must have shape ({n}, m) or ({n},), as M is {M.shape}; got shape "
+                         f"{B.shape}")
+    return M, B
+
+
+def _gain_matrix(K: Any, m: int, n: int) -> np.ndarray:
+    """K as a finite (m, n) float64 array; (n,) is accepted for one input (m = 1)."""
+    K = _validation.array("K", K)
+    if K.shape == (n,) and m == 1:
+        K = K.reshape(1, n)
+    if K.shape != (m, n):
+        one = f" or ({n},)" if m == 1 else ""
+        raise ValueError(f"`K` must have shape ({m}, {n}){one} for B of {m} input(s) and M of "
+                         f"{n} states; got shape {K.shape}")
+    return K
+
+
+def _closed_loop(M: np.ndarray, B: np.ndarray, K: np.ndarray, d: int) -> np.ndarray:
+    """:func:`closed_loop_matrix` of checked arguments (K of shape (m, n) or (n,))."""
+    K = K.reshape(B.shape[1], M.shape[0])
     n = M.shape[0]
     A = np.zeros((n * (d + 1), n * (d + 1)))
     A[:n, :n] = M
@@ -543,8 +684,23 @@ def closed_loop_matrix(M: Any, B: Any, K: Any, delay: int) -> np.ndarray:
 
 
 def spectral_radius(M: Any, B: Any, K: Any, delay: int) -> float:
-    """Largest eigenvalue modulus of :func:`closed_loop_matrix` (< 1: the loop is stable)."""
-    return float(np.abs(np.linalg.eigvals(closed_loop_matrix(M, B, K, delay))).max())
+    """Largest eigenvalue modulus of :func:`closed_loop_matrix` (< 1: the loop is stable).
+
+    Raises
+    ------
+    ValueError
+        For the arguments :func:`closed_loop_matrix` refuses.
+    """
+    return _radius(closed_loop_matrix(M, B, K, delay))
+
+
+def _radius(A: np.ndarray) -> float:
+    return float(np.abs(np.linalg.eigvals(A)).max())
+
+
+def _rho(wmap: WingbeatMap, gains: Any, states: tuple[int, ...], d: int) -> float:
+    """Spectral radius with two gains on ``states`` (checked arguments)."""
+    return _radius(_closed_loop(wmap.M, wmap.B, _gain_row(gains, states), d))
 
 
 def _gain_row(gains: Any, states: tuple[int, ...], n: int = 4) -> np.ndarray:
@@ -600,12 +756,22 @@ def gain_region(wmap: WingbeatMap, k1: Any, k2: Any, delay: int,
     Returns
     -------
     GainRegion
+
+    Raises
+    ------
+    ValueError
+        If ``wmap`` is not a WingbeatMap, a grid is empty, not finite or beyond
+        MAX_GAIN_POINTS points in all, the delay not an integer in [0, MAX_DELAY], or ``states``
+        not two different indices in [0, 3].
     """
-    a1 = _validation.array("k1", k1).ravel()
-    a2 = _validation.array("k2", k2).ravel()
-    radius = np.array([[spectral_radius(wmap.M, wmap.B, _gain_row((a, b), states), delay)
-                        for a in a1] for b in a2])
-    return GainRegion(a1, a2, radius, int(delay), tuple(states))
+    _validation.instance("wmap", wmap, WingbeatMap)
+    a1, a2 = _validation.vector("k1", k1), _validation.vector("k2", k2)
+    if a1.size * a2.size > MAX_GAIN_POINTS:
+        raise ValueError(f"`k1` and `k2` make a grid of {a1.size * a2.size} points; at most "
+                         f"{MAX_GAIN_POINTS} are allowed")
+    d, pair = _delay(delay), _states(states)
+    radius = np.array([[_rho(wmap, (a, b), pair, d) for a in a1] for b in a2])
+    return GainRegion(a1, a2, radius, d, pair)
 
 
 def optimal_gains(wmap: WingbeatMap, delay: int, *, start: Any = (0.0, 0.0),
@@ -634,13 +800,29 @@ def optimal_gains(wmap: WingbeatMap, delay: int, *, start: Any = (0.0, 0.0),
     gains : ndarray, shape (2,)
     radius : float
         The spectral radius at ``gains``.
+
+    Raises
+    ------
+    ValueError
+        If ``wmap`` is not a WingbeatMap, the delay not an integer in [0, MAX_DELAY], ``start``
+        not two finite gains, ``objective`` unknown, ``margin`` not in [0, 1), or ``states``
+        not two different indices in [0, 3].
     """
+    _validation.instance("wmap", wmap, WingbeatMap)
+    d, pair = _delay(delay), _states(states)
+    x0 = _pair("start", start)
     objective = _validation.choice("objective", objective, ("radius", "norm"))
+    margin = _margin(margin)
+    return _optimal_gains(wmap, d, x0, objective, margin, pair)
+
+
+def _optimal_gains(wmap: WingbeatMap, delay: int, x0: np.ndarray, objective: str,
+                   margin: float, states: tuple[int, ...]) -> tuple[np.ndarray, float]:
+    """:func:`optimal_gains` of checked arguments."""
 
     def rho(g: np.ndarray) -> float:
-        return spectral_radius(wmap.M, wmap.B, _gain_row(g, states), delay)
+        return _rho(wmap, g, states, delay)
 
-    x0 = np.asarray(start, dtype=float)
     if objective == "radius":
         res = optimize.minimize(rho, x0, method="Nelder-Mead",
                                 options={"xatol": 1e-8, "fatol": 1e-10, "maxiter": 4000})
@@ -685,13 +867,20 @@ def smallest_stabilising_gains(wmap: WingbeatMap, delay: int, r_max: float, *,
     Raises
     ------
     ValueError
-        If no gains of norm <= r_max reach the margin.
+        If no gains of norm <= r_max reach the margin; or for a bad argument: ``wmap`` not a
+        WingbeatMap, the delay not an integer in [0, MAX_DELAY], ``r_max`` not positive,
+        ``margin`` not in [0, 1), ``n_angles`` not an integer in [1, MAX_ANGLES], ``states``
+        not two different indices in [0, 3].
     """
-    target = 1.0 - margin
-    radii = np.linspace(0.0, float(r_max), 201)[1:]
+    _validation.instance("wmap", wmap, WingbeatMap)
+    d, pair = _delay(delay), _states(states)
+    r_max = _validation.positive("r_max", r_max)
+    target = 1.0 - _margin(margin)
+    n_angles = _validation.integer("n_angles", n_angles, low=1, high=MAX_ANGLES)
+    radii = np.linspace(0.0, r_max, 201)[1:]
 
     def rho(g: np.ndarray) -> float:
-        return spectral_radius(wmap.M, wmap.B, _gain_row(g, states), delay)
+        return _rho(wmap, g, pair, d)
 
     def first(angle: float) -> float:
         e = np.array([math.cos(angle), math.sin(angle)])
@@ -737,11 +926,20 @@ def delay_limit(wmap: WingbeatMap, max_delay: int = 8, start: Any = (0.0, 0.0),
         The largest stabilisable delay (-1 if none).
     best : list of float
         The smallest spectral radius found at each delay.
+
+    Raises
+    ------
+    ValueError
+        If ``wmap`` is not a WingbeatMap, ``max_delay`` not an integer in [0, MAX_DELAY],
+        ``start`` not two finite gains, or ``states`` not two different indices in [0, 3].
     """
-    best, gains = [], np.asarray(start, dtype=float)
+    _validation.instance("wmap", wmap, WingbeatMap)
+    max_delay, pair = _delay(max_delay, "max_delay"), _states(states)
+    first = _pair("start", start)
+    best, gains = [], first
     for d in range(max_delay + 1):
-        candidates = [optimal_gains(wmap, d, start=s, states=states)
-                      for s in (gains, gains / 2, start)]
+        candidates = [_optimal_gains(wmap, d, s, "radius", 0.02, pair)
+                      for s in (gains, gains / 2, first)]
         gains, radius = min(candidates, key=lambda c: c[1])
         best.append(radius)
     stable = [d for d, r in enumerate(best) if r < 1.0]
@@ -809,16 +1007,29 @@ def simulate_feedback(wmap: WingbeatMap, gains: Any, delay: int, disturbance: An
     Returns
     -------
     FeedbackSimulation
+
+    Raises
+    ------
+    ValueError
+        If ``wmap`` is not a WingbeatMap, ``gains`` not 2 or 4 finite numbers, the delay not an
+        integer in [0, MAX_DELAY], ``disturbance`` not 4 finite numbers, ``n_wingbeats`` not an
+        integer in [2, MAX_WINGBEATS], or ``states`` not two different indices in [0, 3].
     """
-    K = np.asarray(gains, dtype=float)
-    K = _gain_row(K, states) if K.size == 2 else K.reshape(4)
-    d = _validation.integer("delay", delay, low=0)
-    n = _validation.integer("n_wingbeats", n_wingbeats, low=2)
+    _validation.instance("wmap", wmap, WingbeatMap)
+    K = _validation.vector("gains", gains)
+    if K.size not in (2, 4):
+        raise ValueError(f"`gains` must have shape (2,) (on `states`) or (4,) (on u, w, q, "
+                         f"theta); got shape {K.shape}")
+    pair = _states(states)
+    K = _gain_row(K, pair) if K.size == 2 else K
+    d = _delay(delay)
+    push = _validation.vector("disturbance", disturbance, size=4)
+    n = _validation.integer("n_wingbeats", n_wingbeats, low=2, high=MAX_WINGBEATS)
     orbit = wmap.orbit
     model, x_star = orbit.model, orbit.x0
     phi_bar = model.insect.stroke_mean
     scale = np.abs(orbit.x).max(axis=1)
-    xs = [x_star + np.asarray(disturbance, dtype=float)]
+    xs = [x_star + push]
     us = []
     for k in range(n):
         seen = xs[k - d] - x_star if k - d >= 0 else np.zeros(4)
@@ -827,7 +1038,7 @@ def simulate_feedback(wmap: WingbeatMap, gains: Any, delay: int, disturbance: An
         xs.append(_one_wingbeat(model.with_stroke_mean(phi_bar + u), xs[k], orbit.period))
     x = np.array(xs).T
     dev = np.linalg.norm((x - x_star[:, None]) / scale[:, None], axis=0)
-    A = closed_loop_matrix(wmap.M, wmap.B, K, d)
+    A = _closed_loop(wmap.M, wmap.B, K, d)
     stacked = np.zeros(A.shape[0])
     stacked[:4] = xs[0] - x_star
     lin = [stacked[:4]]
