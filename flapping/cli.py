@@ -9,7 +9,8 @@ file (:mod:`flapping.model.insect_file`), and ``flapping species [--json]`` list
 (:mod:`flapping.sweep`).
 
 Exit status: 0 on success; 1 if the solver fails (no convergence, a failed integration, or a result
-that is not a finite number); 2 for bad arguments. Errors are one line on standard error.
+that is not a finite number); 2 for bad arguments; 130 after Ctrl-C (a sweep has printed the rows
+it finished). Errors and warnings are one line each on standard error, never a traceback.
 
 The JSON report (:func:`hover_report`) is in SI units (angles in rad unless the key ends in
 ``_deg``), and its ``units`` member gives the unit of every key. It never contains NaN or infinity:
@@ -32,7 +33,6 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-import flapping._validation as _validation
 from flapping import __version__
 from flapping.errors import ConvergenceError
 from flapping.hover import HoverOrbit, find_hover_orbit
@@ -62,7 +62,7 @@ _ATOL_UNIT = "SI units of each state (m/s, rad/s, rad; m for z)"
 _SHOOTING_UNITS: dict[str, str | None] = {
     "method": None, "rtol": _COUNT, "atol": _ATOL_UNIT,
     "tol": "SI units of each state (norm of the residual)", "jacobian": None, "success": None,
-    "nit": _COUNT, "nfev": _COUNT, "njev": _COUNT, "backend": None,
+    "nit": _COUNT, "nfev": _COUNT, "njev": _COUNT, "backend": None, "solved_by": None,
 }
 _STABILITY_UNITS: dict[str, str | None] = {
     "method": None, "rtol": _COUNT, "atol": _ATOL_UNIT, "rk4_steps": _COUNT, "n_average": _COUNT,
@@ -101,7 +101,8 @@ orbit of an insect and its Floquet multipliers."""
 _EXIT_CODES = """exit status:
   0  success
   1  the solver failed: no convergence, a failed integration, or a result that is not finite
-  2  bad command-line arguments"""
+  2  bad command-line arguments
+  130  interrupted (Ctrl-C); a sweep has printed the rows it finished"""
 
 _EPILOG = f"""`%(prog)s hover --help` describes hover, its options and the units of its output.
 
@@ -188,11 +189,15 @@ def _defaults(function: Callable, *names: str) -> dict[str, Any]:
 
 
 def _solver_report(orbit: HoverOrbit, shooting: dict, stability: dict) -> dict[str, dict]:
+    """The settings asked for and what the solve did (``jacobian`` and ``njev`` are null on the
+    compiled path, which has no scipy shooting result; ``solved_by`` names the path)."""
     result = orbit.shooting
     return {
-        "shooting": {**shooting, "jacobian": result.jacobian, "success": bool(result.success),
-                     "nit": int(result.nit), "nfev": int(result.nfev),
-                     "njev": int(result.njev)},
+        "shooting": {**shooting, "jacobian": None if result is None else result.jacobian,
+                     "success": True if result is None else bool(result.success),
+                     "nit": int(orbit.nit), "nfev": int(orbit.nfev),
+                     "njev": None if result is None else int(result.njev),
+                     "solved_by": orbit.backend},
         "stability": dict(stability),
     }
 
@@ -314,19 +319,14 @@ def _one_line(text: object) -> str:
     return " ".join(str(text).split())
 
 
-def _sweep(args: argparse.Namespace, prog: str) -> int:
-    """The ``sweep`` subcommand: one row per point on standard output (see flapping.sweep)."""
-    try:
-        text = run_sweep_command(args, PRESETS[args.insect]())
-    except (ValueError, ImportError) as exc:
-        print(f"{prog}: error: {_one_line(exc)}", file=sys.stderr)
-        return 1
+def _write(text: str) -> bool:
+    """Print ``text``; False (no traceback) if the reader has gone (``flapping ... | head``)."""
     try:
         print(text, flush=True)
-    except BrokenPipeError:  # the reader left early (`flapping sweep ... | head`)
+    except BrokenPipeError:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 1
-    return 0
+        return False
+    return True
 
 
 def _insect_argument(parser: argparse.ArgumentParser, spec: str) -> Insect:
@@ -350,12 +350,28 @@ def _species(as_json: bool) -> int:
             f"{r['name']:<10} {r['species']:<30} {r['mass_kg'] * 1e6:>10.4g} "
             f"{r['wing_length_m'] * 1e3:>7.4g} {r['frequency_hz']:>7.4g}  {r['source']}"
             for r in rows])
+    return 0 if _write(text) else 1
+
+
+def _hover(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
+    """The ``hover`` subcommand: the report as text or one JSON object."""
+    insect = _insect_argument(parser, args.insect)
     try:
-        print(text, flush=True)
-    except BrokenPipeError:  # the reader left early (`flapping species | head`)
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        report = hover_report(insect, args.aerodynamics)
+        text = json.dumps(report, allow_nan=False) if args.json else _text(report)
+    except (ValueError, ConvergenceError, ArithmeticError) as exc:
+        print(f"{parser.prog}: error: {_one_line(exc)}", file=sys.stderr)
         return 1
-    return 0
+    return 0 if _write(text) else 1
+
+
+def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
+    args = parser.parse_args(argv)
+    if args.command == "sweep":
+        return _sweep(parser, args)
+    if args.command == "species":
+        return _species(args.json)
+    return _hover(parser, args)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -369,36 +385,38 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        0 on success, 1 if the solver fails or its result is not finite. Bad arguments exit
-        (SystemExit) with status 2; ``--help`` and ``--version`` with 0.
+        0 on success, 1 if the solver fails or its result is not finite, 130 if interrupted
+        (Ctrl-C; a sweep has written the rows it finished). Bad arguments exit (SystemExit)
+        with status 2 and one line on standard error; ``--help`` and ``--version`` with 0.
+        Warnings are printed once each, one line each, after the output.
     """
     parser = _parser()
-    args = parser.parse_args(argv)
-    if args.command == "sweep":
-        return _sweep(args, parser.prog)
-    if args.command == "species":
-        return _species(args.json)
-    insect = _insect_argument(parser, args.insect)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            report = hover_report(insect, args.aerodynamics)
-            text = json.dumps(report, allow_nan=False) if args.json else _text(report)
-        except (ValueError, ConvergenceError, ArithmeticError) as exc:
-            print(f"{parser.prog}: error: {_one_line(exc)}", file=sys.stderr)
-            return 1
-    for message in dict.fromkeys(_one_line(w.message) for w in caught):
-        print(f"{parser.prog}: warning: {message}", file=sys.stderr)
-    try:
-        print(text, flush=True)
-    except BrokenPipeError:  # the reader left early (`flapping hover | head`): no traceback
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 1
-    return 0
-
+            status = _run(parser, argv)
+        except KeyboardInterrupt:
+            print(f"{parser.prog}: interrupted", file=sys.stderr)
+            status = _INTERRUPTED
+        finally:
+            for message in dict.fromkeys(_one_line(w.message) for w in caught):
+                print(f"{parser.prog}: warning: {message}", file=sys.stderr)
+    return status
 
 
 # =========================================================================== sweep
+#: Exit status after Ctrl-C (128 + SIGINT, as shells report it).
+_INTERRUPTED = 130
+
+#: Most points a ``sweep`` grid may have (all --param sizes multiplied): about ten minutes of
+#: compiled solves on one core. A larger N would allocate or run for ever before the first row.
+MAX_SWEEP_POINTS = 1_000_000
+
+#: Points solved per call of sweep_hover (per worker): the rows printed, and kept on Ctrl-C, a
+#: block at a time. A multiple of the sweep's chunk of 50 warm-started points, so that a
+#: one-parameter sweep is solved exactly as by a single call.
+_BLOCK_POINTS = 200
+
 _CLI_HELP = """\
 Evaluate the hover orbit and its Floquet multipliers (compiled kernel, eq. 29's linear loads) over
 a grid of insect parameters and print one row per point: the swept parameters (SI units), the
@@ -406,33 +424,42 @@ stroke amplitude Phi [deg], the initial state u0, w0 [m/s], q0 [rad/s], theta0 [
 multipliers (real and imaginary parts, by descending modulus), max |mu|, stable, converged, the
 error estimates, the Newton iterations and steps per half-stroke, and why a point failed."""
 
-_CLI_EPILOG = """\
+_CLI_EPILOG = f"""\
 --param NAME=LO:HI:N takes N values from LO to HI inclusive (numpy.linspace) of an Insect field
 (frequency [Hz], center_of_pressure [fraction of the chord], mass [kg], ...); repeat it for a
-full grid. --csv (default) prints a header and one line per point; --json one JSON object per
-line (JSON Lines, null for a missing value). --workers K runs on K local processes.
+full grid of at most {MAX_SWEEP_POINTS} points. --csv (default) prints a header and one line per
+point; --json one JSON object per line (JSON Lines, null for a missing or non-finite value).
+--workers K runs on K local processes. Rows are printed as they are solved, in grid order; Ctrl-C
+stops the sweep with the rows finished so far printed (exit status 130).
 example: %(prog)s --insect hawkmoth --param frequency=20:32:1000 --csv"""
 
 
 def _param(text: str) -> tuple[str, np.ndarray]:
-    """Parse NAME=LO:HI:N into (name, values)."""
+    """Parse NAME=LO:HI:N into (name, values), or an ArgumentTypeError saying what is wrong."""
     try:
         name, spec = text.split("=", 1)
-        lo, hi, n = spec.split(":")
-        values = np.linspace(float(lo), float(hi), int(n))
+        lo_text, hi_text, n_text = spec.split(":")
+        lo, hi, n = float(lo_text), float(hi_text), int(n_text)
     except ValueError:
         raise argparse.ArgumentTypeError(
-            f"expected NAME=LO:HI:N (e.g. frequency=20:32:100), got {text!r}") from None
+            f"expected NAME=LO:HI:N (e.g. frequency=20:32:100), got {text[:80]!r}") from None
     if name not in SWEEPABLE:
         raise argparse.ArgumentTypeError(
             f"unknown Insect field {name!r}; choose from {', '.join(SWEEPABLE)}")
-    if int(n) < 1:
-        raise argparse.ArgumentTypeError(f"N must be >= 1 in {text!r}")
-    return name, values
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise argparse.ArgumentTypeError(f"LO and HI must be finite numbers in {text!r}")
+    if not 1 <= n <= MAX_SWEEP_POINTS:
+        raise argparse.ArgumentTypeError(
+            f"N must be an integer in [1, {MAX_SWEEP_POINTS}] in {text!r}")
+    return name, np.linspace(lo, hi, n)
+
+
+def _max_workers() -> int:
+    return 4 * (os.cpu_count() or 1)
 
 
 def add_sweep_parser(subparsers: Any, presets: Sequence[str]) -> None:
-    """Add the ``sweep`` subcommand to the CLI's subparsers (see :func:`run_sweep_command`)."""
+    """Add the ``sweep`` subcommand to the CLI's subparsers (run by :func:`main`)."""
     parser = subparsers.add_parser("sweep", help="hover and its multipliers over a parameter grid",
                                    description=_CLI_HELP, epilog=_CLI_EPILOG,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -444,31 +471,96 @@ def add_sweep_parser(subparsers: Any, presets: Sequence[str]) -> None:
     form.add_argument("--csv", action="store_true", help="CSV with a header (default)")
     form.add_argument("--json", action="store_true", help="one JSON object per line")
     parser.add_argument("--workers", type=int, default=1, metavar="K",
-                        help="local worker processes (default: %(default)s, in this process)")
+                        help="local worker processes, 1 to 4 per core (default: %(default)s, "
+                             "in this process)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
-def run_sweep_command(args: Any, insect: Insect) -> str:
-    """Run the ``sweep`` subcommand's sweep and return its text (CSV or JSON Lines).
-
-    Raises
-    ------
-    ValueError
-        For a repeated parameter or ``--workers`` < 1.
-    """
-    from concurrent.futures import ProcessPoolExecutor
-
+def _sweep_grid(parser: argparse.ArgumentParser, args: argparse.Namespace) -> dict[str, Any]:
+    """The grid of the ``--param`` options, or exit 2 naming what is wrong."""
     grid = dict(args.param)
     if len(grid) != len(args.param):
-        raise ValueError("each --param NAME may be given once")
-    workers = _validation.integer("--workers", args.workers, low=1)
-    progress = not args.quiet and sys.stderr.isatty()
-    if workers == 1:
-        table = sweep_hover(insect, grid, progress=progress)
-    else:
-        with ProcessPoolExecutor(workers) as pool:
-            table = sweep_hover(insect, grid, progress=progress, executor=pool)
-    if args.json:
+        parser.error("argument --param: each NAME may be given once")
+    size = math.prod(len(v) for v in grid.values())
+    if size > MAX_SWEEP_POINTS:
+        parser.error(f"argument --param: the grid has {size} points; at most "
+                     f"{MAX_SWEEP_POINTS} are allowed")
+    if not 1 <= args.workers <= _max_workers():
+        parser.error(f"argument --workers: must be an integer in [1, {_max_workers()}] (4 per "
+                     f"core); got {args.workers}")
+    return grid
+
+
+def _blocks(grid: dict[str, Any], points: int) -> Any:
+    """Sub-grids of about ``points`` points, slices of the first parameter: in grid (C) order."""
+    first, *rest = grid
+    inner = math.prod(len(grid[name]) for name in rest)
+    step = max(1, points // inner)
+    for i in range(0, len(grid[first]), step):
+        yield {first: grid[first][i:i + step], **{name: grid[name] for name in rest}}
+
+
+def _json_value(value: Any) -> Any:
+    """A table cell as JSON: null for a missing or non-finite number, Python types otherwise."""
+    if value is None or isinstance(value, str):
+        return value
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    number = float(value)
+    return number if math.isfinite(number) else None
+
+
+def _rows_text(table: Any, as_json: bool, header: bool) -> str:
+    """A block of sweep rows as CSV (with the header if asked) or JSON Lines."""
+    if as_json:
         records = table.astype(object).where(table.notna(), None).to_dict("records")
-        return "\n".join(json.dumps(r, allow_nan=False) for r in records)
-    return str(table.to_csv(index=False, float_format="%.17g")).rstrip("\n")
+        return "\n".join(json.dumps({k: _json_value(v) for k, v in r.items()}, allow_nan=False)
+                         for r in records)
+    text = table.to_csv(index=False, header=header, float_format="%.17g")
+    return str(text).rstrip("\n")
+
+
+def _ignore_sigint() -> None:
+    """Worker initializer: Ctrl-C is the parent's to handle (no traceback per worker)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
+    """The ``sweep`` subcommand: rows on standard output, a block at a time (see flapping.sweep).
+
+    Ctrl-C stops it after the rows finished so far (exit 130); a bad grid exits 2; a sweep that
+    cannot run (pandas or tqdm missing) exits 1.
+    """
+    grid = _sweep_grid(parser, args)
+    insect = PRESETS[args.insect]()
+    total, done = math.prod(len(v) for v in grid.values()), 0
+    pool = None
+    try:
+        from concurrent.futures import ProcessPoolExecutor
+
+        from tqdm import tqdm
+
+        if args.workers > 1:
+            pool = ProcessPoolExecutor(args.workers, initializer=_ignore_sigint)
+        show = not args.quiet and sys.stderr.isatty()
+        with tqdm(total=total, disable=not show, unit="orbit", desc="hover sweep") as bar:
+            for block in _blocks(grid, _BLOCK_POINTS * args.workers):
+                table = sweep_hover(insect, block, progress=False, executor=pool)
+                if not _write(_rows_text(table, args.json, header=done == 0 and not args.json)):
+                    return 1
+                done += len(table)
+                bar.update(len(table))
+    except KeyboardInterrupt:
+        print(f"{parser.prog}: interrupted: {done} of {total} points written", file=sys.stderr)
+        return _INTERRUPTED
+    except (ValueError, ImportError) as exc:
+        print(f"{parser.prog}: error: {_one_line(exc)}", file=sys.stderr)
+        return 1
+    finally:
+        if pool is not None:
+            pool.shutdown(wait=False, cancel_futures=True)
+    return 0

@@ -35,11 +35,14 @@ from typing import Any
 from flapping.model.morphology import Insect
 from flapping.model.presets import PRESETS
 
-__all__ = ["FILE_SUFFIXES", "INSECT_FIELDS", "REQUIRED_FIELDS", "insect_from_mapping",
-           "load_insect", "resolve_insect"]
+__all__ = ["FILE_SUFFIXES", "INSECT_FIELDS", "MAX_FILE_BYTES", "REQUIRED_FIELDS",
+           "insect_from_mapping", "load_insect", "resolve_insect"]
 
 #: File suffixes :func:`load_insect` reads.
 FILE_SUFFIXES = (".toml", ".json")
+
+#: Largest insect file read [bytes]: the fields take a few hundred.
+MAX_FILE_BYTES = 1_000_000
 
 #: The fields of :class:`Insect` a file may set.
 INSECT_FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(Insect) if f.init)
@@ -112,21 +115,28 @@ def load_insect(path: str | Path) -> Insect:
     Raises
     ------
     ValueError
-        If the suffix is not ``.toml`` or ``.json``, the file cannot be read or parsed, or its
-        content is not a valid insect (:func:`insect_from_mapping`); the message names the file.
+        If the suffix is not ``.toml`` or ``.json``, the file cannot be read or parsed (or is
+        larger than :data:`MAX_FILE_BYTES`, or nested too deeply to parse), or its content is not
+        a valid insect (:func:`insect_from_mapping`); the message names the file.
     """
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in FILE_SUFFIXES:
         raise ValueError(f"{path}: an insect file must end in {' or '.join(FILE_SUFFIXES)}")
     try:
-        text = path.read_text(encoding="utf-8")
+        with path.open("rb") as file:
+            raw = file.read(MAX_FILE_BYTES + 1)  # bounded: a device or a huge file is refused
+        text = raw.decode("utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise ValueError(f"{path}: cannot read the insect file ({exc})") from None
+    if len(raw) > MAX_FILE_BYTES:
+        raise ValueError(f"{path}: an insect file holds a few fields; this one is larger than "
+                         f"{MAX_FILE_BYTES} bytes")
     try:
         data = tomllib.loads(text) if suffix == ".toml" else json.loads(text)
-    except (tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
-        raise ValueError(f"{path}: not valid {suffix[1:].upper()} ({exc})") from None
+    except (ValueError, RecursionError) as exc:  # decode errors, too-long integers, deep nesting
+        reason = "nested too deeply" if isinstance(exc, RecursionError) else str(exc)
+        raise ValueError(f"{path}: not valid {suffix[1:].upper()} ({reason})") from None
     return insect_from_mapping(data, where=str(path))
 
 
