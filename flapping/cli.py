@@ -20,14 +20,16 @@ a non-finite result is an error (status 1), not a number a JSON parser may refus
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import inspect
 import json
 import math
 import os
+import signal
 import sys
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
@@ -522,10 +524,30 @@ def _rows_text(table: Any, as_json: bool, header: bool) -> str:
     return str(text).rstrip("\n")
 
 
+@contextlib.contextmanager
+def _sigint_deferred() -> Iterator[None]:
+    """Hold Ctrl-C (SIGINT) until the block ends, then raise KeyboardInterrupt as usual.
+
+    Without it a Ctrl-C during a large write cuts a row in half, or lands between writing rows
+    and counting them. A handler that only records the signal, rather than a signal mask: the
+    executor's threads would receive a masked SIGINT in the main thread's place.
+    """
+    pending: list[int] = []
+    try:
+        previous = signal.signal(signal.SIGINT, lambda signum, frame: pending.append(signum))
+    except ValueError:  # not the main thread: signals cannot be handled here anyway
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        if pending:
+            raise KeyboardInterrupt
+
+
 def _ignore_sigint() -> None:
     """Worker initializer: Ctrl-C is the parent's to handle (no traceback per worker)."""
-    import signal
-
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
@@ -550,9 +572,10 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         with tqdm(total=total, disable=not show, unit="orbit", desc="hover sweep") as bar:
             for block in _blocks(grid, _BLOCK_POINTS * args.workers):
                 table = sweep_hover(insect, block, progress=False, executor=pool)
-                if not _write(_rows_text(table, args.json, header=done == 0 and not args.json)):
-                    return 1
-                done += len(table)
+                with _sigint_deferred():  # a row is written whole, and counted, or not at all
+                    if not _write(_rows_text(table, args.json, header=done == 0 and not args.json)):
+                        return 1
+                    done += len(table)
                 bar.update(len(table))
     except KeyboardInterrupt:
         print(f"{parser.prog}: interrupted: {done} of {total} points written", file=sys.stderr)
