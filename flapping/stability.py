@@ -211,14 +211,11 @@ def hover_stability(
     orbit = _validation.instance("orbit", orbit, HoverOrbit)
     n_average = _validation.integer("n_average", n_average, low=1, high=1 << 16)
     rtol, atol = _validation.tolerances(rtol, atol)
-    model = orbit.model
-    # "auto" analyses an orbit on the path that solved it (an adaptive orbit keeps the adaptive
-    # path's accuracy and diagnostics); the kernel where it applies otherwise.
-    follow = backend == "auto" and orbit.backend == "adaptive"
-    compiled = not follow and use_kernel(backend, model, method == "DOP853")
+    compiled = _use_kernel(orbit, backend, method)
     if compiled:
         matrix, values, det, liouville, trace = _kernel_monodromy(orbit)
     else:
+        model = orbit.model
         rhs, jac = model.segment_functions()
         mon = monodromy(rhs, orbit.x0, orbit.period, jac=jac, breakpoints=model.breakpoints,
                         method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps)
@@ -238,9 +235,20 @@ def hover_stability(
                           _frozen(averaged), _frozen(avg_eig, complex), float(trace))
 
 
+def _use_kernel(orbit: HoverOrbit, backend: str, method: str) -> bool:
+    """Whether the analysis runs on the compiled kernel (the orbit's problem decides)."""
+    # "auto" analyses an orbit on the path that solved it (an adaptive orbit keeps the adaptive
+    # path's accuracy and diagnostics); the kernel where it applies otherwise.
+    if backend == "auto" and orbit.backend == "adaptive":
+        return False
+    if orbit.problem is None:
+        return use_kernel(backend, orbit.model, method == "DOP853")
+    return orbit.problem.backend(backend, adaptive_options=method != "DOP853") == "compiled"
+
+
 def _kernel_problem(orbit: HoverOrbit) -> _kernel.KernelProblem:
     """The orbit's insect packed for the kernel (the problem's own packing when it has one)."""
-    if orbit.problem is not None and orbit.problem.alpha_m == orbit.model.alpha_m:
+    if orbit.problem is not None:
         return orbit.problem.kernel_problem
     return _kernel.KernelProblem.of(orbit.model.insect, orbit.model.alpha_m)
 

@@ -37,7 +37,7 @@ from flapping.errors import ConvergenceError, HoverDriftWarning
 from flapping.fast import kernel
 from flapping.hover import HoverOrbit, HoverProblem, find_hover_orbit
 from flapping.model.morphology import Insect
-from flapping.stability import HoverStability, hover_stability
+from flapping.stability import hover_stability
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas
@@ -120,7 +120,7 @@ def _snake(shape: tuple[int, ...]) -> list[int]:
 
 
 # =========================================================================== one point
-def _row(orbit: HoverOrbit | None, stab: HoverStability | None, message: str,
+def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
          backend: str) -> dict[str, Any]:
     """The result columns of one point (NaN where there is no answer).
 
@@ -131,12 +131,11 @@ def _row(orbit: HoverOrbit | None, stab: HoverStability | None, message: str,
     row: dict[str, Any] = dict.fromkeys(COLUMNS, math.nan)
     row.update(converged=False, stable=False, status=-1, nit=0, n_steps=0, backend=backend,
                message=message)
-    if orbit is None or stab is None:
+    if orbit is None or mu is None:
         return row
-    mu = stab.multipliers
     v = orbit.mean_inertial_velocity
-    row.update(amplitude_deg=orbit.amplitude_deg, alpha_m_deg=math.degrees(orbit.model.alpha_m),
-               max_abs_mu=float(np.max(np.abs(mu))), stable=stab.is_stable,
+    row.update(amplitude_deg=orbit.amplitude_deg, alpha_m_deg=math.degrees(orbit.alpha_m),
+               max_abs_mu=float(np.max(np.abs(mu))), stable=bool(np.all(np.abs(mu) < 1.0)),
                converged=orbit.is_hover, status=int(orbit.status), forward_speed=v["forward"],
                climb_speed=v["climb"], nit=orbit.nit, backend=orbit.backend,
                message="" if orbit.is_hover else orbit.message)
@@ -149,8 +148,16 @@ def _row(orbit: HoverOrbit | None, stab: HoverStability | None, message: str,
     return row
 
 
+def _multipliers(orbit: HoverOrbit) -> np.ndarray:
+    """The orbit's Floquet multipliers: the kernel's (its last Newton integration), or those of
+    :func:`~flapping.stability.hover_stability` (a sweep needs no averaged system)."""
+    if orbit.kernel is not None:
+        return np.asarray(orbit.kernel.multipliers)
+    return hover_stability(orbit).multipliers
+
+
 def _solve_point(insect: Insect, settings: _Settings,
-                 start: HoverOrbit | None) -> tuple[HoverOrbit, HoverStability]:
+                 start: HoverOrbit | None) -> tuple[HoverOrbit, np.ndarray]:
     """One point: warm-started from ``start`` (then cold if that fails)."""
     problem = HoverProblem(insect)
     options: dict[str, Any] = {"backend": settings.backend, "kernel_options": {
@@ -169,7 +176,7 @@ def _solve_point(insect: Insect, settings: _Settings,
                 # a neighbour across a fold or a failure: start afresh
         if orbit is None:
             orbit = find_hover_orbit(problem, **options)
-    return orbit, hover_stability(orbit, backend=settings.backend)
+    return orbit, _multipliers(orbit)
 
 
 def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insect],
@@ -184,12 +191,12 @@ def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insec
     for point in points:
         try:
             insect = point if isinstance(point, Insect) else _with(base, point)
-            orbit, stab = _solve_point(insect, settings, start)
+            orbit, mu = _solve_point(insect, settings, start)
         except (ValueError, ConvergenceError, ArithmeticError, np.linalg.LinAlgError) as exc:
             rows.append(_row(None, None, f"{type(exc).__name__}: {exc}", settings.backend))
             start = None
             continue
-        rows.append(_row(orbit, stab, "", settings.backend))
+        rows.append(_row(orbit, mu, "", settings.backend))
         start = orbit
     return rows
 

@@ -205,6 +205,11 @@ class HoverOrbit:
         return model if self.amplitude == model.amplitude else model.with_amplitude(self.amplitude)
 
     @property
+    def alpha_m(self) -> float:
+        """Mean geometric angle of attack [rad], held while the trims were solved for."""
+        return self.model.alpha_m if self.problem is None else float(self.problem.alpha_m)
+
+    @property
     def period(self) -> float:
         """Flapping period T [s]."""
         return self.model.period if self.problem is None else self.problem.period

@@ -35,7 +35,7 @@ from flapping.model.dynamics import (
     inertial_velocity,
     inertial_velocity_jac,
 )
-from flapping.model.kinematics import check_alpha_m, segment_stroke_sign
+from flapping.model.kinematics import check_alpha_m, check_amplitude, segment_stroke_sign
 from flapping.model.morphology import Insect
 
 __all__ = ["BACKENDS", "DEFAULT_BACKEND", "TRIMS", "HoverProblem"]
@@ -133,8 +133,8 @@ class HoverProblem:
 
     def guess(self, amplitude: float | None = None) -> np.ndarray:
         """The trims' starting values: [Phi] or [Phi, phi_bar] (default the insect's own)."""
-        amp = self.insect.stroke_amplitude if amplitude is None else amplitude
-        self.model.with_amplitude(amp)  # validates it
+        amp = check_amplitude(self.insect.stroke_amplitude if amplitude is None else amplitude,
+                              "amplitude_guess")
         return np.array([amp, self.insect.stroke_mean][: self.n_conditions], dtype=float)
 
     def backend(self, backend: str = DEFAULT_BACKEND, *, adaptive_options: bool = False) -> str:
