@@ -40,7 +40,6 @@ capped (:data:`CAPS`): a ``max_steps`` of 10**12 is a typo that would run for da
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass, fields
 from typing import Any
@@ -53,7 +52,7 @@ from flapping.errors import ToleranceWarning
 from flapping.periodic.rk4 import RK4
 
 __all__ = ["SolverSettings", "METHODS", "MAX_STEPS", "RTOL_FLOOR", "CAPS", "check_field",
-           "check_rtol", "check_atol", "capped"]
+           "check_rtol", "check_atol", "check_method", "capped", "resolve"]
 
 #: Integration methods by name: scipy's and the fixed-step ``"RK4"``.
 METHODS: dict[str, type[OdeSolver]] = {
@@ -242,7 +241,3 @@ def resolve(settings: Any, defaults: dict[str, Any], **explicit: Any) -> dict[st
 
 _EMPTY = SolverSettings()
 
-
-def is_inf(value: Any) -> bool:
-    """Whether ``value`` is the float infinity (an accepted "no limit" for some options)."""
-    return isinstance(value, (float, np.floating)) and value == math.inf
