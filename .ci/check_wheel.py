@@ -12,6 +12,9 @@ from pathlib import Path
 REQUIRED = [
     "flapping/__init__.py",
     "flapping/__main__.py",
+    "flapping/cli.py",
+    "flapping/hover/__init__.py",
+    "flapping/studies/__init__.py",
     "flapping/py.typed",
     "flapping/model/__init__.py",
     "flapping/model/_derivatives_generated.py",

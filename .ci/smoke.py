@@ -60,7 +60,7 @@ def fast() -> None:
 
 
 def _table(executor=None):
-    from flapping.sweep import sweep_hover
+    from flapping.studies.sweep import sweep_hover
 
     return sweep_hover(flapping.hawkmoth(), {"frequency": [25.0, 26.3, 27.0]},
                        executor=executor, progress=False)

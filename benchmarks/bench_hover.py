@@ -1,7 +1,7 @@
 """Benchmark: the hawkmoth's hover orbit plus its Floquet multipliers, ours against a baseline.
 
 Ours: :func:`flapping.hover.find_hover_orbit` (variational Jacobian, segment-aware DOP853) and
-:func:`flapping.stability.hover_stability` (variational monodromy).
+:func:`flapping.hover.stability.hover_stability` (variational monodromy).
 Baseline: the straightforward approach at the same tolerance -- MINPACK Levenberg-Marquardt with a
 finite-difference Jacobian over ``solve_ivp`` flows of the augmented state, and the monodromy by
 central differences of the flow.
@@ -22,8 +22,8 @@ from scipy.optimize import least_squares
 
 import flapping
 from flapping.hover import find_hover_orbit
+from flapping.hover.stability import hover_stability
 from flapping.model.dynamics import LongitudinalDynamics
-from flapping.stability import hover_stability
 
 RTOL, ATOL = 1e-11, 1e-12
 

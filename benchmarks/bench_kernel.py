@@ -37,7 +37,7 @@ import numpy as np
 
 import flapping
 from flapping.fast.kernel import KernelProblem, orbit_quadrature, solve_hover
-from flapping.sweep import sweep_hover
+from flapping.studies.sweep import sweep_hover
 
 sys.path.insert(0, str(Path(__file__).parent))
 from _timing import best_of  # noqa: E402

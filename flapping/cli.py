@@ -6,7 +6,7 @@ file (:mod:`flapping.model.insect_file`), and ``flapping species [--json]`` list
 ``flapping --version`` prints the package version.
 ``flapping sweep --insect hawkmoth --param frequency=LO:HI:N [--param NAME=LO:HI:N] [--csv |
 --json] [--workers K]`` prints hover and its multipliers over a parameter grid, one row per point
-(:mod:`flapping.sweep`).
+(:mod:`flapping.studies.sweep`).
 
 Exit status: 0 on success; 1 if the solver fails (no convergence, a failed integration, or a result
 that is not a finite number); 2 for bad arguments; 130 after Ctrl-C (a sweep has printed the rows
@@ -38,12 +38,12 @@ import numpy as np
 from flapping import __version__
 from flapping.errors import ConvergenceError
 from flapping.hover import HoverOrbit, find_hover_orbit
+from flapping.hover.stability import HoverStability, hover_stability
 from flapping.model import presets as species
 from flapping.model.dynamics import AERODYNAMIC_MODELS, STATE_NAMES
 from flapping.model.insect_file import resolve_insect
 from flapping.model.morphology import Insect
-from flapping.stability import HoverStability, hover_stability
-from flapping.sweep import SWEEPABLE, sweep_hover
+from flapping.studies.sweep import SWEEPABLE, sweep_hover
 
 __all__ = ["PRESETS", "UNITS", "NonFiniteResultError", "hover_report", "main"]
 
@@ -552,7 +552,7 @@ def _ignore_sigint() -> None:
 
 
 def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
-    """The ``sweep`` subcommand: rows on standard output, a block at a time (see flapping.sweep).
+    """The ``sweep`` subcommand: rows on standard output, a block at a time (studies.sweep).
 
     Ctrl-C stops it after the rows finished so far (exit 130); a bad grid exits 2; a sweep that
     cannot run (pandas or tqdm missing) exits 1.

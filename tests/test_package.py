@@ -41,7 +41,16 @@ ALLOWED = {
     "model": ("flapping.model", "flapping.errors", "flapping._validation", "flapping._numdiff"),
     "fast": ("flapping.fast", "flapping.model", "flapping.errors", "flapping._validation",
              "flapping._numdiff"),
+    "hover": ("flapping.hover", "flapping.fast", "flapping.model", "flapping.periodic",
+              "flapping.errors", "flapping._validation", "flapping._numdiff"),
+    "studies": ("flapping.studies", "flapping.hover", "flapping.fast", "flapping.model",
+                "flapping.periodic", "flapping.errors", "flapping._validation",
+                "flapping._numdiff"),
 }
+
+#: The modules at the top of the package: the namespace, the command line and the shared
+#: helpers every layer may use; everything else lives in a layer's subpackage.
+TOP_LEVEL = {"__init__", "__main__", "cli", "errors", "_validation", "_numdiff"}
 
 
 @pytest.mark.parametrize("layer", sorted(ALLOWED))
@@ -95,3 +104,35 @@ def test_the_top_level_namespace_offers_the_main_entry_points():
                  "find_periodic_orbit", "monodromy", "ConvergenceError"):
         assert name in flapping.__all__ and hasattr(flapping, name)
     assert not hasattr(flapping, "plotting")  # book helpers stay out of the namespace
+
+
+def test_the_top_of_the_package_holds_only_a_handful_of_modules():
+    assert {p.stem for p in PACKAGE.glob("*.py")} == TOP_LEVEL
+
+
+def test_a_study_imports_no_other_study():
+    studies = {p.stem for p in (PACKAGE / "studies").glob("*.py")} - {"__init__"}
+    for path in (PACKAGE / "studies").glob("*.py"):
+        others = {f"flapping.studies.{s}" for s in studies - {path.stem}}
+        assert not {n for n in _imported_modules(path) if n.startswith(tuple(others))}, path
+
+
+@pytest.mark.parametrize("old", sorted(flapping.MOVED_MODULES))
+def test_moved_modules_stay_importable_as_the_same_module(old):
+    import importlib
+
+    assert importlib.import_module(old) is importlib.import_module(flapping.MOVED_MODULES[old])
+
+
+def test_the_names_users_import_today_stay_importable():
+    from flapping.sweep import sweep_hover
+
+    from flapping.model.presets import preset
+    from flapping.periodic.continuation import continue_orbit
+    from flapping.periodic.floquet import monodromy
+    from flapping.periodic.shooting import find_periodic_orbit
+
+    assert callable(preset) and callable(continue_orbit) and callable(monodromy)
+    assert callable(find_periodic_orbit) and flapping.sweep_hover is sweep_hover
+    for name in ("find_hover_orbit", "hover_stability", "hawkmoth", "HoverProblem"):
+        assert hasattr(flapping, name)

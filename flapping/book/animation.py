@@ -38,10 +38,10 @@ from flapping.book.schematic import draw_body
 from flapping.book.style import LOAD_COLORS, SOURCE_COLORS, STATE_COLORS
 from flapping.errors import require_success
 from flapping.hover import ANALYSIS_RTOL, HoverOrbit
+from flapping.hover.stability import PERTURBATION_ATOL, HoverStability
 from flapping.model.dynamics import inertial_velocity
 from flapping.model.kinematics import flapping_angle, stroke_sign
 from flapping.periodic.integrate import flow
-from flapping.stability import PERTURBATION_ATOL, HoverStability
 
 __all__ = [
     "FIGSIZE_IN",
@@ -148,7 +148,7 @@ def fly(
         least :data:`MIN_SAMPLES_PER_WINGBEAT` times per period, at a multiple of it.
     rtol, atol : float
         Tolerances of the integration (the defaults of
-        :func:`flapping.stability.perturbation_growth`).
+        :func:`flapping.hover.stability.perturbation_growth`).
 
     Returns
     -------

@@ -4,7 +4,7 @@
 in about half a millisecond, with an error estimate and an automatic step count, and
 :func:`orbit_quadrature` gives the cycle-averaged Jacobian and mean velocities along it in one
 compiled call (:mod:`flapping.fast.kernel`). The sweeps over insect parameters built on it are in
-:mod:`flapping.sweep`; :func:`flapping.hover.find_hover_orbit` can use it as its backend.
+:mod:`flapping.studies.sweep`; :func:`flapping.hover.find_hover_orbit` can use it as its backend.
 
 Importing this package does not import numba: the kernel is compiled (or loaded from numba's
 on-disk cache) the first time it runs. numba is the optional ``fast`` extra

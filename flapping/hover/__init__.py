@@ -5,9 +5,14 @@
   that decides which backend runs);
 - :mod:`flapping.hover.orbit`: :func:`find_hover_orbit` and :class:`HoverOrbit`, the orbit at a
   prescribed amplitude (:func:`forced_orbit`), the paper's own hover condition
-  (:func:`paper_hover_problem`) and the force budget.
+  (:func:`paper_hover_problem`) and the force budget;
+- :mod:`flapping.hover.stability`: the orbit's Floquet multipliers, the averaged system,
+  perturbation growth and the sensitivity to the modelling choices
+  (:func:`~flapping.hover.stability.hover_stability`);
+- :mod:`flapping.hover.branch`: the orbit followed in an insect parameter
+  (:func:`~flapping.hover.branch.continue_hover`).
 
-The stability of the orbit is in :mod:`flapping.stability`.
+Each module imports only the ones before it in this list.
 """
 
 from flapping.hover.orbit import (

@@ -21,7 +21,7 @@ or backwards on average: :attr:`HoverOrbit.is_hover` says whether it does, and
 :func:`find_hover_orbit` warns (:class:`~flapping.errors.HoverDriftWarning`) when it does.
 
 The stability of the orbit (Floquet multipliers, averaging, perturbation growth, sensitivity to
-the modelling choices) is in :mod:`flapping.stability`.
+the modelling choices) is in :mod:`flapping.hover.stability`.
 
 Conventions: SI units inside (angles in rad); sampled trajectories have time along the last axis
 (``x[i, k]`` is state i at ``t[k]``), as ``solve_ivp``'s ``y``.
@@ -89,7 +89,7 @@ HOVER_SPEED_RTOL = 1e-6
 
 #: Default tolerances (relative; absolute in the states' SI units) of the integrations that
 #: analyse a found orbit (its force budget here; its averaged Jacobian, Floquet modes and
-#: perturbations in :mod:`flapping.stability`): a decade tighter than the orbit's own (rtol
+#: perturbations in :mod:`flapping.hover.stability`): a decade tighter than the orbit's own (rtol
 #: 1e-11), so that the analysis adds no error of its own.
 ANALYSIS_RTOL = 1e-12
 #: Default absolute tolerance of those analysis integrations (see :data:`ANALYSIS_RTOL`).
@@ -207,7 +207,9 @@ class HoverOrbit:
     @property
     def alpha_m(self) -> float:
         """Mean geometric angle of attack [rad], held while the trims were solved for."""
-        return self.model.alpha_m if self.problem is None else float(self.problem.alpha_m)
+        if self.problem is None or self.problem.alpha_m is None:
+            return self.model.alpha_m
+        return self.problem.alpha_m
 
     @property
     def period(self) -> float:

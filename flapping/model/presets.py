@@ -623,8 +623,8 @@ def monarch(**overrides: Any) -> Insect:
     f = 11.72 Hz, Phi = 34.8 deg: FWUAV's quasi-steady hover, the one of its Floquet exponents
     (``other_insects/sim_QS_x_hover_mona.mat``, commit 1a25d41, verified). Its forward-flight
     measurement (~60 deg at 10.22 Hz) gives no hover orbit below 90 deg in this model; at 10.22 Hz
-    with FWUAV's amplitude the default guess fails and :func:`flapping.atlas.hover_by_homotopy`
-    finds the orbit.
+    with FWUAV's amplitude the default guess fails and
+    :func:`flapping.studies.atlas.hover_by_homotopy` finds the orbit.
     I_y = 2.19e-8 kg m^2: FWUAV's thorax and abdomen as one rigid body about their joint centre
     of gravity (ESTIMATE: arithmetic on verified data). The lowest frequency of the atlas, where
     averaging is worst; the body pitches ~ +-30 deg per wingbeat in this model, far outside the

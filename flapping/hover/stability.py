@@ -24,15 +24,15 @@ import numpy as np
 from flapping import _validation
 from flapping.errors import HoverDriftWarning, require_success
 from flapping.fast import kernel as _kernel
-from flapping.hover import (
+from flapping.hover.orbit import (
     ANALYSIS_ATOL,
     ANALYSIS_RTOL,
-    DEFAULT_BACKEND,
     HoverOrbit,
+    _frozen,
     find_hover_orbit,
     use_kernel,
 )
-from flapping.hover.orbit import _frozen
+from flapping.hover.problem import DEFAULT_BACKEND
 from flapping.model.morphology import Insect
 from flapping.periodic.floquet import monodromy
 from flapping.periodic.integrate import flow, variational_flow

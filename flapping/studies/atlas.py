@@ -2,7 +2,7 @@
 
 Application layer: joins the presets (:mod:`flapping.model.presets`), the hover solve
 (:func:`~flapping.hover.find_hover_orbit`) and its Floquet analysis
-(:func:`~flapping.stability.hover_stability`).
+(:func:`~flapping.hover.stability.hover_stability`).
 
 - :func:`hover_by_homotopy` finds the hover orbit of an insect by continuation from one whose
   orbit is known: the morphology moves step by step from one insect to the other, and each step is
@@ -33,10 +33,10 @@ import numpy as np
 from flapping import _validation
 from flapping.errors import ConvergenceError
 from flapping.hover import ANALYSIS_ATOL, ANALYSIS_RTOL, HoverOrbit, find_hover_orbit
+from flapping.hover.stability import HoverStability, hover_stability
 from flapping.model.morphology import Insect, hawkmoth
 from flapping.model.presets import PRESETS, ellington_r1
 from flapping.periodic.floquet import monodromy
-from flapping.stability import HoverStability, hover_stability
 
 __all__ = [
     "FWUAV_HOVER",

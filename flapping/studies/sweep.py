@@ -9,7 +9,7 @@ How it runs:
 
 - with the compiled kernel (:mod:`flapping.fast`, eq. 29's linear loads) when numba is installed,
   else with the adaptive scipy path (:func:`~flapping.hover.find_hover_orbit` and
-  :func:`~flapping.stability.hover_stability`; a warning says so: it is ~1000 times slower);
+  :func:`~flapping.hover.stability.hover_stability`; a warning says so: it is ~1000 times slower);
 - the points are visited in a boustrophedon ("snake") order through the grid, split into chunks
   of consecutive points; within a chunk each solve starts from its neighbour's answer (x0, Phi
   and the step count), so most take three Newton iterations instead of five;
@@ -36,8 +36,8 @@ import flapping._validation as _validation
 from flapping.errors import ConvergenceError, HoverDriftWarning
 from flapping.fast import kernel
 from flapping.hover import HoverOrbit, HoverProblem, find_hover_orbit
+from flapping.hover.stability import hover_stability
 from flapping.model.morphology import Insect
-from flapping.stability import hover_stability
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas
@@ -150,7 +150,7 @@ def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
 
 def _multipliers(orbit: HoverOrbit) -> np.ndarray:
     """The orbit's Floquet multipliers: the kernel's (its last Newton integration), or those of
-    :func:`~flapping.stability.hover_stability` (a sweep needs no averaged system)."""
+    :func:`~flapping.hover.stability.hover_stability` (a sweep needs no averaged system)."""
     if orbit.kernel is not None:
         return np.asarray(orbit.kernel.multipliers)
     return hover_stability(orbit).multipliers

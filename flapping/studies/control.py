@@ -42,11 +42,11 @@ from flapping import _validation
 from flapping.errors import ConvergenceError, HoverDriftWarning
 from flapping.fast import kernel
 from flapping.hover import HoverOrbit, find_hover_orbit
+from flapping.hover.stability import hover_stability
 from flapping.model.dynamics import LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
 from flapping.periodic.integrate import variational_flow
-from flapping.stability import hover_stability
 
 __all__ = [
     "BODY_LENGTHS",

@@ -26,7 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from flapping.hover import HoverProblem, find_hover_orbit
+from flapping.hover.orbit import find_hover_orbit
+from flapping.hover.problem import HoverProblem
 from flapping.model.dynamics import LongitudinalDynamics
 from flapping.model.morphology import Insect
 from flapping.periodic.continuation import Branch, continue_orbit

@@ -1,0 +1,11 @@
+"""Studies built on the hover orbit (the application layer above :mod:`flapping.hover`).
+
+- :mod:`flapping.studies.sweep`: the hover orbit and its multipliers over grids of insect
+  parameters, in process or on any executor;
+- :mod:`flapping.studies.atlas`: the species atlas (homotopy between insects, Floquet against
+  averaging across species);
+- :mod:`flapping.studies.control`: what would make hover stable (the wing hinge's height, the
+  mean stroke angle) and feedback once per wingbeat.
+
+Each imports :mod:`flapping.hover` and the layers below it, never another study.
+"""
