@@ -91,15 +91,15 @@ AMPLITUDE_TOL_DEG = 1e-9
 MULTIPLIER_TOL = 1e-8
 
 #: Smallest accepted ``amplitude_tol_deg`` [deg]. Newton stops when its next step is below
-#: _XTOL = 1e-13 max(1, |Phi|) rad (the step is then rounding noise: the residual's rounding,
+#: _XTOL = 1e-13 max(1, abs(Phi)) rad (the step is then rounding noise: the residual's rounding,
 #: ~1e-16 of the states, times the inverse Jacobian), so the solve can promise that bound at
 #: Phi <= pi/2, 1.6e-13 rad = 9e-12 deg, rounded up. Measured (hawkmoth, 20-32 Hz, h_w 0-5 mm):
 #: Phi solved at 32 to 256 steps per half-stroke, where discretisation errors are < 1e-15 deg,
 #: scatters by up to 7e-13 deg, and the Richardson estimate there is that noise (~1e-12 deg).
 AMPLITUDE_TOL_FLOOR_DEG = 1e-11
 
-#: Smallest accepted ``multiplier_tol``. The monodromy sums ~10^3 RK stage terms of size
-#: |M| ~ 1, so its rounding error is ~1e-13, and the Richardson estimate (a difference of two
+#: Smallest accepted ``multiplier_tol``. The monodromy sums ~10^3 RK stage terms with entries
+#: of order 1, so its rounding error is ~1e-13, and the Richardson estimate (a difference of two
 #: such matrices) is noise at that level. Measured as above: the multipliers scatter by up to
 #: 8e-14 and the estimate at 32 steps reads ~1.7e-13; the floor keeps a factor ~6 above it.
 MULTIPLIER_TOL_FLOOR = 1e-12
@@ -118,7 +118,7 @@ _ORDER, _COARSE = 8, 2
 #: up to ~2 (measured at f = 20 Hz: 6.2e-10 deg estimated, 1.2e-9 deg actual).
 _SAFETY = 2.0
 
-#: Newton's stopping rule: every step below 1e-13 max(1, |z_i|) (the unknowns are then right to
+#: Newton's stopping rule: every step below 1e-13 max(1, abs(z_i)) (the unknowns are then right to
 #: rounding level: the convergence is quadratic), and its iteration cap.
 _XTOL, _MAX_ITER = 1e-13, 40
 

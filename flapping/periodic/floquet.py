@@ -51,6 +51,7 @@ from flapping.periodic import settings as opt
 from flapping.periodic._readonly import freeze
 
 __all__ = [
+    "DEFAULTS",
     "FloquetAccuracyWarning",
     "Monodromy",
     "monodromy",
@@ -478,7 +479,7 @@ def monodromy(
     RuntimeWarning
         When ``det M`` or Liouville's ``exp(trace_integral)`` overflows (reported as inf).
     """
-    o = opt.resolve(settings, _DEFAULTS, method=method, rtol=rtol, atol=atol,
+    o = opt.resolve(settings, DEFAULTS, method=method, rtol=rtol, atol=atol,
                     rk4_steps=rk4_steps, max_steps=max_steps)
     x, T, integration, breakpoints, n_sub, max_cond, h = _check_monodromy(
         x0, period, o["method"], o["rtol"], o["atol"], o["rk4_steps"], o["max_steps"],
@@ -505,8 +506,9 @@ def monodromy(
     )
 
 
-#: Defaults of the :class:`~flapping.periodic.settings.SolverSettings` fields used here.
-_DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-12, "rk4_steps": 1024,
+#: What a call uses for each :class:`~flapping.periodic.settings.SolverSettings` field it
+#: reads when neither the keyword nor ``settings`` gives it (the signature shows None).
+DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-12, "rk4_steps": 1024,
                              "max_steps": None}
 
 

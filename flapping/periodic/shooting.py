@@ -70,6 +70,7 @@ from flapping.periodic._problem import (
 from flapping.periodic._readonly import freeze
 
 __all__ = [
+    "DEFAULTS",
     "PeriodicOrbit",
     "find_periodic_orbit",
     "JACOBIANS",
@@ -547,7 +548,7 @@ def find_periodic_orbit(
     ToleranceWarning
         ``rtol`` raised to ``100 eps``.
     """
-    o = opt.resolve(settings, _DEFAULTS, method=method, rtol=rtol, atol=atol,
+    o = opt.resolve(settings, DEFAULTS, method=method, rtol=rtol, atol=atol,
                     rk4_steps=rk4_steps, max_steps=max_steps, tol=tol, max_nfev=max_nfev)
     x_init = check.vector("x0", x0)
     T_init = check.positive("period", period)
@@ -588,8 +589,9 @@ def find_periodic_orbit(
     return orbit
 
 
-#: Defaults of the :class:`~flapping.periodic.settings.SolverSettings` fields used here.
-_DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": 1e-11, "atol": 1e-12, "rk4_steps": 1024,
+#: What a call uses for each :class:`~flapping.periodic.settings.SolverSettings` field it
+#: reads when neither the keyword nor ``settings`` gives it (the signature shows None).
+DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": 1e-11, "atol": 1e-12, "rk4_steps": 1024,
                              "max_steps": None, "tol": 1e-10, "max_nfev": None}
 
 
