@@ -86,6 +86,8 @@ UNITS: dict[str, Any] = {
     "mean_horizontal_velocity": "m/s",
     "mean_vertical_velocity": "m/s",
     "is_hover": None,
+    "status": None,
+    "backend": None,
     "multipliers": _COUNT,
     "floquet_exponents": "1/s",
     "det_monodromy": _COUNT,
@@ -220,6 +222,8 @@ def _orbit_report(orbit: HoverOrbit) -> dict[str, Any]:
         "mean_horizontal_velocity": velocity["forward"],
         "mean_vertical_velocity": velocity["climb"],
         "is_hover": orbit.is_hover,
+        "status": orbit.status.name.lower(),
+        "backend": orbit.backend,
     }
 
 

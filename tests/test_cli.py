@@ -18,7 +18,8 @@ ORIGINAL_KEYS = {"insect", "aerodynamics", "amplitude_deg", "alpha_m_deg", "init
                  "floquet_exponents", "det_monodromy", "liouville_det", "averaged_eigenvalues",
                  "stable"}
 ADDED_KEYS = {"version", "insect_parameters", "solver", "liouville_error",
-              "mean_horizontal_velocity", "mean_vertical_velocity", "is_hover", "units"}
+              "mean_horizontal_velocity", "mean_vertical_velocity", "is_hover", "units",
+              "status", "backend"}  # status and backend: one hover problem (issue 17)
 
 
 def strict_loads(text):
@@ -76,6 +77,7 @@ def test_json_report_agrees_with_the_library(report):
     assert report["mean_horizontal_velocity"] == orbit.mean_inertial_velocity["forward"]
     assert report["mean_vertical_velocity"] == orbit.mean_inertial_velocity["climb"]
     assert report["is_hover"] is True
+    assert report["status"] == "hover" and report["backend"] in ("compiled", "adaptive")
     assert report["version"] == flapping.__version__
     assert report["insect"] == "hawkmoth"
     assert report["insect_parameters"]["mass"] == flapping.hawkmoth().mass
