@@ -129,6 +129,7 @@ _HOVER_EPILOG = f"""\
 residual_norm, mean_inertial_velocity, multipliers, floquet_exponents, det_monodromy,
 liouville_det, averaged_eigenvalues, stable, and version, insect, insect_parameters,
 aerodynamics, mean_horizontal_velocity, mean_vertical_velocity, is_hover, liouville_error,
+status (hover, drifting or climbing), backend (compiled or adaptive: the path that solved it),
 solver (settings and iteration counts); `units` gives the unit of every key. Complex numbers are
 {{"re": ..., "im": ...}}. NaN and infinity are never printed: a non-finite result exits with 1.
 
