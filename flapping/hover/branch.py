@@ -1,4 +1,4 @@
-"""The hover orbit followed as an insect parameter changes (issue 8), with its Floquet multipliers.
+"""The hover orbit followed as an insect parameter changes, with its Floquet multipliers.
 
 :func:`continue_hover` continues the hover problem of :func:`flapping.hover.find_hover_orbit`
 (unknowns: the initial state and the stroke amplitude Phi; equations: periodicity of

@@ -1,6 +1,6 @@
 """What would make hover stable: the hinge above the centre of gravity, and feedback per wingbeat.
 
-Two routes to a stable hover orbit (issue 11):
+Two routes to a stable hover orbit:
 
 *Passive.* The wing hinge a height h_w above the centre of gravity (``Insect.hinge_height``) puts
 the horizontal wing forces on a pendulum arm: a forward speed u makes a backward drag above the
