@@ -20,8 +20,8 @@ The aerodynamic loads (X, Z, M) come from one of three models:
 
 Two extensions of the paper's model (what could make hover stable), both 0 by default so that
 every number of the paper's model is unchanged: the hinge height ``insect.hinge_height`` above
-the centre of gravity (the section's forward velocity feels u - q h_w, the forces act h_w higher), and the mean stroke
-angle ``insect.stroke_mean``, phi = phi_bar + Phi cos(2 pi f t);
+the centre of gravity (the section's forward velocity feels u - q h_w, the forces act h_w
+higher), and the mean stroke angle ``insect.stroke_mean``, phi = phi_bar + Phi cos(2 pi f t);
 :meth:`LongitudinalDynamics.stroke_mean_jac` is the sensitivity to phi_bar.
 
 The right-hand side is smooth within each half-stroke only (the wing pitch flips at reversal,
