@@ -324,7 +324,9 @@ def sweep_hover(
     Raises
     ------
     ValueError
-        For a bad grid or argument (a bad *point*, e.g. an insect that cannot trim, is a row).
+        For a bad grid or argument (a bad *point*, e.g. an insect that cannot trim, is a row):
+        a string for ``insect`` (build it with :func:`flapping.model.presets.preset`), or a
+        grid of more than :data:`MAX_GRID_POINTS` points.
     ImportError
         If pandas or tqdm is missing (``pip install flapping[sweep]``).
     """
