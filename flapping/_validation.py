@@ -77,25 +77,36 @@ def real(
     unit : str
         Unit for the message (e.g. ``"rad"``).
     """
-    expected = _range_text(low, high, low_open, high_open) + (f" {unit}" if unit else "")
-    if isinstance(value, np.ndarray) and value.ndim == 0:
-        value = value[()]
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise ValueError(f"`{name}` must be {expected}; got {_show(value)} "
-                         f"({type(value).__name__})")
-    try:
-        x = float(value)
-    except OverflowError:  # an int or Fraction beyond float64 (e.g. 10**400)
-        raise ValueError(f"`{name}` must be {expected}; got {_show(value)}, which is beyond "
-                         "float64's range (about 1.8e308)") from None
+    # The message is built only on failure: this runs on every Insect field of every sweep point.
+    if type(value) is float:  # the common case, without the abstract-class checks below
+        x = value
+    else:
+        if isinstance(value, np.ndarray) and value.ndim == 0:
+            value = value[()]
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+            raise ValueError(f"`{name}` must be {_expected(low, high, low_open, high_open, unit)}"
+                             f"; got {_show(value)} ({type(value).__name__})")
+        try:
+            x = float(value)
+        except OverflowError:  # an int or Fraction beyond float64 (e.g. 10**400)
+            raise ValueError(f"`{name}` must be {_expected(low, high, low_open, high_open, unit)}"
+                             f"; got {_show(value)}, which is beyond float64's range "
+                             "(about 1.8e308)") from None
     ok = math.isfinite(x)
     if ok and low is not None:
         ok = x > low if low_open else x >= low
     if ok and high is not None:
         ok = x < high if high_open else x <= high
     if not ok:
-        raise ValueError(f"`{name}` must be {expected}; got {_show(value)}")
+        raise ValueError(f"`{name}` must be {_expected(low, high, low_open, high_open, unit)}; "
+                         f"got {_show(value)}")
     return x
+
+
+def _expected(low: float | None, high: float | None, low_open: bool, high_open: bool,
+              unit: str) -> str:
+    """What :func:`real` accepts, in words (for its messages)."""
+    return _range_text(low, high, low_open, high_open) + (f" {unit}" if unit else "")
 
 
 def positive(name: str, value: Any, *, unit: str = "") -> float:

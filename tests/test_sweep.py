@@ -100,6 +100,40 @@ def test_bad_arguments_are_value_errors():
         sweep_hover(flapping.hawkmoth(), GRID, chunk_size=0, progress=False)
 
 
+@pytest.mark.parametrize("args", [("hawkmoth",), (["hawkmoth"],),
+                                  ("hawkmoth", {"frequency": [26.3]})])
+def test_a_preset_name_is_refused_with_the_way_to_build_it(args):
+    # Was "`insect[0]` must be a Insect; got 'h'": a string is a sequence of one-letter strings.
+    with pytest.raises(ValueError, match=r"not the string 'hawkmoth'.*preset\('hawkmoth'\)"):
+        sweep_hover(*args, progress=False)
+
+
+def test_an_unknown_name_is_refused_with_the_preset_names():
+    with pytest.raises(ValueError, match="one of .*'bumblebee'"):
+        sweep_hover("moth", progress=False)
+
+
+def test_a_huge_grid_is_refused_at_once():
+    # Was a hang in itertools.product: the size is the product of the axes' lengths, checked
+    # before any point is made.
+    axis = np.linspace(20.0, 30.0, 10_000)
+    with pytest.raises(ValueError, match=r"`grid` asks for at least 10000 x 10000 = "
+                                         r"100000000 points.*MAX_GRID_POINTS = 10000000"):
+        sweep_hover(flapping.hawkmoth(), {"frequency": axis, "mass": axis * 1e-4},
+                    progress=False)
+    with pytest.raises(ValueError, match="`grid`"):
+        grid_points({"frequency": axis, "mass": axis, "a0": [1.0, 2.0]})
+
+
+def test_the_grid_cap_counts_every_axis(monkeypatch):
+    from flapping.studies import sweep
+
+    monkeypatch.setattr(sweep, "MAX_GRID_POINTS", 6)
+    assert len(grid_points({"frequency": [20.0, 21.0], "mass": [1e-3, 2e-3, 3e-3]})) == 6
+    with pytest.raises(ValueError, match="2 x 3 x 2 = 12 points"):
+        grid_points({"frequency": [20.0, 21.0], "mass": [1e-3, 2e-3, 3e-3], "a0": [5.0, 6.0]})
+
+
 def _cli(*args):
     import subprocess
     import sys

@@ -65,7 +65,7 @@ from scipy import special
 import flapping._validation as _validation
 from flapping.model.kinematics import check_alpha_m, check_amplitude, stroke_sign_scalar
 from flapping.model.kinematics import stroke_sign as _kinematic_stroke_sign
-from flapping.model.morphology import Insect
+from flapping.model.morphology import Insect, _span_integral
 
 __all__ = [
     "VARIANTS",
@@ -352,8 +352,7 @@ def aero_constants(insect: Insect) -> AeroConstants:
     _validation.instance("insect", insect, Insect)
     rho, A = insect.air_density, insect.lift_slope
     kappa = 0.75 - insect.pitch_axis
-    I = {(m, n): insect.span_integral(m, n) for m in range(4) for n in range(1, 5)
-         if (m + 1 + n * (insect.beta_p - 1.0)) > 0}
+    I = dict(_span_table(insect.semi_span, insect.mean_chord, insect.beta_p, insect.beta_q))
     if (0, 4) in I:
         knu = math.pi / 16.0 * rho * I[(0, 4)]
     elif insect.mu1 == 0.0 and insect.mu2 == 0.0:
@@ -376,6 +375,15 @@ def aero_constants(insect: Insect) -> AeroConstants:
         Iy=insect.pitch_inertia,
         h_w=insect.hinge_height,
     )
+
+
+@functools.lru_cache(maxsize=256)
+def _span_table(semi_span: float, mean_chord: float, p: float,
+                q: float) -> tuple[tuple[tuple[int, int], float], ...]:
+    """((m, n), I_mn) for m = 0..3, n = 1..4 where I_mn converges, per planform (cached: a
+    sweep over any other field asks the same table at every point)."""
+    return tuple(((m, n), _span_integral(semi_span, mean_chord, p, q, float(m), float(n)))
+                 for m in range(4) for n in range(1, 5) if (m + 1 + n * (p - 1.0)) > 0)
 
 
 # =========================================================================== section loads

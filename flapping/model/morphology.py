@@ -14,9 +14,11 @@ have closed forms in beta functions (:meth:`Insect.span_integral`).
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
-from dataclasses import dataclass, field, replace
+from collections.abc import Collection
+from dataclasses import dataclass, field, fields
 from typing import Any, Literal
 
 import numpy as np
@@ -144,6 +146,11 @@ def lev_lift_slope(aspect_ratio: float, a0: float = 2.0 * math.pi) -> float:
     """
     aspect_ratio = _validation.positive("aspect_ratio", aspect_ratio)
     a0 = _validation.positive("a0", a0, unit="1/rad")
+    return _lift_slope(aspect_ratio, a0)
+
+
+def _lift_slope(aspect_ratio: float, a0: float) -> float:
+    """:func:`lev_lift_slope` of trusted floats (an :class:`Insect`'s own fields)."""
     x = math.pi * aspect_ratio
     return x / (2.0 * (1.0 + math.sqrt(1.0 + (x / a0) ** 2)))
 
@@ -236,14 +243,25 @@ class Insect:
     _shape: tuple[float, float] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        _validation.instance("name", self.name, str)
+        self._check(None, stacklevel=5)
+
+    def _check(self, changed: Collection[str] | None, stacklevel: int) -> None:
+        """Validate and convert every field (``changed`` None) or the ``changed`` ones, in the
+        same order either way (so that the first bad field named is the same); warn once per
+        implausible value of the result (:data:`PLAUSIBLE_RANGES`)."""
+        if changed is None or "name" in changed:
+            _validation.instance("name", self.name, str)
         for name, (kind, unit) in _FIELDS.items():
-            object.__setattr__(self, name, _check_field(name, getattr(self, name), kind, unit))
-        _validation.choice("aspect_ratio_convention", self.aspect_ratio_convention,
-                           ASPECT_RATIO_CONVENTIONS)
-        object.__setattr__(self, "_shape", beta_shape_parameters(self.r1, self.r2))
+            if changed is None or name in changed:
+                object.__setattr__(self, name, _check_field(name, getattr(self, name), kind,
+                                                            unit))
+        if changed is None or "aspect_ratio_convention" in changed:
+            _validation.choice("aspect_ratio_convention", self.aspect_ratio_convention,
+                               ASPECT_RATIO_CONVENTIONS)
+        if changed is None or "r1" in changed or "r2" in changed:
+            object.__setattr__(self, "_shape", beta_shape_parameters(self.r1, self.r2))
         for message in _implausible(self):
-            warnings.warn(message, PlausibilityWarning, stacklevel=4)
+            warnings.warn(message, PlausibilityWarning, stacklevel=stacklevel)
 
     # ----------------------------------------------------------------- geometry
     @property
@@ -270,7 +288,7 @@ class Insect:
     @property
     def lift_slope(self) -> float:
         """A of C_L = A sin(2 alpha), eq. (4)."""
-        return lev_lift_slope(self.aspect_ratio, self.a0)
+        return _lift_slope(self.aspect_ratio, self.a0)  # both fields checked on construction
 
     @property
     def period(self) -> float:
@@ -306,34 +324,41 @@ class Insect:
         ValueError
             If the integral diverges for this planform (m + n(p-1) + 1 <= 0 or n(q-1) + 1 <= 0).
         """
-        m = _validation.real("m", m)
-        n = _validation.real("n", n)
+        # Integer orders (the model's own) are exact as floats: no validation needed.
+        m = float(m) if type(m) is int else _validation.real("m", m)
+        n = float(n) if type(n) is int else _validation.real("n", n)
         p, q = self._shape
-        a = m + n * (p - 1.0) + 1.0
-        b = n * (q - 1.0) + 1.0
-        if a <= 0.0 or b <= 0.0:
-            raise ValueError(
-                f"I_mn diverges for m={m!r}, n={n!r} with beta shape p={p:.4g}, q={q:.4g}: "
-                "needs m + n(p-1) + 1 > 0 and n(q-1) + 1 > 0"
-            )
-        log_value = (
-            (m + 1.0) * math.log(self.semi_span)
-            + n * (math.log(self.mean_chord) - special.betaln(p, q))
-            + special.betaln(a, b)
-        )
-        return 2.0 * math.exp(log_value)
+        return _span_integral(self.semi_span, self.mean_chord, p, q, m, n)
 
     def with_(self, **changes: Any) -> Insect:
         """A copy with some fields changed (validated again).
 
         E.g. ``hawkmoth().with_(hinge_offset=1e-3)``.
 
+        Only the changed fields are validated again (the others were checked when ``self`` was
+        built): a sweep makes one insect per point.
+
         Raises
         ------
         ValueError
             If a changed field is outside its range.
+        TypeError
+            If a name is not a field of :class:`Insect`.
+
+        Warns
+        -----
+        PlausibilityWarning
+            For each value of the copy outside :data:`PLAUSIBLE_RANGES`, as the constructor.
         """
-        return replace(self, **changes)
+        for name in changes:
+            if name not in _INIT_FIELDS:
+                raise TypeError(f"Insect.with_() got an unexpected keyword argument {name!r}")
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        for name, value in changes.items():
+            object.__setattr__(new, name, value)
+        new._check(changes, stacklevel=3)
+        return new
 
     def as_table(self) -> list[tuple[str, str, float, str]]:
         """Rows (symbol, description, value, unit) for printing, in display units (mm, deg, g)."""
@@ -401,6 +426,30 @@ def hawkmoth(**overrides: Any) -> Insect:
     )
     values.update(overrides)
     return Insect(**values)
+
+
+#: The fields :meth:`Insect.with_` may change (those of the constructor).
+_INIT_FIELDS = frozenset(f.name for f in fields(Insect) if f.init)
+
+
+@functools.lru_cache(maxsize=1024)
+def _span_integral(semi_span: float, mean_chord: float, p: float, q: float, m: float,
+                   n: float) -> float:
+    """:meth:`Insect.span_integral` of a planform (cached: a sweep over other fields asks the
+    same planform's integrals at every point)."""
+    a = m + n * (p - 1.0) + 1.0
+    b = n * (q - 1.0) + 1.0
+    if a <= 0.0 or b <= 0.0:
+        raise ValueError(
+            f"I_mn diverges for m={m!r}, n={n!r} with beta shape p={p:.4g}, q={q:.4g}: "
+            "needs m + n(p-1) + 1 > 0 and n(q-1) + 1 > 0"
+        )
+    log_value = (
+        (m + 1.0) * math.log(semi_span)
+        + n * (math.log(mean_chord) - special.betaln(p, q))
+        + special.betaln(a, b)
+    )
+    return 2.0 * math.exp(log_value)
 
 
 def _implausible(insect: Insect) -> list[str]:

@@ -25,7 +25,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -38,6 +38,7 @@ from flapping.hover.stability import HoverStability, hover_stability
 from flapping.model.morphology import Insect, hawkmoth
 from flapping.model.presets import PRESETS, ellington_r1
 from flapping.periodic.floquet import monodromy
+from flapping.studies._path import Guess, WarmStart, follow, follow_halving
 
 __all__ = [
     "FWUAV_HOVER",
@@ -207,47 +208,40 @@ def hover_by_homotopy(
     if {"amplitude_guess", "x0_guess"} & set(hover_options):
         raise ValueError("the continuation sets `amplitude_guess` and `x0_guess` itself")
     orbit = find_hover_orbit(start, **hover_options) if start_orbit is None else start_orbit
-    s, step, failures = 0.0, 1.0 / n_steps, 0
-    path: list[float] = []
-    nit: list[int] = []
-    points = [(0.0, _unknowns(orbit, start))]  # (s, (x0, Phi / nominal Phi)) of solved steps
-    while s < 1.0:
-        s_next = 1.0 if s + step > 1.0 - 1e-9 else s + step
-        trial = interpolate_insects(start, target, s_next)
-        x0, ratio = _predict(points, s_next)
-        try:
-            orbit = find_hover_orbit(
-                trial, amplitude_guess=min(ratio * trial.stroke_amplitude, math.pi / 2),
-                x0_guess=x0.tolist(), **hover_options)
-        except (ConvergenceError, ValueError) as exc:
-            failures += 1
-            if failures > max_failures:
-                raise ConvergenceError(
-                    f"the continuation from {start.name} to {target.name} stalled at s = {s:.4g} "
-                    f"after {failures - 1} halvings of the step (last: {exc})") from exc
-            step /= 2.0
-            continue
-        s = s_next
-        points.append((s, _unknowns(orbit, trial)))
-        path.append(s)
-        nit.append(int(orbit.nit))
-    return Homotopy(orbit, start.name, tuple(path), tuple(nit), failures)
+    warm = WarmStart(_continued_solve(hover_options), _unknowns, secant=True)
+    warm.add(0.0, start, orbit)
+
+    def stalled(s: float, halvings: int, exc: BaseException) -> ConvergenceError:
+        return ConvergenceError(
+            f"the continuation from {start.name} to {target.name} stalled at s = {s:.4g} "
+            f"after {halvings} halvings of the step (last: {exc})")
+
+    steps, failures = follow_halving(
+        lambda s: interpolate_insects(start, target, s), warm, n_steps=n_steps,
+        max_failures=max_failures, retry=(ConvergenceError, ValueError), stalled=stalled)
+    orbits = [step.result for step in steps if step.result is not None]
+    return Homotopy(orbits[-1], start.name, tuple(step.s for step in steps),
+                    tuple(int(o.nit) for o in orbits), failures)
 
 
-def _unknowns(orbit: HoverOrbit, insect: Insect) -> tuple[np.ndarray, float]:
-    """The continued unknowns: the initial state, and Phi over the nominal amplitude."""
-    return np.asarray(orbit.x0, dtype=float), orbit.amplitude / insect.stroke_amplitude
+def _unknowns(insect: Insect, orbit: HoverOrbit) -> np.ndarray:
+    """The continued unknowns: the initial state, and Phi over the insect's nominal amplitude
+    (which sets alpha_m)."""
+    return np.append(np.asarray(orbit.x0, dtype=float), orbit.amplitude / insect.stroke_amplitude)
 
 
-def _predict(points: list[tuple[float, tuple[np.ndarray, float]]], s: float
-             ) -> tuple[np.ndarray, float]:
-    """Guess of the unknowns at s: the last solution, or the secant through the last two."""
-    s1, (x1, r1) = points[-1]
-    if len(points) == 1:
-        return x1, r1
-    s0, (x0, r0) = points[-2]
-    k = (s - s1) / (s1 - s0)
-    return x1 + k * (x1 - x0), r1 + k * (r1 - r0)
+def _continued_solve(hover_options: dict[str, Any]
+                     ) -> Callable[[Insect, Guess[HoverOrbit] | None], HoverOrbit]:
+    """``solve(insect, guess)`` of a continuation: the hover orbit from the predicted unknowns
+    (:func:`_unknowns`), or from the default guess without one."""
+    def solve(insect: Insect, guess: Guess[HoverOrbit] | None) -> HoverOrbit:
+        if guess is None or guess.unknowns is None:
+            return find_hover_orbit(insect, **hover_options)
+        x0, ratio = guess.unknowns[:4], guess.unknowns[4]
+        return find_hover_orbit(
+            insect, amplitude_guess=min(ratio * insect.stroke_amplitude, math.pi / 2),
+            x0_guess=x0.tolist(), **hover_options)
+    return solve
 
 
 def robust_hover_orbit(insect: Insect, *, start: Insect | None = None,
@@ -477,25 +471,28 @@ def frequency_sweep(insect: Insect, frequencies: Iterable[float],
         If an orbit fails.
     """
     f0, phi0 = insect.frequency, insect.stroke_amplitude
-    rows: list[SpeciesStability] = []
-    points: list[tuple[float, tuple[np.ndarray, float]]] = []  # (log f, continued unknowns)
-    for f in frequencies:
-        f = _validation.positive("frequencies", f, unit="Hz")
-        with warnings.catch_warnings():
-            # The family leaves the range of real insects on purpose (a test of averaging at
-            # any frequency ratio): its small amplitudes are not a user's unit mistake.
-            warnings.simplefilter("ignore", PlausibilityWarning)
-            member = insect.with_(frequency=f, stroke_amplitude=phi0 * f0 / f,
-                                  name=f"{insect.name} at {f:.4g} Hz")
-        guess: dict[str, Any] = {}
-        if points:
-            x0, ratio = _predict(points, math.log(f))
-            guess = {"amplitude_guess": min(ratio * member.stroke_amplitude, math.pi / 2),
-                     "x0_guess": x0.tolist()}
-        orbit = find_hover_orbit(member, **guess, **hover_options)
-        points.append((math.log(f), _unknowns(orbit, member)))
-        rows.append(species_stability(orbit=orbit))
-    return rows
+
+    def path() -> Iterator[tuple[float, Insect]]:  # (log f, member), checked lazily, in order
+        for f in frequencies:
+            f = _validation.positive("frequencies", f, unit="Hz")
+            with warnings.catch_warnings():
+                # The family leaves the range of real insects on purpose (a test of averaging
+                # at any frequency ratio): its small amplitudes are not a unit mistake.
+                warnings.simplefilter("ignore", PlausibilityWarning)
+                member = insect.with_(frequency=f, stroke_amplitude=phi0 * f0 / f,
+                                      name=f"{insect.name} at {f:.4g} Hz")
+            yield math.log(f), member
+
+    solve = _continued_solve(hover_options)
+
+    def solve_and_analyse(member: Insect, guess: Guess[Any] | None
+                          ) -> tuple[HoverOrbit, SpeciesStability]:
+        orbit = solve(member, None if guess is None else Guess(guess.previous[0], guess.unknowns))
+        return orbit, species_stability(orbit=orbit)
+
+    warm = WarmStart(solve_and_analyse, lambda member, result: _unknowns(member, result[0]),
+                     secant=True)
+    return [step.result[1] for step in follow(path(), warm) if step.result is not None]
 
 
 @dataclass(frozen=True)

@@ -47,6 +47,7 @@ from flapping.model.dynamics import LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
 from flapping.periodic.integrate import variational_flow
+from flapping.studies._path import Guess, WarmStart, follow
 
 __all__ = [
     "BODY_LENGTHS",
@@ -256,15 +257,18 @@ def passive_sweep(insect: Insect, hinge_heights: Any, *, backend: str = "auto") 
     _validation.instance("insect", insect, Insect)
     h = _hinge_heights(hinge_heights)
     backend = _validation.choice("backend", backend, ("adaptive", "auto", "compiled"))
-    orbits, mus = [], []
-    guess = None
-    for value in h:
-        guess, mu = hover_multipliers(insect.with_(hinge_height=float(value)), guess=guess,
-                                      backend=backend)
-        orbits.append(guess)
-        mus.append(mu)
-    return PassiveSweep(insect, h, np.array([o.amplitude for o in orbits]), np.array(mus),
-                        tuple(orbits), backend)
+
+    def solve(member: Insect, guess: Guess[tuple[HoverOrbit, np.ndarray]] | None
+              ) -> tuple[HoverOrbit, np.ndarray]:
+        return hover_multipliers(member, guess=None if guess is None else guess.previous[0],
+                                 backend=backend)
+
+    path = ((float(value), insect.with_(hinge_height=float(value))) for value in h)
+    results = [step.result for step in follow(path, WarmStart(solve))
+               if step.result is not None]
+    orbits = [orbit for orbit, _ in results]
+    return PassiveSweep(insect, h, np.array([o.amplitude for o in orbits]),
+                        np.array([mu for _, mu in results]), tuple(orbits), backend)
 
 
 def _hinge_heights(hinge_heights: Any, solves: int = 1) -> np.ndarray:

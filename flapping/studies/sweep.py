@@ -28,6 +28,7 @@ import warnings
 from collections.abc import Iterator, Mapping, Sequence
 from concurrent.futures import Executor, as_completed
 from dataclasses import dataclass, fields
+from functools import cached_property, partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -35,14 +36,16 @@ import numpy as np
 import flapping._validation as _validation
 from flapping.errors import ConvergenceError, HoverDriftWarning
 from flapping.fast import kernel
-from flapping.hover import HoverOrbit, HoverProblem, find_hover_orbit
+from flapping.hover import HoverOrbit, HoverProblem, HoverStatus, find_hover_orbit
 from flapping.hover.stability import hover_stability
 from flapping.model.morphology import Insect
+from flapping.model.presets import preset_names
+from flapping.studies._path import Guess, Step, WarmStart, follow
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas
 
-__all__ = ["SWEEPABLE", "COLUMNS", "sweep_hover", "grid_points"]
+__all__ = ["SWEEPABLE", "COLUMNS", "MAX_GRID_POINTS", "sweep_hover", "grid_points"]
 
 #: Insect fields a grid may vary (the numeric ones).
 SWEEPABLE: tuple[str, ...] = tuple(
@@ -59,6 +62,14 @@ COLUMNS: tuple[str, ...] = (
 
 #: Points per chunk: the unit of work sent to an executor (warm starts run within a chunk).
 DEFAULT_CHUNK = 50
+
+#: Largest number of points of a grid (the product of its axes' lengths): ~30 min of solves on
+#: one core with the compiled kernel, and the table's rows fill a few GB. A larger grid is refused
+#: at once rather than enumerated.
+MAX_GRID_POINTS = 10**7
+
+#: The failures of one point that become its row (the sweep goes on); others propagate.
+_POINT_FAILURES = (ValueError, ConvergenceError, ArithmeticError, np.linalg.LinAlgError)
 
 
 @dataclass(frozen=True)
@@ -85,8 +96,8 @@ def grid_points(grid: Mapping[str, Sequence[float]]) -> list[dict[str, float]]:
     Raises
     ------
     ValueError
-        If a name is not a numeric :class:`Insect` field or its values are not a non-empty
-        finite 1-D sequence.
+        If a name is not a numeric :class:`Insect` field, its values are not a non-empty
+        finite 1-D sequence, or the grid has more than :data:`MAX_GRID_POINTS` points.
     """
     axes = _axes(grid)
     return [dict(zip(axes, combo, strict=True)) for combo in itertools.product(*axes.values())]
@@ -97,13 +108,19 @@ def _axes(grid: Mapping[str, Sequence[float]]) -> dict[str, list[float]]:
     if not isinstance(grid, Mapping) or not grid:
         raise ValueError(f"`grid` must be a non-empty mapping of Insect fields to values; "
                          f"got {grid!r}")
-    axes = {}
+    axes: dict[str, list[float]] = {}
+    size = 1
     for name, values in grid.items():
         _validation.choice("grid key", name, SWEEPABLE)
         arr = _validation.array(f"grid[{name!r}]", values)
         if arr.ndim != 1 or arr.size == 0:
             raise ValueError(f"`grid[{name!r}]` must be a non-empty 1-D sequence of numbers")
-        axes[name] = [float(v) for v in arr]
+        size *= arr.size
+        if size > MAX_GRID_POINTS:
+            lengths = " x ".join(str(n) for n in [*map(len, axes.values()), arr.size])
+            raise ValueError(f"`grid` asks for at least {lengths} = {size} points; at most "
+                             f"MAX_GRID_POINTS = {MAX_GRID_POINTS} are allowed (split the sweep)")
+        axes[name] = arr.tolist()
     return axes
 
 
@@ -134,11 +151,14 @@ def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
     if orbit is None or mu is None:
         return row
     v = orbit.mean_inertial_velocity
+    status = orbit.status  # once: each call compares the speeds again
+    hover = status == HoverStatus.HOVER
+    modulus = np.abs(mu)
     row.update(amplitude_deg=orbit.amplitude_deg, alpha_m_deg=math.degrees(orbit.alpha_m),
-               max_abs_mu=float(np.max(np.abs(mu))), stable=bool(np.all(np.abs(mu) < 1.0)),
-               converged=orbit.is_hover, status=int(orbit.status), forward_speed=v["forward"],
+               max_abs_mu=float(modulus.max()), stable=bool((modulus < 1.0).all()),
+               converged=hover, status=int(status), forward_speed=v["forward"],
                climb_speed=v["climb"], nit=orbit.nit, backend=orbit.backend,
-               message="" if orbit.is_hover else orbit.message)
+               message="" if hover else orbit.message)
     if orbit.kernel is not None:
         row.update(amplitude_error_deg=math.degrees(orbit.kernel.amplitude_error),
                    multiplier_error=orbit.kernel.multiplier_error, n_steps=orbit.kernel.n_steps)
@@ -156,26 +176,37 @@ def _multipliers(orbit: HoverOrbit) -> np.ndarray:
     return hover_stability(orbit).multipliers
 
 
-def _solve_point(insect: Insect, settings: _Settings,
-                 start: HoverOrbit | None) -> tuple[HoverOrbit, np.ndarray]:
-    """One point: warm-started from ``start`` (then cold if that fails)."""
-    problem = HoverProblem(insect)
-    options: dict[str, Any] = {"backend": settings.backend, "kernel_options": {
-        "amplitude_tol_deg": settings.amplitude_tol_deg, "multiplier_tol": settings.multiplier_tol}}
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", HoverDriftWarning)  # the row records the drift
-        orbit = None
-        if start is not None:
-            if start.kernel is not None:
-                options["kernel_options"]["n_steps"] = start.kernel.n_steps
-            try:
-                orbit = find_hover_orbit(problem, amplitude_guess=start.amplitude,
-                                         x0_guess=start.x0, **options)
-            except ConvergenceError:
-                options["kernel_options"].pop("n_steps", None)
-                # a neighbour across a fold or a failure: start afresh
-        if orbit is None:
-            orbit = find_hover_orbit(problem, **options)
+class _Point:
+    """A point of a grid: its insect, built (and checked) when first solved."""
+
+    def __init__(self, base: Insect | None, point: Mapping[str, Any] | Insect) -> None:
+        self.base = base
+        self.point = point
+
+    @cached_property
+    def insect(self) -> Insect:
+        """The base insect with the point's values (ValueError for a bad one)."""
+        if isinstance(self.point, Insect):
+            return self.point
+        assert self.base is not None
+        return self.base.with_(**self.point)
+
+
+def _solve_point(point: _Point, guess: Guess[tuple[HoverOrbit, np.ndarray]] | None,
+                 settings: _Settings) -> tuple[HoverOrbit, np.ndarray]:
+    """One point: from the previous orbit's x0, Phi and step count, or cold without a guess."""
+    problem = HoverProblem(point.insect)
+    kernel_options = {"amplitude_tol_deg": settings.amplitude_tol_deg,
+                      "multiplier_tol": settings.multiplier_tol}
+    if guess is None:
+        orbit = find_hover_orbit(problem, backend=settings.backend,
+                                 kernel_options=kernel_options)
+    else:
+        start = guess.previous[0]
+        if start.kernel is not None:
+            kernel_options["n_steps"] = start.kernel.n_steps
+        orbit = find_hover_orbit(problem, amplitude_guess=start.amplitude, x0_guess=start.x0,
+                                 backend=settings.backend, kernel_options=kernel_options)
     return orbit, _multipliers(orbit)
 
 
@@ -183,27 +214,23 @@ def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insec
                  settings: _Settings) -> list[dict[str, Any]]:
     """Solve consecutive points, each warm-started from the previous answer; one row each.
 
-    Module-level (picklable) so that executors can run it. A point's failure (bad parameters,
-    no convergence) is its row's message.
+    A warm start that fails (a neighbour across a fold) is retried cold. Module-level
+    (picklable) so that executors can run it. A point's failure (bad parameters, no
+    convergence) is its row's message, and the next point starts cold.
     """
-    rows: list[dict[str, Any]] = []
-    start = None
-    for point in points:
-        try:
-            insect = point if isinstance(point, Insect) else _with(base, point)
-            orbit, mu = _solve_point(insect, settings, start)
-        except (ValueError, ConvergenceError, ArithmeticError, np.linalg.LinAlgError) as exc:
-            rows.append(_row(None, None, f"{type(exc).__name__}: {exc}", settings.backend))
-            start = None
-            continue
-        rows.append(_row(orbit, mu, "", settings.backend))
-        start = orbit
-    return rows
+    warm = WarmStart(partial(_solve_point, settings=settings), restart=(ConvergenceError,))
+    path = ((float(i), _Point(base, point)) for i, point in enumerate(points))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", HoverDriftWarning)  # the row records the drift
+        steps = follow(path, warm, record=_POINT_FAILURES)
+    return [_row_of(step, settings.backend) for step in steps]
 
 
-def _with(base: Insect | None, point: Mapping[str, Any]) -> Insect:
-    assert base is not None
-    return base.with_(**point)
+def _row_of(step: Step[tuple[HoverOrbit, np.ndarray]], backend: str) -> dict[str, Any]:
+    """The row of a solved or failed point."""
+    if step.result is None:
+        return _row(None, None, f"{type(step.error).__name__}: {step.error}", backend)
+    return _row(*step.result, "", backend)
 
 
 # =========================================================================== the sweep
@@ -297,7 +324,9 @@ def sweep_hover(
     Raises
     ------
     ValueError
-        For a bad grid or argument (a bad *point*, e.g. an insect that cannot trim, is a row).
+        For a bad grid or argument (a bad *point*, e.g. an insect that cannot trim, is a row):
+        a string for ``insect`` (build it with :func:`flapping.model.presets.preset`), or a
+        grid of more than :data:`MAX_GRID_POINTS` points.
     ImportError
         If pandas or tqdm is missing (``pip install flapping[sweep]``).
     """
@@ -320,9 +349,12 @@ def sweep_hover(
 def _points(insect: Insect | Sequence[Insect], grid: Mapping[str, Sequence[float]] | None
             ) -> tuple[Insect | None, list[Any], dict[str, list[Any]], tuple[int, ...]]:
     """(base insect, points, parameter columns, grid shape) of the sweep's arguments."""
+    _refuse_name("insect", insect)
     if grid is None:
         if isinstance(insect, Insect) or not isinstance(insect, Sequence) or not insect:
             raise ValueError("without `grid`, `insect` must be a non-empty sequence of Insect")
+        for i, x in enumerate(insect):
+            _refuse_name(f"insect[{i}]", x)
         insects = [_validation.instance(f"insect[{i}]", x, Insect) for i, x in enumerate(insect)]
         params: dict[str, list[Any]] = {"insect": list(range(len(insects))),
                                          "name": [x.name for x in insects]}
@@ -335,3 +367,15 @@ def _points(insect: Insect | Sequence[Insect], grid: Mapping[str, Sequence[float
     columns: dict[str, list[Any]] = {name: [p[name] for p in points] for name in axes}
     return base, points, columns, tuple(len(v) for v in axes.values())
 
+
+
+def _refuse_name(name: str, value: object) -> None:
+    """A ValueError for a string where an :class:`Insect` belongs (a preset's name, say)."""
+    if not isinstance(value, str):
+        return
+    if value in preset_names():
+        hint = f"flapping.model.presets.preset({value!r}) builds that preset"
+    else:
+        hint = f"flapping.model.presets.preset(name) builds one of {preset_names()}"
+    raise ValueError(f"`{name}` must be an Insect, not the string {_validation._show(value)}: "
+                     f"{hint}")

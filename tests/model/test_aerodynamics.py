@@ -507,3 +507,19 @@ def test_root_singular_planform_needs_no_damping_integral_without_damping():
     assert aero_constants(light).Knu == 0.0
     with pytest.raises(ValueError, match="mu1 = mu2 = 0"):
         aero_constants(hawkmoth(r1=r1, r2=r2))
+
+
+def test_linear_load_constants_are_the_span_integrals_exactly():
+    # The span table is cached per planform: each constant must still be rho A I_mn / 2 and
+    # rho pi (3/4 - x0_hat) I_mn to the last bit, for an insect that shares the planform.
+    from flapping.model.aerodynamics import aero_constants
+
+    insect = hawkmoth().with_(frequency=31.0, air_density=1.1, pitch_axis=0.1)
+    c = aero_constants(insect)
+    rho, A, kappa = insect.air_density, insect.lift_slope, 0.75 - insect.pitch_axis
+    expected = {(m, n): insect.span_integral(m, n) for m in range(4) for n in range(1, 5)
+                if m + 1 + n * (insect.beta_p - 1.0) > 0}
+    assert list(c.K) == list(expected)
+    assert all(c.K[k] == 0.5 * rho * A * v for k, v in expected.items())
+    assert all(c.Krot[k] == rho * math.pi * kappa * v for k, v in expected.items())
+    assert c.Knu == math.pi / 16.0 * rho * expected[(0, 4)] and c.f == 31.0

@@ -4,14 +4,18 @@ I_mn (paper, after eq. 29), the lift slope of eq. (4), and input validation.
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import re
+import warnings
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from scipy import integrate
+from scipy import integrate, special
 
+from flapping.errors import PlausibilityWarning
 from flapping.model.morphology import Insect, beta_shape_parameters, hawkmoth, lev_lift_slope
 
 
@@ -221,3 +225,56 @@ def test_lift_slope_arguments_are_checked():
         lev_lift_slope(0.0)
     with pytest.raises(ValueError, match="`a0`"):
         lev_lift_slope(5.0, a0=True)
+
+
+# ----------------------------------------------------------------------------- fast copies
+def _copy_by_constructor(insect, **changes):
+    """The copy as the constructor builds it (every field validated again)."""
+    values = {f.name: getattr(insect, f.name) for f in dataclasses.fields(insect) if f.init}
+    return Insect(**{**values, **changes})
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.dictionaries(
+    st.sampled_from(["frequency", "mass", "r1", "r2", "semi_span", "hinge_offset", "mu1",
+                     "stroke_amplitude", "center_of_pressure", "name"]),
+    st.one_of(st.floats(-1.0, 60.0), st.integers(-3, 50), st.just("x"), st.booleans()),
+    max_size=3))
+def test_with_equals_the_constructor_field_by_field(moth, changes):
+    # with_ checks only the changed fields: its copy (or its error) must be the constructor's.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlausibilityWarning)  # the next test checks them
+        try:
+            expected = _copy_by_constructor(moth, **changes)
+        except (ValueError, TypeError) as exc:
+            with pytest.raises(type(exc), match=re.escape(str(exc))):
+                moth.with_(**changes)
+            return
+        copy = moth.with_(**changes)
+    assert copy == expected and copy.name == expected.name
+    assert (copy.beta_p, copy.beta_q) == (expected.beta_p, expected.beta_q)
+    assert all(type(getattr(copy, f)) is type(getattr(expected, f))
+               for f in ("frequency", "mass", "r1", "r2"))
+
+
+def test_with_warns_and_refuses_as_the_constructor(moth):
+    with pytest.warns(PlausibilityWarning, match="frequency"):
+        moth.with_(frequency=1e5)
+    with pytest.raises(TypeError, match="wing_span"):
+        moth.with_(wing_span=1.0)
+    with pytest.raises(ValueError, match="r2"):
+        moth.with_(r1=0.6)  # r2 = 0.525 < r1: the pair is checked again when r1 changes
+
+
+def test_span_integrals_are_exact_whatever_the_type_of_the_orders(moth):
+    # Integer orders skip validation and cached values are reused: the closed form must not
+    # move by a single bit (the book glues numbers built on it).
+    for m, n in [(0, 1), (2, 1), (3, 4), (1, 2)]:
+        value = moth.span_integral(m, n)
+        assert value == moth.span_integral(float(m), np.float64(n))
+        p, q = moth.beta_p, moth.beta_q
+        a, b = m + n * (p - 1.0) + 1.0, n * (q - 1.0) + 1.0
+        direct = 2.0 * math.exp((m + 1.0) * math.log(moth.semi_span)
+                                + n * (math.log(moth.mean_chord) - special.betaln(p, q))
+                                + special.betaln(a, b))
+        assert value == direct

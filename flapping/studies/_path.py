@@ -1,0 +1,213 @@
+"""Warm-started solves along a path of problems: the one loop behind the studies' sweeps.
+
+A path is a sequence of points (insects, or whatever a ``solve`` takes), each at a coordinate s
+(a grid index, the homotopy fraction, log f, a hinge height). Each point is solved from what the
+path has learnt so far (:class:`Guess`): the previous point's result and, when the caller names
+the continued unknowns, their prediction at s -- the previous point's, or the secant through the
+last two. :class:`WarmStart` holds that memory and makes one attempt (with a cold restart if a
+warm start fails); :func:`follow` walks a given list of points, recording or raising failures;
+:func:`follow_halving` walks s from 0 to 1 in steps that are halved when a point fails.
+
+:func:`~flapping.studies.sweep.sweep_hover`, :func:`~flapping.studies.atlas.hover_by_homotopy`,
+:func:`~flapping.studies.atlas.frequency_sweep` and
+:func:`~flapping.studies.control.passive_sweep` all walk their paths with it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import Generic, TypeVar
+
+import numpy as np
+
+__all__ = ["Guess", "Step", "WarmStart", "follow", "follow_halving"]
+
+P = TypeVar("P")
+R = TypeVar("R")
+
+#: Exception types, as ``except`` takes them.
+Errors = tuple[type[BaseException], ...]
+
+
+@dataclass(frozen=True)
+class Guess(Generic[R]):
+    """What a warm-started solve starts from.
+
+    Attributes
+    ----------
+    previous : object
+        The result of the last point solved on the path.
+    unknowns : ndarray or None
+        The continued unknowns predicted at this point (the last point's, or the secant through
+        the last two); None if the path continues none.
+    """
+
+    previous: R
+    unknowns: np.ndarray | None
+
+
+@dataclass(frozen=True)
+class Step(Generic[R]):
+    """One point of a path: its coordinate, and its result or why it failed.
+
+    Attributes
+    ----------
+    s : float
+        The point's coordinate on the path.
+    result : object or None
+        What ``solve`` returned (None if the point failed).
+    error : BaseException or None
+        The recorded failure (None if the point was solved).
+    """
+
+    s: float
+    result: R | None
+    error: BaseException | None = None
+
+
+class WarmStart(Generic[P, R]):
+    """The memory of a path (its last two solved points) and one attempt at the next point.
+
+    Parameters
+    ----------
+    solve : callable
+        ``solve(point, guess)`` with ``guess`` a :class:`Guess`, or None for a cold start;
+        returns the point's result or raises.
+    unknowns : callable, optional
+        ``unknowns(point, result)``: the continued unknowns of a solved point (a 1-D array);
+        without it a guess carries the previous result only.
+    secant : bool
+        Predict the unknowns along the secant through the last two solved points (by their
+        coordinates), else take the last point's.
+    restart : tuple of exception types
+        Failures of a warm-started solve that are retried once from a cold start.
+    """
+
+    def __init__(self, solve: Callable[[P, Guess[R] | None], R],
+                 unknowns: Callable[[P, R], np.ndarray] | None = None, *, secant: bool = False,
+                 restart: Errors = ()) -> None:
+        self.solve = solve
+        self.unknowns = unknowns
+        self.secant = secant
+        self.restart = restart
+        self.solved: list[tuple[float, R, np.ndarray | None]] = []
+
+    def add(self, s: float, point: P, result: R) -> None:
+        """Remember a solved point (only the last two are kept)."""
+        u = None if self.unknowns is None else self.unknowns(point, result)
+        self.solved = [*self.solved[-1:], (s, result, u)]
+
+    def forget(self) -> None:
+        """Start the next point cold (after a failure, its neighbour is no guide)."""
+        self.solved = []
+
+    def guess(self, s: float) -> Guess[R] | None:
+        """The guess at coordinate s (None before any point is solved)."""
+        if not self.solved:
+            return None
+        s1, previous, u1 = self.solved[-1]
+        if u1 is None or not self.secant or len(self.solved) == 1:
+            return Guess(previous, u1)
+        s0, _, u0 = self.solved[0]
+        assert u0 is not None
+        k = (s - s1) / (s1 - s0)
+        return Guess(previous, u1 + k * (u1 - u0))
+
+    def attempt(self, s: float, point: P) -> R:
+        """Solve ``point`` at s from the guess (then cold, on a ``restart`` failure); remember it.
+
+        Raises
+        ------
+        Exception
+            Whatever the last ``solve`` raised.
+        """
+        guess = self.guess(s)
+        try:
+            result = self.solve(point, guess)
+        except self.restart:
+            if guess is None:
+                raise
+            result = self.solve(point, None)
+        self.add(s, point, result)
+        return result
+
+
+def follow(path: Iterable[tuple[float, P]], warm: WarmStart[P, R], *,
+           record: Errors = ()) -> list[Step[R]]:
+    """Solve the points of a path in order, each warm-started from the ones before.
+
+    Parameters
+    ----------
+    path : iterable of (float, point)
+        Coordinates and points, in the order to solve them (consumed lazily).
+    warm : WarmStart
+        How to solve a point; it may hold solved points already (e.g. the path's start).
+    record : tuple of exception types
+        Failures recorded as the point's :class:`Step` (the next point then starts cold); any
+        other failure propagates.
+
+    Returns
+    -------
+    list of Step
+        One per point, in order.
+    """
+    steps: list[Step[R]] = []
+    for s, point in path:
+        try:
+            result = warm.attempt(s, point)
+        except record as exc:
+            steps.append(Step(s, None, exc))
+            warm.forget()
+            continue
+        steps.append(Step(s, result))
+    return steps
+
+
+def follow_halving(member: Callable[[float], P], warm: WarmStart[P, R], *, n_steps: int,
+                   max_failures: int, retry: Errors,
+                   stalled: Callable[[float, int, BaseException], BaseException]
+                   ) -> tuple[list[Step[R]], int]:
+    """Walk s from 0 to 1 in ``n_steps`` equal steps, halving the step where a point fails.
+
+    The steps do not grow again. ``warm`` must already hold the point at s = 0.
+
+    Parameters
+    ----------
+    member : callable
+        ``member(s)``: the point at s in (0, 1] (``member(1)`` the target).
+    warm : WarmStart
+        How to solve a point, holding the start.
+    n_steps : int
+        Initial number of steps, >= 1.
+    max_failures : int
+        Largest number of halvings, >= 0.
+    retry : tuple of exception types
+        The failures that halve the step.
+    stalled : callable
+        ``stalled(s, halvings, exc)``: the exception to raise when a failure exceeds
+        ``max_failures`` (``s`` the last coordinate solved, ``exc`` the last failure).
+
+    Returns
+    -------
+    steps : list of Step
+        The points solved, in order (the last at s = 1).
+    failures : int
+        The halvings made.
+    """
+    s, step, failures = 0.0, 1.0 / n_steps, 0
+    steps: list[Step[R]] = []
+    while s < 1.0:
+        s_next = 1.0 if s + step > 1.0 - 1e-9 else s + step
+        point = member(s_next)
+        try:
+            result = warm.attempt(s_next, point)
+        except retry as exc:
+            failures += 1
+            if failures > max_failures:
+                raise stalled(s, failures - 1, exc) from exc
+            step /= 2.0
+            continue
+        s = s_next
+        steps.append(Step(s, result))
+    return steps, failures
