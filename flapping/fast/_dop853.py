@@ -5,6 +5,6 @@ this module keeps the name :mod:`flapping.fast._compiled` imports, so the kernel
 (keyed on that file's content) is not invalidated by the move.
 """
 
-from flapping.periodic._tableau import A, B, C, N_STAGES
+from flapping.periodic._tableau import N_STAGES, A, B, C
 
 __all__ = ["N_STAGES", "A", "B", "C"]
