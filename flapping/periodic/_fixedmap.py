@@ -29,6 +29,8 @@ from flapping.periodic._tableau import N_STAGES, A, B, C
 
 __all__ = ["NonFinite", "OutOfWork", "PeriodMap"]
 
+_EPS = float(np.finfo(float).eps)
+_ROOT_ITERATIONS = 60  # Illinois converges superlinearly: ~8 iterations to rounding
 _ROWS = [np.ascontiguousarray(A[s, :s]) for s in range(N_STAGES)]
 _NODES = [float(c) for c in C]
 
@@ -55,6 +57,10 @@ class PeriodMap:
         Fractions of the period where the segments meet.
     has_params : bool
         Whether ``p`` is passed to the callables.
+    switches : sequence of sequences of callables, optional
+        Per segment, the functions ``g(t, x, *args[, p])`` whose sign changes mark where ``f``
+        is continuous but not smooth (a kink): a step across a sign change is split at the
+        root (see :meth:`_split`), so the formula keeps its order.
     max_nfev : int
         Cap on the evaluations of ``fun`` (:class:`OutOfWork` beyond it).
     """
@@ -63,8 +69,9 @@ class PeriodMap:
                  jacs: Sequence[Callable[..., Any] | None],
                  pjacs: Sequence[Callable[..., Any] | None], args: tuple[Any, ...],
                  period: float, breakpoints: tuple[float, ...], has_params: bool,
-                 max_nfev: int) -> None:
+                 max_nfev: int, switches: Sequence[Sequence[Callable[..., Any]]] = ()) -> None:
         self.funs, self.jacs, self.pjacs = tuple(funs), tuple(jacs), tuple(pjacs)
+        self.switches = tuple(tuple(g) for g in switches) or ((),) * len(self.funs)
         self.args, self.has_params = args, has_params
         self.nodes = [period * b for b in (0.0, *breakpoints)] + [period]
         self.nfev = self.njev = 0
@@ -79,8 +86,11 @@ class PeriodMap:
     @property
     def variational(self) -> bool:
         """Whether the derivative comes from the variational equations: ``jac`` given (and
-        ``param_jac``, with parameters); else central differences of the discrete map."""
-        return (all(j is not None for j in self.jacs)
+        ``param_jac``, with parameters) and no switching functions; else central differences of
+        the discrete map. (At a split point a stage lies on the switching surface, where ``jac``
+        is one-sided and a user's ``jac`` picks either side: measured, an O(h) error in the
+        monodromy. ``fun`` is continuous there, so differences of the map are not affected.)"""
+        return (not any(self.switches) and all(j is not None for j in self.jacs)
                 and (not self.has_params or all(j is not None for j in self.pjacs)))
 
     def evaluations(self, n: int, trajectories: int) -> int:
@@ -92,16 +102,16 @@ class PeriodMap:
         """End states of a batch: ``X`` (m, d) initial states, ``P`` (m, n_p) parameters."""
         X = np.array(X, dtype=float)
         with np.errstate(over="ignore", invalid="ignore"):  # a non-finite state raises NonFinite
-            for k, f in enumerate(self.funs):
+            for k in range(len(self.funs)):
                 t0, t1 = self.nodes[k], self.nodes[k + 1]
                 h = (t1 - t0) / n
                 for step in range(n):
-                    X = self._step(f, t0 + step * h, h, X, P)
+                    X = self._step(k, t0 + step * h, h, X, P)
         return X
 
-    def _step(self, f: Callable[..., Any], t: float, h: float, X: np.ndarray,
+    def _step(self, k: int, t: float, h: float, X: np.ndarray,
               P: np.ndarray | None) -> np.ndarray:
-        m, d = X.shape
+        f, m, d = self.funs[k], X.shape[0], X.shape[1]
         K = np.empty((N_STAGES, m, d))
         extra = [self.args if P is None else (*self.args, P[j]) for j in range(m)]
         for s in range(N_STAGES):
@@ -110,10 +120,71 @@ class PeriodMap:
             for j in range(m):
                 K[s, j] = f(ts, Y[j], *extra[j])
         self._count(m * N_STAGES)
-        X = X + h * (B @ K.reshape(N_STAGES, m * d)).reshape(m, d)
-        if not math.isfinite(float(np.sum(np.abs(X)))):
+        X_new = X + h * (B @ K.reshape(N_STAGES, m * d)).reshape(m, d)
+        if not math.isfinite(float(np.sum(np.abs(X_new)))):
             raise NonFinite(f"the state became non-finite at t = {t + h!r}")
-        return X
+        if self.switches[k]:
+            for j in range(m):
+                X_new[j] = self._split(k, t, h, X[j], X_new[j], extra[j])
+        return X_new
+
+    # ------------------------------------------------------------------------------ switches
+    def _one_step(self, k: int, t: float, h: float, x: np.ndarray,
+                  extra: tuple[Any, ...]) -> np.ndarray:
+        """One DOP853 step of one trajectory."""
+        f, K = self.funs[k], np.empty((N_STAGES, x.size))
+        for s in range(N_STAGES):
+            K[s] = f(t + _NODES[s] * h, x if s == 0 else x + h * (_ROWS[s] @ K[:s]), *extra)
+        self._count(N_STAGES)
+        return x + h * (B @ K)
+
+    def _split(self, k: int, t: float, h: float, x: np.ndarray, x_new: np.ndarray,
+               extra: tuple[Any, ...]) -> np.ndarray:
+        """The step from (t, x) over h, split at every root of a switching function in it."""
+        done: set[int] = set()
+        while True:
+            event = self._first_root(k, t, h, x, x_new, extra, done)
+            if event is None:
+                return x_new
+            tau, i = event
+            done.add(i)  # crossed: its root at the split point is not crossed again
+            x = self._one_step(k, t, tau, x, extra)
+            t, h = t + tau, h - tau
+            x_new = self._one_step(k, t, h, x, extra)
+
+    def _first_root(self, k: int, t: float, h: float, x: np.ndarray, x_new: np.ndarray,
+                    extra: tuple[Any, ...], done: set[int]) -> tuple[float, int] | None:
+        """(tau, i): the earliest root t + tau of a switching function i in the step, if any."""
+        first: tuple[float, int] | None = None
+        for i, g in enumerate(self.switches[k]):
+            if i in done:
+                continue
+            g0, g1 = float(g(t, x, *extra)), float(g(t + h, x_new, *extra))
+            if g0 * g1 < 0.0:
+                tau = self._root(k, g, t, h, x, extra, g0, g1)
+                if first is None or tau < first[0]:
+                    first = (tau, i)
+        return first
+
+    def _root(self, k: int, g: Callable[..., Any], t: float, h: float, x: np.ndarray,
+              extra: tuple[Any, ...], g0: float, g1: float) -> float:
+        """tau in (0, h) with g(t + tau, x(t + tau)) = 0 along the step (Illinois method)."""
+        a, fa, b, fb = 0.0, g0, h, g1
+        c, side = b, 0
+        for _ in range(_ROOT_ITERATIONS):
+            c = (a * fb - b * fa) / (fb - fa)
+            fc = float(g(t + c, self._one_step(k, t, c, x, extra), *extra))
+            if fc == 0.0:
+                break
+            if fc * fb > 0.0:  # c replaces b; a kept twice in a row: halve f(a) (Illinois)
+                b, fb = c, fc
+                fa, side = (0.5 * fa if side == -1 else fa), -1
+            else:
+                a, fa = c, fc
+                fb, side = (0.5 * fb if side == 1 else fb), 1
+            if b - a <= 4.0 * _EPS * (abs(t) + h):
+                break
+        return c
 
     # ------------------------------------------------------------------------------ derivative
     def derivative(self, x: np.ndarray, p: np.ndarray | None, n: int,
@@ -158,6 +229,23 @@ class PeriodMap:
 
     def _variational_step(self, k: int, t: float, h: float, x: np.ndarray, W: np.ndarray,
                           extra: tuple[Any, ...], n_p: int) -> tuple[np.ndarray, np.ndarray]:
+        """One step of the state and its derivative, split at the roots of the switching
+        functions (``f`` is continuous there, so the derivative needs no jump term)."""
+        x_new, W_new = self._variational_rk(k, t, h, x, W, extra, n_p)
+        done: set[int] = set()
+        while self.switches[k]:
+            event = self._first_root(k, t, h, x, x_new, extra, done)
+            if event is None:
+                break
+            tau, i = event
+            done.add(i)
+            x, W = self._variational_rk(k, t, tau, x, W, extra, n_p)
+            t, h = t + tau, h - tau
+            x_new, W_new = self._variational_rk(k, t, h, x, W, extra, n_p)
+        return x_new, W_new
+
+    def _variational_rk(self, k: int, t: float, h: float, x: np.ndarray, W: np.ndarray,
+                        extra: tuple[Any, ...], n_p: int) -> tuple[np.ndarray, np.ndarray]:
         f, J, Pj = self.funs[k], self.jacs[k], self.pjacs[k]
         assert J is not None and (Pj is not None or not n_p)
         d, cols = x.size, W.shape[1]

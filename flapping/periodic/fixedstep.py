@@ -383,6 +383,7 @@ def find_periodic_orbit_fixed_step(
     param_jac: Callable[..., Any] | Sequence[Callable[..., Any]] | None = None,
     fixed: Sequence[int] = (),
     breakpoints: Sequence[float] = (),
+    switches: Sequence[Any] = (),
     args: tuple[Any, ...] = (),
     n_steps: int | None = None,
     error_tol: float = 1e-10,
@@ -421,6 +422,14 @@ def find_periodic_orbit_fixed_step(
         Indices of ``x0`` held at their given values.
     breakpoints : sequence of float
         Fractions of the period in (0, 1) where the integration restarts (the segments).
+    switches : sequence of callables, or one such sequence per segment
+        Switching functions ``g(t, x, *args[, p]) -> float`` whose sign changes mark where
+        ``fun`` is continuous but not smooth (a kink at a state-dependent time, e.g. an absolute
+        value): a step across a sign change is split at the root (located to rounding along the
+        step, Illinois method), so the formula keeps its order and the map stays smooth. A kink
+        left unmarked drops the convergence to first or second order. ``fun`` must be
+        continuous across every switch (a jump needs a breakpoint). With switches the Jacobian
+        is always differenced (``jac`` is one-sided on the switching surface).
     args : tuple
         Extra arguments of the callables (before ``p``).
     n_steps : int, optional
@@ -473,7 +482,8 @@ def find_periodic_orbit_fixed_step(
         check.positive("tol", tol))
     cap = MAX_NFEV if max_nfev is None else check.integer("max_nfev", max_nfev, low=1,
                                                           high=MAX_NFEV_CAP)
-    pmap = PeriodMap(funs, jacs, pjacs, tuple(args), T, b, p_init is not None, cap)
+    pmap = PeriodMap(funs, jacs, pjacs, tuple(args), T, b, p_init is not None, cap,
+                     _switches(switches, len(b) + 1))
     _probe(pmap, x_init, p_init)
     solve = _Solve(_Problem(pmap, x_init, p_init, held), n + n % 2, tols)
     solve.run()
@@ -506,6 +516,25 @@ def _callables(fun: Any, jac: Any, param_jac: Any, n_seg: int, has_params: bool
     pjacs = ((None,) * n_seg if param_jac is None
              else seg.segment_callables(param_jac, n_seg, "param_jac"))
     return funs, jacs, pjacs
+
+
+def _switches(switches: Any, n_seg: int) -> tuple[tuple[Callable[..., Any], ...], ...]:
+    """``switches`` as one tuple of callables per segment."""
+    message = ("`switches` must be a sequence of callables, or one such sequence per segment "
+               f"(len(breakpoints) + 1 = {n_seg})")
+    try:
+        items = list(switches)
+    except TypeError:
+        raise ValueError(message) from None
+    if all(callable(g) for g in items):
+        return (tuple(items),) * n_seg
+    try:
+        per_segment = tuple(tuple(gs) for gs in items)
+    except TypeError:
+        raise ValueError(message) from None
+    if len(per_segment) != n_seg or not all(callable(g) for gs in per_segment for g in gs):
+        raise ValueError(message)
+    return per_segment
 
 
 def _probe(pmap: PeriodMap, x: np.ndarray, p: np.ndarray | None) -> None:

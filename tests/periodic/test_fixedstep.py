@@ -130,3 +130,42 @@ def test_a_diverging_iteration_fails_cleanly():
         find_periodic_orbit_fixed_step(lambda t, x: np.array([x[0] ** 2 + 10.0]), [1e3], 10.0,
                                        n_steps=4)
     assert info.value.result.status in (1, 2, 3)
+
+
+def _kinked(t, x):
+    """x' = cos t - x - |x|/2: continuous, with a kink where the orbit crosses x = 0."""
+    return np.array([math.cos(t) - x[0] - 0.5 * abs(x[0])])
+
+
+def test_switches_restore_the_order_across_a_state_dependent_kink():
+    def crossing(t, x):
+        return x[0]
+
+    reference = find_periodic_orbit_fixed_step(_kinked, [0.0], 2.0 * math.pi, switches=[crossing],
+                                               n_steps=256, error_tol=1e-2).x0[0]
+
+    def error(n, switches):
+        orbit = find_periodic_orbit_fixed_step(_kinked, [0.0], 2.0 * math.pi, n_steps=n,
+                                               switches=switches, error_tol=1e-2)
+        return abs(orbit.x0[0] - reference)
+
+    marked = [error(n, [crossing]) for n in (8, 16)]
+    unmarked = [error(n, []) for n in (8, 16)]
+    assert marked[1] < 1e-9 and math.log2(marked[0] / marked[1]) > 6.0  # measured 6.8
+    assert unmarked[1] > 1e-5  # the kink left unmarked: first order (measured 4e-5)
+    orbit = find_periodic_orbit_fixed_step(_kinked, [0.0], 2.0 * math.pi, switches=[crossing],
+                                           jac=lambda t, x: np.array([[-1.0]]))
+    assert orbit.jacobian == "finite-difference"  # jac is one-sided on the switch: not used
+
+
+@pytest.mark.xfail(strict=True, reason="known limitation: across a split kink the observed order "
+                   "is 5-7, not 8, so the order-8 Richardson estimate is low (1.6e-10 actual at "
+                   "error_tol 1e-10); needs an observed-order estimate (three step counts)")
+def test_the_error_estimate_holds_with_switches():
+    def crossing(t, x):
+        return x[0]
+
+    reference = find_periodic_orbit_fixed_step(_kinked, [0.0], 2.0 * math.pi, switches=[crossing],
+                                               n_steps=256, error_tol=1e-2).x0[0]
+    orbit = find_periodic_orbit_fixed_step(_kinked, [0.0], 2.0 * math.pi, switches=[crossing])
+    assert abs(orbit.x0[0] - reference) <= orbit.x0_error[0]
