@@ -39,8 +39,8 @@ def _imported_modules(path: Path) -> set[str]:
 ALLOWED = {
     "periodic": ("flapping.periodic", "flapping.errors", "flapping._validation", "flapping._numdiff"),
     "model": ("flapping.model", "flapping.errors", "flapping._validation", "flapping._numdiff"),
-    "fast": ("flapping.fast", "flapping.model", "flapping.errors", "flapping._validation",
-             "flapping._numdiff"),
+    "fast": ("flapping.fast", "flapping.model", "flapping.periodic", "flapping.errors",
+             "flapping._validation", "flapping._numdiff"),
     "hover": ("flapping.hover", "flapping.fast", "flapping.model", "flapping.periodic",
               "flapping.errors", "flapping._validation", "flapping._numdiff"),
     "studies": ("flapping.studies", "flapping.hover", "flapping.fast", "flapping.model",

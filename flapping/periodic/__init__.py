@@ -5,6 +5,9 @@
 - :mod:`~flapping.periodic.rk4`: the paper's fixed-step RK4 as a scipy ``OdeSolver``;
 - :mod:`~flapping.periodic.shooting`: periodic orbits by the optimized (Levenberg-Marquardt)
   shooting method;
+- :mod:`~flapping.periodic.fixedstep`: periodic orbits of forced systems by Newton's method on a
+  fixed-step 8th-order period map, with Richardson error estimates (smooth residual, exact
+  Jacobian of the discrete map);
 - :mod:`~flapping.periodic.floquet`: monodromy matrices and Floquet multipliers;
 - :mod:`~flapping.periodic.continuation`: branches of orbits as a parameter changes
   (pseudo-arclength), with folds, period doublings and Neimark-Sacker points located;
@@ -21,12 +24,14 @@ problem fails with a message instead of hanging. Result arrays are read-only
 (``writeable=False``).
 
 This subpackage imports nothing from :mod:`flapping.model`; other projects can reuse it alone.
-(``_segments``, ``_problem``, ``_branchflow``, ``_bifurcation`` and ``_branchplot`` are
-package-internal modules: the integration driver, the shooting problem, the continuation's
-shooting map, its bifurcation tests and its plot.)
+(``_segments``, ``_problem``, ``_fixedmap``, ``_tableau``, ``_branchflow``, ``_bifurcation`` and
+``_branchplot`` are package-internal modules: the integration driver, the shooting problem, the
+fixed-step period map, the DOP853 coefficients, the continuation's shooting map, its bifurcation
+tests and its plot.)
 """
 
 from flapping.periodic.continuation import Bifurcation, Branch, continue_orbit
+from flapping.periodic.fixedstep import FixedStepOrbit, find_periodic_orbit_fixed_step
 from flapping.periodic.floquet import Monodromy, monodromy
 from flapping.periodic.integrate import FlowResult, VariationalFlow, flow, variational_flow
 from flapping.periodic.rk4 import RK4
@@ -36,5 +41,5 @@ from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
 __all__ = [
     "find_periodic_orbit", "PeriodicOrbit", "monodromy", "Monodromy", "flow", "FlowResult",
     "variational_flow", "VariationalFlow", "RK4", "continue_orbit", "Branch", "Bifurcation",
-    "SolverSettings",
+    "SolverSettings", "find_periodic_orbit_fixed_step", "FixedStepOrbit",
 ]

@@ -1,11 +1,11 @@
-"""The kernel's own DOP853 tableau against scipy's (the kernel no longer imports scipy's private
-module, so a scipy release that moved it cannot break the kernel, and this test says if the
-coefficients ever differ)."""
+"""The package's own DOP853 tableau against scipy's (the fixed-step solver and the compiled kernel
+do not import scipy's private module, so a scipy release that moved it cannot break them, and this
+test says if the coefficients ever differ)."""
 
 import numpy as np
 import pytest
 
-from flapping.fast import _dop853
+from flapping.periodic import _tableau as _dop853
 
 scipy_tableau = pytest.importorskip("scipy.integrate._ivp.dop853_coefficients")
 
@@ -24,3 +24,10 @@ def test_tableau_is_consistent_and_read_only():
     assert abs(_dop853.B.sum() - 1.0) < 1e-14
     for array in (_dop853.A, _dop853.B, _dop853.C):
         assert not array.flags.writeable
+
+
+def test_the_kernel_reads_the_same_arrays():
+    from flapping.fast import _dop853 as kernel_tableau
+
+    for name in ("A", "B", "C", "N_STAGES"):
+        assert getattr(kernel_tableau, name) is getattr(_dop853, name)

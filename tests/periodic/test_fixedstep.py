@@ -1,0 +1,171 @@
+"""flapping.periodic.fixedstep: Newton on a fixed-step DOP853 period map.
+
+Each test states a property that can fail: the exact orbit and multipliers of the forced
+oscillator, the formula's order 8 by refinement, the error estimate bounding the actual error,
+breakpoints restarting the formula (order kept across a jump), free parameters with held
+components, and the refusals (autonomous systems, bad arguments, the work cap).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from flapping.errors import ConvergenceError
+from flapping.periodic.fixedstep import FixedStepOrbit, find_periodic_orbit_fixed_step
+from flapping.periodic.testproblems import (
+    forced_oscillator,
+    forced_oscillator_jac,
+    forced_oscillator_orbit,
+    lorenz,
+)
+
+ZETA, OMEGA0, OMEGA, AMPLITUDE = 0.1, 1.0, 2.0, 1.0
+ARGS = (ZETA, OMEGA0, OMEGA, AMPLITUDE)
+PERIOD = 2.0 * math.pi / OMEGA
+X0, MULTIPLIERS = forced_oscillator_orbit(*ARGS)
+
+
+def _square_wave(k):
+    """x' = -x + 1 on the first half-period, -x - 1 on the second (a jump at T/2)."""
+    s = 1.0 if k == 0 else -1.0
+    return lambda t, x: np.array([-x[0] + s])
+
+
+@pytest.mark.parametrize("jac", [None, forced_oscillator_jac], ids=["differenced", "variational"])
+def test_forced_oscillator_orbit_and_multipliers_are_exact_to_the_tolerance(jac):
+    orbit = find_periodic_orbit_fixed_step(forced_oscillator, [0.3, 0.1], PERIOD, args=ARGS,
+                                           jac=jac)
+    assert orbit.success and orbit.status == 0
+    assert orbit.jacobian == ("finite-difference" if jac is None else "variational")
+    # error_tol 1e-10 on the unknowns (Richardson, with a factor 2 of safety)
+    np.testing.assert_allclose(orbit.x0, X0, rtol=0, atol=1e-10)
+    assert np.all(np.abs(orbit.x0 - X0) <= orbit.x0_error)  # the estimate bounds the error
+    # multipliers: the variational monodromy is exact to the formula's error; central
+    # differences of the map add their rounding floor, eps / eps^(1/3) ~ 4e-11
+    np.testing.assert_allclose(orbit.multipliers, MULTIPLIERS, rtol=0,
+                               atol=1e-12 if jac is not None else 2e-10)
+    assert orbit.residual_norm < 1e-14
+
+
+def test_order_eight_by_refinement():
+    errors = []
+    for n in (4, 8, 16):
+        orbit = find_periodic_orbit_fixed_step(forced_oscillator, X0, PERIOD, args=ARGS,
+                                               jac=forced_oscillator_jac, n_steps=n,
+                                               error_tol=1e-2)
+        assert orbit.n_steps == n  # a loose tolerance keeps the first step count
+        errors.append(float(np.max(np.abs(orbit.x0 - X0))))
+    orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert np.all((orders > 7.5) & (orders < 8.5)), orders
+
+
+def test_breakpoints_restart_the_formula_across_a_jump():
+    # periodic solution x0 = -tanh(T/4) (closed form of the two exponential halves)
+    T = 2.0
+    exact = -math.tanh(T / 4.0)
+    errors = []
+    for n in (2, 4, 8):
+        orbit = find_periodic_orbit_fixed_step([_square_wave(0), _square_wave(1)], [0.0], T,
+                                               breakpoints=[0.5], n_steps=n, error_tol=1e-2)
+        errors.append(abs(orbit.x0[0] - exact))
+    assert errors[-1] < 1e-12
+    orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert np.all(orders > 7.5), orders  # a step across the jump would be first order
+
+
+def test_free_parameter_with_a_held_component():
+    # hold y(0) at twice the orbit's value: the forcing amplitude must double (linearity)
+    def fun(t, x, p):
+        return forced_oscillator(t, x, ZETA, OMEGA0, OMEGA, p)
+
+    orbit = find_periodic_orbit_fixed_step(fun, [2.0 * X0[0], 0.0], PERIOD, free_params=[0.5],
+                                           fixed=[0])
+    assert orbit.x0[0] == 2.0 * X0[0]
+    assert orbit.params is not None and orbit.params_error is not None
+    assert abs(orbit.params[0] - 2.0 * AMPLITUDE) < 1e-10
+    np.testing.assert_allclose(orbit.x0, 2.0 * X0, rtol=0, atol=1e-10)
+    assert orbit.sensitivity is not None and orbit.sensitivity.shape == (2, 1)
+
+
+def test_result_arrays_are_read_only():
+    orbit = find_periodic_orbit_fixed_step(forced_oscillator, X0, PERIOD, args=ARGS)
+    assert isinstance(orbit, FixedStepOrbit)
+    for a in (orbit.x0, orbit.monodromy, orbit.multipliers, orbit.residual, orbit.unknowns):
+        assert not a.flags.writeable
+
+
+def test_autonomous_systems_are_refused():
+    with pytest.raises(ValueError, match="autonomous"):
+        find_periodic_orbit_fixed_step(lorenz, [1.0, 1.0, 1.0], 1.5, autonomous=True)
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    ({"n_steps": 1}, "n_steps"), ({"n_steps": 10**6}, "n_steps"),
+    ({"error_tol": 1e-16}, "error_tol"), ({"multiplier_tol": 0.0}, "multiplier_tol"),
+    ({"max_nfev": 10**9}, "max_nfev"), ({"fixed": [5]}, "fixed"), ({"tol": -1.0}, "tol"),
+])
+def test_bad_arguments_are_named(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        find_periodic_orbit_fixed_step(forced_oscillator, X0, PERIOD, args=ARGS, **kwargs)
+
+
+def test_wrong_shape_of_fun_is_a_value_error():
+    with pytest.raises(ValueError, match="shape"):
+        find_periodic_orbit_fixed_step(lambda t, x: np.zeros(3), [0.0, 0.0], 1.0)
+
+
+def test_the_work_cap_ends_the_solve_with_its_diagnostics():
+    with pytest.raises(ConvergenceError, match="cap") as info:
+        find_periodic_orbit_fixed_step(forced_oscillator, [0.3, 0.1], PERIOD, args=ARGS,
+                                       max_nfev=500)
+    assert info.value.result.status == 5 and not info.value.result.success
+
+
+def test_a_diverging_iteration_fails_cleanly():
+    # x' = x^2 + cos t blows up within a period from this guess
+    with pytest.raises(ConvergenceError) as info:
+        find_periodic_orbit_fixed_step(lambda t, x: np.array([x[0] ** 2 + 10.0]), [1e3], 10.0,
+                                       n_steps=4)
+    assert info.value.result.status in (1, 2, 3)
+
+
+def _kinked(t, x):
+    """x' = cos t - x - |x|/2: continuous, with a kink where the orbit crosses x = 0."""
+    return np.array([math.cos(t) - x[0] - 0.5 * abs(x[0])])
+
+
+def test_switches_restore_the_order_across_a_state_dependent_kink():
+    def crossing(t, x):
+        return x[0]
+
+    reference = find_periodic_orbit_fixed_step(_kinked, [0.0], 2.0 * math.pi, switches=[crossing],
+                                               n_steps=256, error_tol=1e-2).x0[0]
+
+    def error(n, switches):
+        orbit = find_periodic_orbit_fixed_step(_kinked, [0.0], 2.0 * math.pi, n_steps=n,
+                                               switches=switches, error_tol=1e-2)
+        return abs(orbit.x0[0] - reference)
+
+    marked = [error(n, [crossing]) for n in (8, 16)]
+    unmarked = [error(n, []) for n in (8, 16)]
+    assert marked[1] < 1e-9 and math.log2(marked[0] / marked[1]) > 6.0  # measured 6.8
+    assert unmarked[1] > 1e-5  # the kink left unmarked: first order (measured 4e-5)
+    orbit = find_periodic_orbit_fixed_step(_kinked, [0.0], 2.0 * math.pi, switches=[crossing],
+                                           jac=lambda t, x: np.array([[-1.0]]))
+    assert orbit.jacobian == "finite-difference"  # jac is one-sided on the switch: not used
+
+
+@pytest.mark.xfail(strict=True, reason="known limitation: across a split kink the observed order "
+                   "is 5-7, not 8, so the order-8 Richardson estimate is low (1.6e-10 actual at "
+                   "error_tol 1e-10); needs an observed-order estimate (three step counts)")
+def test_the_error_estimate_holds_with_switches():
+    def crossing(t, x):
+        return x[0]
+
+    reference = find_periodic_orbit_fixed_step(_kinked, [0.0], 2.0 * math.pi, switches=[crossing],
+                                               n_steps=256, error_tol=1e-2).x0[0]
+    orbit = find_periodic_orbit_fixed_step(_kinked, [0.0], 2.0 * math.pi, switches=[crossing])
+    assert abs(orbit.x0[0] - reference) <= orbit.x0_error[0]
