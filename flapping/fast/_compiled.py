@@ -8,7 +8,9 @@ State layouts (float64 arrays):
 - the plain state ``x`` (5): u, w, q, theta and the descent z of :mod:`flapping.hover`;
 - the variational state ``y`` (31): ``x``; the 5 x 4 matrix ``Y = dx(t)/d(u0, w0, q0, theta0)``
   row-major in ``y[5:25]``; the sensitivity ``s = dx(t)/dPhi`` in ``y[25:30]``; and the integral
-  of trace J (the 4 x 4 Jacobian of eq. 2 with eq. 29's loads) in ``y[30]`` for Liouville's formula.
+  of trace J (the 4 x 4 Jacobian of eq. 2 with eq. 29's loads) in ``y[30]`` for Liouville's formula;
+  and the forward distance x_e (x_e' = u cos theta + w sin theta) in ``y[31]``, so that the
+  Newton integration gives both mean inertial velocities (x_e(T) / T and -z(T) / T).
 
 ``k`` is the constants array of :mod:`flapping.fast._generated` (``CONSTANTS``); ``p`` holds
 (g [m/s^2], omega = 2 pi f [rad/s], 1/m [1/kg], 1/I_y [1/(kg m^2)]).
@@ -59,7 +61,7 @@ RK_B = np.ascontiguousarray(_dop853.B)
 RK_C = np.ascontiguousarray(_dop853.C)
 
 N_PLAIN = 5
-N_VAR = 31
+N_VAR = 32
 
 # Newton's outcomes (status codes returned to the Python wrapper).
 CONVERGED = 0
@@ -125,6 +127,7 @@ def variational_rhs(t, y, amp, sign, k, p, d, out):  # pragma: no cover - compil
     out[26] += inv * (d[13] * im + d[18] * u + d[19] * w + d[20] * q)
     out[27] += inv * (d[14] * ii + d[21] * u + d[22] * w + d[23] * q)
     out[30] = d[3] + d[7] + d[11]
+    out[31] = u * cth + w * sth  # forward speed: no variations needed (nothing depends on x_e)
 
 
 @_jit

@@ -438,12 +438,15 @@ class HoverSolution:
     nit : int
         Newton iterations in total (all step counts).
     nfev : int
-        Evaluations of the right-hand side (variational, 31 states) in total.
+        Evaluations of the right-hand side (variational, 32 states) in total.
     n_steps : int
         Steps per half-stroke of the answer.
     amplitude_error, x0_error, multiplier_error : float
         Estimated errors of Phi [rad], of x0 (max over components, SI) and of the multipliers
         (max absolute), from the comparison with n_steps / 2 (see the module notes).
+    mean_velocity : ndarray, shape (2,)
+        Cycle means (forward, climb) [m/s] of the inertial velocity along the orbit, from the
+        last Newton integration: x_e(T) / T and -z(T) / T. Read-only.
     """
 
     x0: np.ndarray
@@ -460,6 +463,7 @@ class HoverSolution:
     amplitude_error: float
     x0_error: float
     multiplier_error: float
+    mean_velocity: np.ndarray
 
     @property
     def amplitude_deg(self) -> float:
@@ -674,7 +678,8 @@ def _solve(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int, tol_am
         period=problem.period, monodromy=_read_only(_monodromy(y)),
         multipliers=_read_only(_sorted(eigenvalues)), trace_integral=float(y[30]),
         residual=_read_only(r), nit=total_nit, nfev=nfev, n_steps=n,
-        amplitude_error=float(z_err[4]), x0_error=float(z_err[:4].max()), multiplier_error=mu_err)
+        amplitude_error=float(z_err[4]), x0_error=float(z_err[:4].max()), multiplier_error=mu_err,
+        mean_velocity=_read_only(np.array([y[31], -y[4]]) / problem.period))
 
 
 # =========================================================================== given orbits

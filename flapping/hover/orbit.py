@@ -174,8 +174,6 @@ class HoverOrbit:
         The adaptive path's shooting result, with its diagnostics (None on the compiled path).
     kernel : HoverSolution or None
         The compiled kernel's result (monodromy, error estimates) when it found the orbit.
-    quadrature : OrbitQuadrature or None
-        The kernel's Gauss quadrature along the orbit (averaged Jacobian, mean velocities).
     """
 
     problem: HoverProblem | None
@@ -189,7 +187,6 @@ class HoverOrbit:
     residual_norm: float
     shooting: PeriodicOrbit | None = field(default=None, repr=False)
     kernel: Any = field(default=None, repr=False)
-    quadrature: Any = field(default=None, repr=False)
     samples: Any = field(default=None, repr=False)
     model_given: LongitudinalDynamics | None = field(default=None, repr=False)
 
@@ -256,10 +253,11 @@ class HoverOrbit:
     def mean_inertial_velocity(self) -> dict[str, float]:
         """Cycle means of the inertial velocities [m/s]: ``forward`` and ``climb`` (up positive).
 
-        From the kernel's Gauss quadrature on the compiled path, from the samples otherwise.
+        On the compiled path from the Newton integration itself (x_e(T) / T and -z(T) / T,
+        integrated with the orbit); from the samples otherwise.
         """
-        if self.quadrature is not None:
-            forward, climb = self.quadrature.mean_velocity
+        if self.kernel is not None:
+            forward, climb = self.kernel.mean_velocity
             return {"forward": float(forward), "climb": float(climb)}
         u, w, _, th = self.x[:, :-1]
         return {"forward": float(np.mean(u * np.cos(th) + w * np.sin(th))),
@@ -547,18 +545,16 @@ def _problem_of(model: LongitudinalDynamics) -> HoverProblem:
 
 def _kernel_orbit(problem: HoverProblem, amplitude: float, x0: np.ndarray, n_samples: int,
                   options: Mapping[str, Any]) -> HoverOrbit:
-    """find_hover_orbit on the compiled kernel: the orbit, its monodromy and quadrature."""
+    """find_hover_orbit on the compiled kernel: the orbit, its monodromy, its mean velocities."""
     kp = problem.kernel_problem
     unknown = set(options) - {"n_steps", "amplitude_tol_deg", "multiplier_tol"}
     if unknown:
         raise ValueError(f"`kernel_options` accepts n_steps, amplitude_tol_deg and "
                          f"multiplier_tol; got {sorted(unknown)}")
     sol = _kernel.solve_hover(kp, amplitude_guess=amplitude, x0_guess=x0, **options)
-    quad = _kernel.orbit_quadrature(kp, sol.x0, sol.amplitude)
     x_start = _frozen(sol.x0)
     return HoverOrbit(problem, x_start, sol.amplitude, problem.insect.stroke_mean, sol.z_drift,
                       "compiled", sol.nit, sol.nfev, sol.residual_norm, kernel=sol,
-                      quadrature=quad,
                       samples=_KernelSamples(kp, x_start, sol.amplitude, n_samples))
 
 

@@ -283,10 +283,8 @@ def _averaged_jacobian(orbit: HoverOrbit, n_nodes: int, rtol: float, atol: float
                        compiled: bool = False) -> np.ndarray:
     """(1/T) int_0^T J(t, x(t)) dt by Gauss-Legendre, ``n_nodes`` nodes per half-stroke."""
     if compiled:
-        quad = orbit.quadrature
-        if quad is None or quad.n_nodes != n_nodes:
-            quad = _kernel.orbit_quadrature(_kernel_problem(orbit), orbit.x0, orbit.amplitude,
-                                            n_nodes)
+        quad = _kernel.orbit_quadrature(_kernel_problem(orbit), orbit.x0, orbit.amplitude,
+                                        n_nodes)
         return np.array(quad.averaged_jacobian)
     model = orbit.model
     rhs, jac = model.segment_functions()
