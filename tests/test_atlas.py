@@ -1,4 +1,4 @@
-"""The stability atlas helpers (flapping.atlas): homotopy, per-species numbers, sweeps."""
+"""The stability atlas helpers (flapping.studies.atlas): homotopy, per-species numbers, sweeps."""
 
 import math
 
@@ -8,7 +8,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import flapping
-from flapping.atlas import (
+from flapping.errors import ConvergenceError
+from flapping.hover import find_hover_orbit
+from flapping.hover.stability import hover_stability
+from flapping.model.presets import preset
+from flapping.studies.atlas import (
     attitude_fixed_exponents,
     frequency_sweep,
     hover_by_homotopy,
@@ -17,10 +21,6 @@ from flapping.atlas import (
     robust_hover_orbit,
     species_stability,
 )
-from flapping.errors import ConvergenceError
-from flapping.hover import find_hover_orbit
-from flapping.model.presets import preset
-from flapping.stability import hover_stability
 
 #: The monarch flapping 6 % slower than its preset (FWUAV's hover, 11.72 Hz): the default guess
 #: fails (the first Newton steps throw the amplitude past 90 deg), the continuation does not.

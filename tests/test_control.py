@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import flapping
-from flapping import control
-from flapping.hover_branch import continue_hover
+from flapping.hover.branch import continue_hover
 from flapping.model.presets import preset
+from flapping.studies import control
 
 
 @pytest.fixture(scope="module")

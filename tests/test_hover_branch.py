@@ -1,4 +1,4 @@
-"""The hover orbit continued in an insect field (flapping.hover_branch)."""
+"""The hover orbit continued in an insect field (flapping.hover.branch)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from flapping.hover import find_hover_orbit
-from flapping.hover_branch import continue_hover
+from flapping.hover.branch import continue_hover
 from flapping.model.morphology import hawkmoth
 from flapping.periodic.floquet import monodromy
 

@@ -18,8 +18,8 @@ from flapping.hover import (
     find_hover_orbit,
     forced_orbit,
 )
-from flapping.hover_branch import HoverFields
-from flapping.stability import hover_stability
+from flapping.hover.branch import HoverFields
+from flapping.hover.stability import hover_stability
 
 needs_numba = pytest.mark.skipif(not kernel.numba_available(), reason="needs numba")
 
@@ -180,7 +180,7 @@ def test_hover_orbit_is_the_package_result_type(both):
 @pytest.mark.parametrize("backend", ["adaptive", "auto"])
 def test_a_sweep_never_calls_a_drifting_orbit_a_converged_hover(moth, backend):
     pytest.importorskip("pandas")
-    from flapping.sweep import sweep_hover
+    from flapping.studies.sweep import sweep_hover
 
     table = sweep_hover(moth, {"hinge_offset": [0.0, 1e-3]}, progress=False, backend=backend)
     centred, offset = table.iloc[0], table.iloc[1]

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from flapping import cli
-from flapping.sweep import sweep_hover
+from flapping.studies.sweep import sweep_hover
 
 
 def strict_loads(text):

@@ -1,4 +1,4 @@
-"""Every public function of flapping.control refuses bad arguments with a message naming them.
+"""Every public function of flapping.studies.control refuses bad arguments with a message naming them.
 
 Before, about fifteen of these ended in a raw reshape ValueError, a LinAlgError or an IndexError
 (wrong-shaped M, B, K or gains, a negative or fractional delay, an empty grid, max_delay < 0,
@@ -16,7 +16,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from flapping import control
+from flapping.studies import control
 
 NAN = math.nan
 

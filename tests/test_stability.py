@@ -1,4 +1,4 @@
-"""Floquet stability of the hover orbit (flapping.stability)."""
+"""Floquet stability of the hover orbit (flapping.hover.stability)."""
 
 import dataclasses
 import inspect
@@ -11,7 +11,7 @@ import pytest
 import flapping
 from flapping.errors import HoverDriftWarning
 from flapping.hover import ANALYSIS_ATOL, ANALYSIS_RTOL, find_hover_orbit
-from flapping.stability import (
+from flapping.hover.stability import (
     PERTURBATION_ATOL,
     hover_stability,
     mode_response,
@@ -54,7 +54,7 @@ def test_averaged_jacobian_has_the_trace_of_liouville(stability):
 def test_hinge_offset_sign_mirrors_the_orbit(insect):
     # Reflecting the body fore-aft (x_h -> -x_h) must give the same amplitude and multipliers,
     # and the opposite horizontal drift.
-    from flapping.stability import hover_sensitivity
+    from flapping.hover.stability import hover_sensitivity
 
     # The rows report the drift (mean_forward_velocity, is_hover), so the sweep does not warn.
     with warnings.catch_warnings():
@@ -69,7 +69,7 @@ def test_hinge_offset_sign_mirrors_the_orbit(insect):
 
 
 def test_mode_response_grows_by_its_multiplier_each_period(stability):
-    from flapping.stability import mode_response
+    from flapping.hover.stability import mode_response
 
     t, delta = mode_response(stability, n_periods=2, samples_per_period=8)
     mu = stability.multipliers[0].real
@@ -81,7 +81,7 @@ def test_mode_response_grows_by_its_multiplier_each_period(stability):
 
 
 def test_speed_pitch_cubic_root_is_an_averaged_eigenvalue(stability):
-    from flapping.stability import speed_pitch_cubic
+    from flapping.hover.stability import speed_pitch_cubic
 
     cubic = speed_pitch_cubic(stability.averaged_jacobian)
     # With x_h = 0 the averaged w-equation decouples, so the cubic's roots are three of the four
@@ -94,7 +94,7 @@ def test_speed_pitch_cubic_root_is_an_averaged_eigenvalue(stability):
 
 
 def test_simulated_perturbation_starts_on_the_orbit_plus_epsilon(orbit):
-    from flapping.stability import simulate_perturbation
+    from flapping.hover.stability import simulate_perturbation
 
     t, xp, xo = simulate_perturbation(orbit, 1e-4, n_periods=2, samples_per_period=8)
     assert np.linalg.norm(xp[:, 0] - xo[:, 0]) == pytest.approx(1e-4)

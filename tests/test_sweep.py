@@ -12,9 +12,8 @@ import flapping
 pytest.importorskip("numba")
 pandas = pytest.importorskip("pandas")
 pytest.importorskip("tqdm")
-from flapping.sweep import COLUMNS, grid_points, sweep_hover  # noqa: E402
-
 from flapping.fast.kernel import solve_hover  # noqa: E402
+from flapping.studies.sweep import COLUMNS, grid_points, sweep_hover  # noqa: E402
 
 GRID = {"frequency": np.linspace(22.0, 30.0, 5), "center_of_pressure": [0.1, 0.25, 0.4]}
 

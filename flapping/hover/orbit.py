@@ -60,20 +60,17 @@ from flapping.periodic.integrate import flow, variational_flow
 from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
 
 __all__ = [
-    "TRIMS",
     "ANALYSIS_ATOL",
     "ANALYSIS_RTOL",
-    "BACKENDS",
-    "DEFAULT_BACKEND",
     "HALF_PERIOD_SYMMETRY",
     "HOVER_SPEED_RTOL",
     "HoverOrbit",
-    "HoverProblem",
     "HoverStatus",
     "find_hover_orbit",
     "forced_orbit",
     "paper_hover_problem",
     "force_budget",
+    "use_kernel",
 ]
 
 _LOG = logging.getLogger("flapping")

@@ -10,7 +10,7 @@ import pytest
 from scipy.integrate import cumulative_trapezoid
 
 from flapping.book import animation
-from flapping.stability import hover_stability
+from flapping.hover.stability import hover_stability
 
 matplotlib = pytest.importorskip("matplotlib")
 matplotlib.use("Agg")

@@ -45,7 +45,7 @@ REQUIRED = os.environ.get("FLAPPING_REQUIRE_BROWSER", "") not in ("", "0")
 VIEWPORT = {"width": 1280, "height": 900}  # a laptop screen: the article column is ~750 px
 PAGE_TIMEOUT_MS = 60_000
 # Subpackages and modules the API reference must cover (private modules, _*, excepted).
-API_PACKAGES = ("flapping.periodic", "flapping.model", "flapping.hover", "flapping.stability")
+API_PACKAGES = ("flapping.periodic", "flapping.model", "flapping.hover", "flapping.hover.stability")
 
 # Raw LaTeX a reader must never see: math delimiters, environments, and common macros.
 RAW_LATEX = re.compile(

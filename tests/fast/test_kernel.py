@@ -39,7 +39,7 @@ def hawkmoth_pair():
 
 
 def test_importing_the_package_imports_no_numba_pandas_or_tqdm():
-    code = ("import sys, flapping, flapping.fast, flapping.sweep; "
+    code = ("import sys, flapping, flapping.fast, flapping.studies.sweep; "
             "print(sorted(m for m in ('numba', 'pandas', 'tqdm') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"

@@ -8,6 +8,7 @@ from scipy.integrate import solve_ivp
 
 import flapping
 from flapping.hover import find_hover_orbit
+from flapping.hover.stability import hover_stability
 from flapping.model import morphology, presets
 from flapping.model.presets import (
     PRESETS,
@@ -19,7 +20,6 @@ from flapping.model.presets import (
     preset_names,
     species_table,
 )
-from flapping.stability import hover_stability
 
 NAMES = preset_names()
 
