@@ -45,7 +45,6 @@ from flapping import _validation
 from flapping.errors import ConvergenceError, HoverDriftWarning, require_success
 from flapping.fast import kernel as _kernel
 from flapping.hover.problem import (
-    BACKENDS,
     DEFAULT_BACKEND,
     TRIMS,
     HoverProblem,
