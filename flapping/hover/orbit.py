@@ -55,6 +55,7 @@ from flapping.hover.problem import (
 from flapping.model.dynamics import STATE_NAMES, LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
+from flapping.periodic._readonly import freeze, readonly
 from flapping.periodic.integrate import flow, variational_flow
 from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
 
@@ -106,13 +107,6 @@ class HoverStatus(enum.IntEnum):
     HOVER = 0
     DRIFTING = 1
     CLIMBING = 2
-
-
-def _frozen(values: Any, dtype: Any = float) -> np.ndarray:
-    """A read-only copy: an analysis of a result must be an analysis of what was solved."""
-    out = np.array(values, dtype=dtype)
-    out.flags.writeable = False
-    return out
 
 
 @dataclass(frozen=True)
@@ -186,6 +180,9 @@ class HoverOrbit:
     samples: Any = field(default=None, repr=False)
     model_given: LongitudinalDynamics | None = field(default=None, repr=False)
 
+    def __post_init__(self) -> None:
+        freeze(self)  # an analysis of the orbit must be an analysis of what was solved
+
     @cached_property
     def model(self) -> LongitudinalDynamics:
         """The dynamics at the orbit's amplitude and mean stroke angle."""
@@ -217,7 +214,7 @@ class HoverOrbit:
     @cached_property
     def _sampled(self) -> tuple[np.ndarray, np.ndarray]:
         t, x = self.samples()
-        return _frozen(t), _frozen(x)
+        return readonly(np.asarray(t, dtype=float)), readonly(np.asarray(x, dtype=float))
 
     @property
     def t(self) -> np.ndarray:
@@ -465,8 +462,8 @@ def _adaptive_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, n_
     _check_converged_trims(problem, result, trims)
     phi = trims[0]
     phi_bar = trims[1] if extra == 2 else problem.insect.stroke_mean
-    orbit = HoverOrbit(problem, _frozen(result.x0[:4]), phi, phi_bar, float(result.residual[4]),
-                       "adaptive", int(result.nit), int(result.nfev),
+    orbit = HoverOrbit(problem, np.array(result.x0[:4], dtype=float), phi, phi_bar,
+                       float(result.residual[4]), "adaptive", int(result.nit), int(result.nfev),
                        float(result.residual_norm), shooting=result)
     tol = {"rtol": options["rtol"], "atol": options["atol"]}
     t, x, _ = _sample(orbit.model, orbit.x0, n_samples, options["method"], **tol)
@@ -548,7 +545,7 @@ def _kernel_orbit(problem: HoverProblem, amplitude: float, x0: np.ndarray, n_sam
         raise ValueError(f"`kernel_options` accepts n_steps, amplitude_tol_deg and "
                          f"multiplier_tol; got {sorted(unknown)}")
     sol = _kernel.solve_hover(kp, amplitude_guess=amplitude, x0_guess=x0, **options)
-    x_start = _frozen(sol.x0)
+    x_start = sol.x0  # read-only already
     return HoverOrbit(problem, x_start, sol.amplitude, problem.insect.stroke_mean, sol.z_drift,
                       "compiled", sol.nit, sol.nfev, sol.residual_norm, kernel=sol,
                       samples=_KernelSamples(kp, x_start, sol.amplitude, n_samples))
@@ -600,7 +597,7 @@ def forced_orbit(
     result = find_periodic_orbit(rhs, x0, model.period, autonomous=False, jac=jac,
                                  breakpoints=model.breakpoints, method=method, rtol=rtol,
                                  atol=atol, tol=tol)
-    x0 = _frozen(result.x0)
+    x0 = np.array(result.x0, dtype=float)
     t, x, z_drift = _sample(model, x0, n_samples, method, rtol=rtol, atol=atol)
     return HoverOrbit(None, x0, float(model.amplitude), insect.stroke_mean, z_drift, "adaptive",
                       int(result.nit), int(result.nfev), float(result.residual_norm),

@@ -28,12 +28,12 @@ from flapping.hover.orbit import (
     ANALYSIS_ATOL,
     ANALYSIS_RTOL,
     HoverOrbit,
-    _frozen,
     find_hover_orbit,
     use_kernel,
 )
 from flapping.hover.problem import DEFAULT_BACKEND
 from flapping.model.morphology import Insect
+from flapping.periodic._readonly import freeze
 from flapping.periodic.floquet import monodromy
 from flapping.periodic.integrate import flow, variational_flow
 
@@ -98,6 +98,9 @@ class HoverStability:
     averaged_jacobian: np.ndarray
     averaged_eigenvalues: np.ndarray
     trace_integral: float = math.nan
+
+    def __post_init__(self) -> None:
+        freeze(self)  # an analysis of a result must be an analysis of what was solved
 
     @property
     def liouville_error(self) -> float:
@@ -229,10 +232,10 @@ def hover_stability(
     averaged = _averaged_jacobian(orbit, n_average, rtol, atol, compiled)
     avg_eig = np.linalg.eigvals(averaged).astype(complex)  # always complex: one dtype for all
     avg_eig = avg_eig[np.argsort(-avg_eig.real, kind="stable")]
-    return HoverStability(orbit, _frozen(matrix), _frozen(values, complex),
-                          _frozen(_exponents(values, orbit.period), complex),
-                          _frozen(vectors, complex), float(det), float(liouville),
-                          _frozen(averaged), _frozen(avg_eig, complex), float(trace))
+    return HoverStability(orbit, np.array(matrix, dtype=float), values,
+                          _exponents(values, orbit.period), vectors, float(det),
+                          float(liouville), np.array(averaged, dtype=float), avg_eig,
+                          float(trace))
 
 
 def _use_kernel(orbit: HoverOrbit, backend: str, method: str) -> bool:
