@@ -193,10 +193,6 @@ class HoverProblem:
                     f"{self.insect.stroke_mean!r} rad must be 0")
         return ""
 
-    def with_insect(self, insect: Insect) -> HoverProblem:
-        """The same problem (model, trims; alpha_m re-trimmed if it was) for another insect."""
-        return HoverProblem(insect, self.aerodynamics, None, self.trims)
-
 
 # =========================================================================== right-hand sides
 class _Fields:
