@@ -72,6 +72,7 @@ __all__ = [
     "MULTIPLIER_TOL_FLOOR",
     "DEFAULT_STEPS",
     "SUPPORTED_FIELDS",
+    "unsupported_field",
     "HoverSolution",
     "KernelCompileWarning",
     "KernelProblem",
@@ -381,17 +382,25 @@ def _packed(insect: Insect, alpha_m: float | None) -> KernelProblem:
     return KernelProblem(insect, alpha_m, _read_only(k), _read_only(p))
 
 
-def _check_supported(insect: Insect) -> None:
-    """Refuse an insect whose fields outside :data:`SUPPORTED_FIELDS` are not at their defaults."""
+def unsupported_field(insect: Insect) -> str:
+    """Why the kernel cannot model this insect: its first field outside :data:`SUPPORTED_FIELDS`
+    that is not at its default, in words ('' if there is none)."""
     for f in dataclasses.fields(insect):
         if not f.init or f.name in SUPPORTED_FIELDS:
             continue
         value = getattr(insect, f.name)
         if f.default is dataclasses.MISSING or value != f.default:
             default = "" if f.default is dataclasses.MISSING else f" (its default {f.default!r})"
-            raise ValueError(
-                f"the compiled kernel does not model the insect field `{f.name}` = {value!r}: "
-                f"it supports the default only{default}; use backend='adaptive'")
+            return (f"the compiled kernel does not model the insect field `{f.name}` = "
+                    f"{value!r}: it supports the default only{default}")
+    return ""
+
+
+def _check_supported(insect: Insect) -> None:
+    """Refuse an insect whose fields outside :data:`SUPPORTED_FIELDS` are not at their defaults."""
+    why_not = unsupported_field(insect)
+    if why_not:
+        raise ValueError(f"{why_not}; use backend='adaptive'")
 
 
 def _read_only(a: np.ndarray) -> np.ndarray:

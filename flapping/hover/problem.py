@@ -191,7 +191,7 @@ class HoverProblem:
         if self.insect.stroke_mean != 0.0:
             return (f"the kernel has no mean stroke angle: stroke_mean = "
                     f"{self.insect.stroke_mean!r} rad must be 0")
-        return ""
+        return _kernel.unsupported_field(self.insect)
 
 
 # =========================================================================== right-hand sides

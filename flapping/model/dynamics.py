@@ -47,6 +47,11 @@ from flapping.model.aerodynamics import (
     aero_constants,
     trim_angle_of_attack,
 )
+from flapping.model.inertia import (
+    WingInertia,
+    stroke_phase,
+    stroke_phase_amplitude_derivative,
+)
 from flapping.model.kinematics import (
     HALF_STROKE_BREAKPOINTS,
     check_alpha_m,
@@ -159,6 +164,8 @@ class LongitudinalDynamics:
     n_nodes: int
     _constants: AeroConstants = field(init=False, repr=False, compare=False)
     _blade: BladeElementModel | None = field(init=False, repr=False, compare=False)
+    # The wings' inertia (None for massless wings: then eq. 2 exactly as the paper writes it).
+    _inertia: WingInertia | None = field(init=False, repr=False, compare=False)
     # Last (t, amplitude) -> derivatives: rhs and jac are called at the same t by integrators of
     # the variational equations, and the derivatives are most of the cost of either.
     _cache: list[Any] = field(init=False, repr=False, compare=False)
@@ -181,7 +188,8 @@ class LongitudinalDynamics:
             blade = BladeElementModel(insect, alpha_m, amplitude, aerodynamics, n_nodes)
         values = dict(insect=insect, amplitude=amplitude, alpha_m=alpha_m,
                       aerodynamics=aerodynamics, n_nodes=n_nodes,
-                      _constants=aero_constants(insect), _blade=blade, _cache=[None], _blades={})
+                      _constants=aero_constants(insect), _blade=blade, _cache=[None], _blades={},
+                      _inertia=WingInertia.of(insect))
         for name, value in values.items():
             object.__setattr__(self, name, value)
 
@@ -380,6 +388,10 @@ class LongitudinalDynamics:
         u, w, q, theta = float(x[0]), float(x[1]), float(x[2]), float(x[3])
         g, c = self.insect.gravity, self._constants
         X, Z, M = self.loads(t, x, stroke, amplitude)
+        if self._inertia is not None:
+            acc = self._inertia.accelerations(self._phase(t, amplitude), (u, w, q, theta),
+                                              (X, Z, M))
+            return np.array([acc[0], acc[1], acc[2], q])
         return np.array([
             -q * w - g * math.sin(theta) + X / c.m,
             q * u + g * math.cos(theta) + Z / c.m,
@@ -417,6 +429,13 @@ class LongitudinalDynamics:
                 lambda y: self.loads(t, y, stroke, amplitude), state, step=h)
             aero = diff * np.array([[1.0 / c.m], [1.0 / c.m], [1.0 / c.Iy]]) / (2.0 * h)
         J = np.zeros((4, 4))
+        if self._inertia is not None:
+            loads_jac = np.zeros((3, 4))
+            loads_jac[:, :3] = aero * np.array([[c.m], [c.m], [c.Iy]])
+            J[:3, :] = self._inertia.state_jac(self._phase(t, amplitude), (u, w, q, theta),
+                                               loads_jac)
+            J[3, 2] = 1.0
+            return J
         J[:3, :3] = aero
         J[0, 1] -= q
         J[0, 2] -= w
@@ -448,6 +467,9 @@ class LongitudinalDynamics:
             u, w, q = float(x[0]), float(x[1]), float(x[2])
             # eq. (29) is linear in the derivatives, so d/dPhi applies it to their d/dPhi.
             acc = self._eq29_accelerations(self.amplitude_derivatives(t, amplitude), u, w, q)
+            if self._inertia is not None:
+                dphase = stroke_phase_amplitude_derivative(self.insect, t)
+                return self._inertia_sensitivity(t, x, amplitude, acc, dphase)
             return np.array([[acc[0]], [acc[1]], [acc[2]], [0.0]])
         return _numdiff.central_jacobian_nominal(
             lambda p: self.rhs(t, x, stroke, p[0]), np.array([amplitude]),
@@ -472,11 +494,32 @@ class LongitudinalDynamics:
         if self.aerodynamics == "linear":
             u, w, q = float(x[0]), float(x[1]), float(x[2])
             acc = self._eq29_accelerations(self.stroke_mean_derivatives(t, amplitude), u, w, q)
+            if self._inertia is not None:
+                return self._inertia_sensitivity(t, x, amplitude, acc, (1.0, 0.0, 0.0))
             return np.array([[acc[0]], [acc[1]], [acc[2]], [0.0]])
         phi_bar = self.insect.stroke_mean
         return _numdiff.central_jacobian_nominal(
             lambda p: self.with_stroke_mean(p[0]).rhs(t, x, stroke, amplitude),
             np.array([phi_bar]), step=_AMPLITUDE_STEP)
+
+    def _phase(self, t: float, amplitude: float | None) -> tuple[float, float, float]:
+        """(phi, phi_dot, phi_ddot) at t, for the wings' inertia."""
+        return stroke_phase(self.insect, t, self.amplitude if amplitude is None else amplitude)
+
+    def _inertia_sensitivity(self, t: float, x: Sequence[float] | np.ndarray,
+                             amplitude: float | None, dacc: Sequence[float],
+                             dphase: Sequence[float]) -> np.ndarray:
+        """The body's accelerations' derivative in a stroke parameter, wings of mass: the
+        linear loads' derivative ``dacc`` (per unit mass / inertia, eq. 29) through the mass
+        matrix, plus the wings' inertial terms' (``dphase``: how phi, phi_dot, phi_ddot move)."""
+        assert self._inertia is not None
+        c = self._constants
+        dloads = (c.m * dacc[0], c.m * dacc[1], c.Iy * dacc[2])
+        loads = self.loads(t, x, None, amplitude)
+        state = tuple(float(v) for v in x[:4])
+        dacc_total = self._inertia.stroke_jac(self._phase(t, amplitude), state, loads, dphase,
+                                              dloads)
+        return np.array([[dacc_total[0]], [dacc_total[1]], [dacc_total[2]], [0.0]])
 
     def segment_functions(self) -> tuple[list[Callable[..., np.ndarray]],
                                          list[Callable[..., np.ndarray]]]:

@@ -68,6 +68,7 @@ PLAUSIBLE_RANGES: dict[str, tuple[float, float, str]] = {
     "hinge_offset": (-1.0, 1.0, "m"),
     "hinge_height": (-1.0, 1.0, "m"),
     "stroke_mean": (-math.pi / 3, math.pi / 3, "rad"),
+    "wing_mass_ratio": (0.0, 0.25, "(2 wing_mass / mass)"),
 }
 
 #: Numeric fields of :class:`Insect`: (accepted range, unit). Ranges: "positive" (magnitude in
@@ -86,6 +87,8 @@ _FIELDS: dict[str, tuple[str, str]] = {
     "hinge_offset": ("real", "m"), "stroke_amplitude": ("amplitude", "rad"),
     "hinge_height": ("real", "m"), "stroke_mean": ("stroke_mean", "rad"),
     "r1": ("real", ""), "r2": ("real", ""),
+    "wing_mass": ("nonnegative", "kg"),
+    "wing_mass_r1": ("radius", ""), "wing_mass_r2": ("radius", ""),
 }
 
 
@@ -100,7 +103,8 @@ def beta_shape_parameters(r1: float, r2: float) -> tuple[float, float]:
     r1 : float
         Non-dimensional radius of the first moment of wing area, in (0, 1).
     r2 : float
-        Non-dimensional radius of the second moment of wing area, in (r1, sqrt(r1)).
+        Non-dimensional radius of the second moment of wing area, in (r1, sqrt(r1)), close
+        enough to r1 that the squared chord is integrable (p, q > 1/2).
 
     Returns
     -------
@@ -118,7 +122,15 @@ def beta_shape_parameters(r1: float, r2: float) -> tuple[float, float]:
     r2 = _validation.real("r2", r2, low=r1, high=math.sqrt(r1), low_open=True, high_open=True)
     variance = r2**2 - r1**2
     k = r1 * (1.0 - r1) / variance - 1.0
-    return r1 * k, (1.0 - r1) * k
+    p, q = r1 * k, (1.0 - r1) * k
+    if min(p, q) <= 0.5:
+        # The blade-element loads integrate c(r)^2 over the span (I_02, I_12, I_22): they diverge
+        # at the root for p <= 1/2 and at the tip for q <= 1/2.
+        raise ValueError(
+            f"`r1` = {r1:.6g} and `r2` = {r2:.6g} give a chord distribution whose square is not "
+            f"integrable (beta shape p = {p:.4g}, q = {q:.4g}; both must exceed 1/2): r2 must lie "
+            "closer to r1")
+    return p, q
 
 
 def lev_lift_slope(aspect_ratio: float, a0: float = 2.0 * math.pi) -> float:
@@ -174,9 +186,10 @@ class Insect:
     stroke_amplitude : float
         Flapping amplitude Phi [rad] of phi(t) = Phi cos(2 pi f t), in (0, pi/2].
     mass : float
-        Body mass m [kg] (wing inertia is neglected, as in the paper).
+        Mass m of the insect [kg] (body and both wings: the weight is m g).
     pitch_inertia : float
-        Body moment of inertia about the pitch axis I_y [kg m^2].
+        Moment of inertia I_y of the body (without the wings) about the pitch axis through its
+        centre of gravity [kg m^2].
     air_density : float
         rho [kg/m^3]. Not given in the paper; 1.225 (sea-level standard air).
     gravity : float
@@ -204,6 +217,15 @@ class Insect:
     stroke_mean : float
         phi_bar, mean stroke angle [rad] of phi(t) = phi_bar + Phi cos(2 pi f t), positive
         forward, in (-pi/2, pi/2). Default 0 (the paper's eq. 39).
+    wing_mass : float
+        m_w, mass of one wing [kg], >= 0, included in ``mass`` (the body alone weighs
+        ``mass - 2 wing_mass``), below half of it. Default 0: massless wings, the paper's model.
+        With wings of mass the equations of motion carry their inertial loads
+        (:mod:`flapping.model.inertia`).
+    wing_mass_r1, wing_mass_r2 : float or None
+        Radii of the first moment and of gyration of one wing's mass about the hinge, over R, in
+        (0, 1] with wing_mass_r1 <= wing_mass_r2. Default None: those of the wing area,
+        :attr:`r1` and :attr:`r2` (a membrane of uniform areal density).
 
     Raises
     ------
@@ -240,6 +262,9 @@ class Insect:
     mu2: float = 0.2
     hinge_height: float = 0.0
     stroke_mean: float = 0.0
+    wing_mass: float = 0.0
+    wing_mass_r1: float | None = None
+    wing_mass_r2: float | None = None
     _shape: tuple[float, float] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -260,6 +285,8 @@ class Insect:
                                ASPECT_RATIO_CONVENTIONS)
         if changed is None or "r1" in changed or "r2" in changed:
             object.__setattr__(self, "_shape", beta_shape_parameters(self.r1, self.r2))
+        if changed is None or not _WING_MASS_FIELDS.isdisjoint(changed) or "mass" in changed:
+            _check_wing_mass(self)
         for message in _implausible(self):
             warnings.warn(message, PlausibilityWarning, stacklevel=stacklevel)
 
@@ -296,8 +323,23 @@ class Insect:
         return 1.0 / self.frequency
 
     @property
+    def wing_mass_radii(self) -> tuple[float, float]:
+        """(wing_mass_r1, wing_mass_r2), the area's (r1, r2) where not given."""
+        r1 = self.r1 if self.wing_mass_r1 is None else self.wing_mass_r1
+        r2 = self.r2 if self.wing_mass_r2 is None else self.wing_mass_r2
+        return r1, r2
+
+    @property
+    def wing_mass_moments(self) -> tuple[float, float]:
+        """(A1, A2): first and second spanwise mass moments of the wing pair about the hinge,
+        2 m_w r1 R [kg m] and 2 m_w (r2 R)^2 [kg m^2]."""
+        r1, r2 = self.wing_mass_radii
+        return (2.0 * self.wing_mass * r1 * self.semi_span,
+                2.0 * self.wing_mass * (r2 * self.semi_span) ** 2)
+
+    @property
     def weight(self) -> float:
-        """Body weight m g [N]."""
+        """Weight m g [N] (body and wings)."""
         return self.mass * self.gravity
 
     def chord(self, r: np.ndarray | float) -> np.ndarray:
@@ -384,7 +426,12 @@ class Insect:
             (("h_w", "hinge above centre of gravity", self.hinge_height * 1e3, "mm"),
              self.hinge_height),
             (("phi_bar", "mean stroke angle", math.degrees(self.stroke_mean), "deg"),
-             self.stroke_mean)) if value != 0.0]  # rows only when used: tables stay as they were
+             self.stroke_mean),
+            (("m_w", "mass of one wing", self.wing_mass * 1e6, "mg"), self.wing_mass),
+            (("r1_m", "radius of 1st moment of wing mass / R", self.wing_mass_radii[0], "-"),
+             self.wing_mass),
+            (("r2_m", "radius of gyration of wing mass / R", self.wing_mass_radii[1], "-"),
+             self.wing_mass)) if value != 0.0]  # rows only when used: tables stay as they were
 
 
 def hawkmoth(**overrides: Any) -> Insect:
@@ -458,6 +505,8 @@ def _implausible(insect: Insect) -> list[str]:
     for name, (low, high, unit) in PLAUSIBLE_RANGES.items():
         if name == "aspect_ratio_1":
             value, what = insect.semi_span**2 / insect.wing_area, "semi_span**2 / wing_area"
+        elif name == "wing_mass_ratio":
+            value, what = 2.0 * insect.wing_mass / insect.mass, "2 wing_mass / mass"
         else:
             value, what = getattr(insect, name), f"`{name}`"
         if not low <= value <= high:
@@ -468,8 +517,27 @@ def _implausible(insect: Insect) -> list[str]:
     return messages
 
 
-def _check_field(name: str, value: object, kind: str, unit: str) -> float:
+_WING_MASS_FIELDS = frozenset({"wing_mass", "wing_mass_r1", "wing_mass_r2", "r1", "r2"})
+
+
+def _check_wing_mass(insect: Insect) -> None:
+    """The wings lighter than the insect, and the mass radii ordered (Cauchy-Schwarz)."""
+    if not 2.0 * insect.wing_mass < insect.mass:
+        raise ValueError(f"`wing_mass` must be below half of `mass` = {insect.mass:.6g} kg (the "
+                         f"wings are part of the insect); got {insect.wing_mass:.6g} kg")
+    r1, r2 = insect.wing_mass_radii
+    if not r1 <= r2:
+        raise ValueError(f"`wing_mass_r1` = {r1:.6g} must not exceed `wing_mass_r2` = {r2:.6g} "
+                         "(the radius of gyration bounds the mean radius)")
+
+
+def _check_field(name: str, value: object, kind: str, unit: str) -> float | None:
     """One numeric field of :class:`Insect` as a float in its range (see :data:`_FIELDS`)."""
+    if kind == "radius":
+        if value is None:
+            return None
+        return _validation.real(name, value, low=0.0, high=1.0, low_open=True,
+                                unit="(fraction of the wing length)")
     if kind == "positive":
         return _validation.real(name, value, low=1.0 / MAGNITUDE_LIMIT, high=MAGNITUDE_LIMIT,
                                 unit=unit)

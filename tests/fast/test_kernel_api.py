@@ -62,7 +62,9 @@ def test_bad_alpha_m_is_refused_before_the_cache(bad):
 def test_supported_fields_name_every_insect_field_but_the_ones_the_kernel_refuses():
     fields = {f.name for f in dataclasses.fields(Insect) if f.init}
     assert set(kernel.SUPPORTED_FIELDS) <= fields
-    assert fields - set(kernel.SUPPORTED_FIELDS) == {"stroke_mean"}  # update with the kernel
+    # update with the kernel
+    assert fields - set(kernel.SUPPORTED_FIELDS) == {"stroke_mean", "wing_mass", "wing_mass_r1",
+                                                      "wing_mass_r2"}
 
 
 def test_an_unsupported_field_away_from_its_default_is_refused_by_name(monkeypatch):
@@ -74,16 +76,23 @@ def test_an_unsupported_field_away_from_its_default_is_refused_by_name(monkeypat
 
 
 def test_a_new_insect_field_is_refused_until_the_kernel_supports_it():
-    # A future Insect field (here a wing mass, on a subclass) is unknown to the kernel.
+    # A future Insect field (here a wing flexibility, on a subclass) is unknown to the kernel.
     @dataclasses.dataclass(frozen=True)
-    class WingedInsect(Insect):
-        wing_mass: float = 0.0
+    class FlexibleInsect(Insect):
+        wing_flexibility: float = 0.0
 
     base = {f.name: getattr(flapping.hawkmoth(), f.name)
             for f in dataclasses.fields(Insect) if f.init}
+    with pytest.raises(ValueError, match="wing_flexibility"):
+        KernelProblem.of(FlexibleInsect(**base, wing_flexibility=1e-5))
+    assert KernelProblem.of(FlexibleInsect(**base)).insect.wing_flexibility == 0.0
+
+
+def test_wings_of_mass_are_refused_by_the_kernel_and_solved_by_auto():
+    moth = flapping.hawkmoth(wing_mass=4.7e-5)
     with pytest.raises(ValueError, match="wing_mass"):
-        KernelProblem.of(WingedInsect(**base, wing_mass=1e-5))
-    assert KernelProblem.of(WingedInsect(**base)).insect.wing_mass == 0.0
+        KernelProblem.of(moth)
+    assert flapping.find_hover_orbit(moth).backend == "adaptive"
 
 
 # ------------------------------------------------------------------ tolerances

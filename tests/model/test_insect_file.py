@@ -18,7 +18,9 @@ from flapping.model.presets import preset
 
 
 def _fields(insect):
-    return {f.name: getattr(insect, f.name) for f in dataclasses.fields(insect) if f.init}
+    # None (the wing-mass radii's "as the area's") has no TOML spelling: a file leaves it out.
+    return {f.name: getattr(insect, f.name) for f in dataclasses.fields(insect)
+            if f.init and getattr(insect, f.name) is not None}
 
 
 def _toml(values):

@@ -81,8 +81,13 @@ def test_divergent_span_integral_raises(moth):
 def test_beta_moments_reproduce_r1_and_r2(r1, fraction):
     # The beta distribution with the fitted (p, q) has mean r1 and mean square r2^2.
     r2 = r1 + fraction * (math.sqrt(r1) - r1)
+    k = r1 * (1.0 - r1) / (r2**2 - r1**2) - 1.0
+    if min(r1 * k, (1.0 - r1) * k) <= 0.5:  # the squared chord would not be integrable
+        with pytest.raises(ValueError, match="`r2`"):
+            beta_shape_parameters(r1, r2)
+        return
     p, q = beta_shape_parameters(r1, r2)
-    assert p > 0.0 and q > 0.0
+    assert p > 0.5 and q > 0.5
     assert p / (p + q) == pytest.approx(r1, rel=1e-12)
     assert p * (p + 1.0) / ((p + q) * (p + q + 1.0)) == pytest.approx(r2**2, rel=1e-10)
 
