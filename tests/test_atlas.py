@@ -173,3 +173,49 @@ def test_sensitivity_bars_bracket_the_nominal_and_flag_infeasible_ends():
 def test_sensitivity_refuses_a_field_without_a_range():
     with pytest.raises(ValueError, match="fields"):
         morphology_sensitivity("bumblebee", fields=["mass"])  # verified: no range
+
+
+# ------------------------------------------------------------------------------ geometry
+@pytest.fixture(scope="module")
+def hoverfly_cases():
+    from flapping.studies.atlas import geometry_comparison
+    return geometry_comparison("hoverfly")
+
+
+def test_geometry_comparison_solves_the_three_cases_in_order(hoverfly_cases):
+    from flapping.studies.atlas import GEOMETRY_CASES
+    assert tuple(c.case for c in hoverfly_cases) == GEOMETRY_CASES
+    paper, hinge, winged = hoverfly_cases
+    assert paper.insect == preset("hoverfly")
+    assert hinge.insect.wing_mass == 0.0 and winged.insect.wing_mass > 0.0
+    for case in hoverfly_cases:
+        assert abs(case.stability.climb_speed) < 1e-8  # every case is a hover, not a climb
+        assert case.stability.liouville_error < 1e-7
+
+
+def test_a_hinge_straight_above_the_cg_needs_no_mean_stroke_angle(hoverfly_cases):
+    # Symmetry: with x_h = 0 the fore-aft mirror of the stroke is the same insect, so phi_bar = 0.
+    for case in hoverfly_cases:
+        assert abs(case.stroke_mean_deg) < 1e-6
+
+
+def test_a_hinge_ahead_of_the_cg_sweeps_the_mean_stroke_back():
+    # x_h > 0 puts the hinge ahead of the CG: the mean lift returns over the CG with phi_bar < 0.
+    from flapping.studies.atlas import TWO_TRIMS
+    moth = preset("hawkmoth", geometry="measured", wing_mass=0.0)
+    orbit = find_hover_orbit(moth, trims=TWO_TRIMS)
+    assert moth.hinge_offset > 0.0 and orbit.stroke_mean < 0.0
+    assert orbit.is_hover
+
+
+def test_mode_type_and_period_follow_the_leading_multiplier(hoverfly_cases):
+    import dataclasses
+    case = hoverfly_cases[0]
+    mu = 1.05 * np.exp(0.1j)
+    stab = dataclasses.replace(case.stability, multipliers=np.array([mu, mu.conjugate(), 0.9, 0.8]))
+    oscillating = dataclasses.replace(case, stability=stab)
+    assert oscillating.mode_type == "oscillatory"
+    assert oscillating.oscillation_period == pytest.approx(2 * np.pi / 0.1 * case.insect.period)
+    flip = dataclasses.replace(case, stability=dataclasses.replace(
+        case.stability, multipliers=np.array([-1.2, 0.9, 0.8, 0.7])))
+    assert flip.mode_type == "flip" and math.isinf(flip.oscillation_period)

@@ -29,12 +29,18 @@ Unverified and estimated numbers carry a plausible range (:attr:`Sourced.low`,
 
 Modelling choices shared by all presets (the model's, stated once):
 
-- ``hinge_offset`` is 0: the wing hinge above the centre of gravity. The literature places it
-  ahead (hoverfly 0.13 body lengths along the body axis; monarch 6.8 mm); with a non-zero offset
-  the model's hover orbit flies forwards (:class:`~flapping.errors.HoverDriftWarning`), so it
-  cannot be part of a hover preset.
-- The wings are massless and the stroke plane horizontal, as in the paper; the sources' wing
-  masses and body angles are recorded in :attr:`Preset.extras` but do not enter the model.
+- Two geometries. ``geometry="paper"`` (the default): the wing hinge at the centre of gravity
+  and massless wings, as the paper models its hawkmoth, so every earlier number is unchanged.
+  ``geometry="measured"`` (:attr:`Preset.measured`): the hinge position relative to the body's
+  centre of gravity (:func:`hinge_geometry` of the sources' hinge-to-CG distance and its angle to
+  the stroke plane) and the wing mass, spread as the wing area (uniform areal density: FWUAV's
+  monarch wing has radius of gyration 0.543 R, its area's r2 is 0.543). With the hinge off the
+  CG the hover orbit needs the mean stroke angle as a second trim
+  (``trims=("amplitude", "stroke_mean")``). Only the hoverfly's hinge position is a measurement
+  (second-hand); the hawkmoth's, bumblebee's and fruit fly's come from FWUAV's monarch body
+  scaled to their mass, the monarch's from FWUAV's measured body, the honeybee's by analogy:
+  estimates, each with a range.
+- The stroke plane is horizontal in body axes, as in the paper.
 - ``stroke_amplitude`` is the *nominal* amplitude: it fixes the mean angle of attack alpha_m by the
   trim of eq. (40) and is the first guess of the hover solve, which then finds the hover amplitude.
 
@@ -53,7 +59,9 @@ from flapping import _validation
 from flapping.model.morphology import Insect, hawkmoth
 
 __all__ = [
+    "GEOMETRIES",
     "STATUSES",
+    "hinge_geometry",
     "Sourced",
     "Preset",
     "PRESETS",
@@ -71,6 +79,10 @@ __all__ = [
 ]
 
 Status = Literal["verified", "paper", "second-hand", "unverified", "estimate"]
+
+#: The geometries a preset comes in: the paper's (hinge at the CG, massless wings) and the
+#: measured one (the sources' hinge position and wing mass).
+GEOMETRIES: tuple[str, ...] = ("paper", "measured")
 
 #: The accepted statuses of a :class:`Sourced` number, from best to worst checked.
 STATUSES: tuple[Status, ...] = ("verified", "paper", "second-hand", "unverified", "estimate")
@@ -144,8 +156,12 @@ class Preset:
     values : mapping of str to Sourced
         The :class:`Insect` fields the preset sets (the others keep the class defaults).
     extras : mapping of str to Sourced
-        Numbers used by an estimate (body length, body diameter) or given by the sources but
-        absent from the model (wing mass, hinge position): documented, not used.
+        Numbers used by an estimate (body length, body diameter, the hinge-to-CG distance) or
+        given by the sources but absent from the model: documented, not used.
+    measured : mapping of str to Sourced
+        The :class:`Insect` fields of the measured geometry (``geometry="measured"``): the wing
+        hinge's position relative to the body's centre of gravity (``hinge_offset``,
+        ``hinge_height``) and the wing mass (``wing_mass``), each with its source or estimate.
     """
 
     name: str
@@ -154,14 +170,20 @@ class Preset:
     source: str
     values: Mapping[str, Sourced]
     extras: Mapping[str, Sourced] = field(default_factory=dict)
+    measured: Mapping[str, Sourced] = field(default_factory=dict)
 
-    def insect(self, **overrides: Any) -> Insect:
+    def insect(self, geometry: str = "paper", **overrides: Any) -> Insect:
         """The preset as an :class:`Insect`, with some fields changed.
 
         Parameters
         ----------
+        geometry : {"paper", "measured"}
+            ``"paper"``: the wing hinge at the centre of gravity and massless wings, as the paper
+            models its hawkmoth (every earlier number unchanged). ``"measured"``: the hinge
+            position and wing mass of :attr:`measured` (the hinge off the centre of gravity: hover
+            then needs the mean stroke angle as a second trim).
         **overrides
-            Any :class:`Insect` field, in SI units.
+            Any :class:`Insect` field, in SI units (applied last).
 
         Returns
         -------
@@ -174,8 +196,11 @@ class Preset:
         TypeError
             If an override is not a field of :class:`Insect`.
         """
+        geometry = _validation.choice("geometry", geometry, GEOMETRIES)
         values: dict[str, Any] = {k: v.value for k, v in self.values.items()}
         values["name"] = self.name
+        if geometry == "measured":
+            values.update({k: v.value for k, v in self.measured.items()})
         values.update(overrides)
         return Insect(**values)
 
@@ -323,6 +348,69 @@ def _amplitude(degrees: float, source: str, status: Status, *cite: str, note: st
               note=note)
 
 
+# =========================================================================== measured geometry
+def hinge_geometry(distance: float, elevation: float) -> tuple[float, float]:
+    """(hinge_offset, hinge_height) [m] of a hinge ``distance`` from the body's centre of gravity.
+
+    The hinge-to-CG line rises ``elevation`` [rad] above the stroke plane, going from the CG to
+    the hinge: ``elevation = pi/2`` puts the hinge straight above the CG (the CG hangs below the
+    wing base), ``elevation = beta`` is a CG on the body axis behind the hinge with the body axis
+    inclined beta to the stroke plane. x_h = d cos(elevation), h_w = d sin(elevation).
+
+    Parameters
+    ----------
+    distance : float
+        Hinge-to-CG distance d [m], >= 0.
+    elevation : float
+        Angle of the CG-to-hinge line above the stroke plane [rad], in [0, pi/2].
+
+    Returns
+    -------
+    tuple of 2 floats
+        (x_h, h_w) [m]: the hinge ahead of and above the centre of gravity in body axes.
+
+    Raises
+    ------
+    ValueError
+        If an argument is outside its range.
+    """
+    distance = _validation.real("distance", distance, low=0.0, unit="m")
+    elevation = _validation.real("elevation", elevation, low=0.0, high=math.pi / 2, unit="rad")
+    return distance * math.cos(elevation), distance * math.sin(elevation)
+
+
+#: Plausible relative range of an estimated hinge-to-CG distance, and of its elevation [deg].
+HINGE_DISTANCE_RANGE = (0.7, 1.3)
+HINGE_ELEVATION_HALF_RANGE_DEG = 15.0
+
+
+def _hinge(distance: float, elevation_deg: float, source: str, status: Status, *cite: str,
+           note: str = "") -> dict[str, Sourced]:
+    """Sourced (hinge_offset, hinge_height), ranged over the distance and elevation ranges."""
+    corners = [hinge_geometry(distance * f, math.radians(min(max(elevation_deg + d, 0.0), 90.0)))
+               for f in HINGE_DISTANCE_RANGE
+               for d in (-HINGE_ELEVATION_HALF_RANGE_DEG, 0.0, HINGE_ELEVATION_HALF_RANGE_DEG)]
+    x_h, h_w = hinge_geometry(distance, math.radians(elevation_deg))
+    what = f"d = {distance * 1e3:.3g} mm at {elevation_deg:.3g} deg above the stroke plane"
+    ranged = status != "verified"
+    return {name: _v(value, f"{source}: {what}", status, *cite,
+                     low=min(min(c[i] for c in corners), value) if ranged else None,
+                     high=max(max(c[i] for c in corners), value) if ranged else None,
+                     note=note)
+            for i, (name, value) in enumerate((("hinge_offset", x_h), ("hinge_height", h_w)))}
+
+
+def _fwuav_body_cg(thorax: float, abdomen: float, joint: float, abdomen_cg: float) -> float:
+    """Distance [m] from FWUAV's wing root (at the thorax's CG) back to the thorax + abdomen CG,
+    the abdomen straight behind the thorax: m_A (joint + abdomen_cg) / (m_B + m_A)."""
+    return abdomen * (joint + abdomen_cg) / (thorax + abdomen)
+
+
+_FWUAV_SCALED = ("FWUAV morp_insects.m at commit 1a25d41 (its monarch's thorax and abdomen scaled "
+                 "by (m / m_monarch)^(1/3); the wing root at the thorax's CG; hover stroke plane "
+                 "WK.beta from the body axis in sim_QS_x_hover_*.mat)")
+
+
 def _hawkmoth_preset() -> Preset:
     moth = hawkmoth()
     paper = "the paper's appendix A (after Ellington 1984 and Willmott & Ellington 1997)"
@@ -340,10 +428,16 @@ def _hawkmoth_preset() -> Preset:
         "pitch_inertia": _v(moth.pitch_inertia, paper, "paper", "elsadek",
                             note="the ellipsoid estimate with L = 48 mm, d = 10 mm gives -5 %"),
     }
-    extras = {"wing_mass": _v(4.7e-5, _FWUAV_PARAMS, "verified", "berman2007", "fwuav",
-                              note="per wing, 2.9 % of the body; the model neglects it")}
+    extras: dict[str, Sourced] = {}
+    measured = {
+        **_hinge(_fwuav_body_cg(9.324e-4, 6.216e-4, 12.7957e-3, 15.2009e-3), 28.478,
+                 _FWUAV_SCALED, "estimate", "fwuav",
+                 note="FWUAV's scaled monarch body, not a hawkmoth measurement"),
+        "wing_mass": _v(4.7e-5, _FWUAV_PARAMS, "verified", "berman2007", "fwuav",
+                        note="per wing; the mass spread as the area (uniform areal density)"),
+    }
     return Preset("hawkmoth", "Manduca sexta", "the paper's hawkmoth, unchanged",
-                  "Elsadek et al. (appendix A); Berman & Wang 2007", values, extras)
+                  "Elsadek et al. (appendix A); Berman & Wang 2007", values, extras, measured)
 
 
 def _bumblebee_preset() -> Preset:
@@ -369,11 +463,16 @@ def _bumblebee_preset() -> Preset:
     extras = {
         "frequency_berman_wang": _v(116.0, bw, "verified", "berman2007", "fwuav",
                                     note="the alternative frequency: bumblebee(frequency=116.0)"),
-        "wing_mass": _v(4.6e-7, _FWUAV_PARAMS, "verified", "berman2007", "fwuav"),
         "body_length": _v(18e-3, "Dudley & Ellington (1990)", "unverified", "dudley1990"),
     }
+    measured = {
+        **_hinge(_fwuav_body_cg(1.04448e-4, 6.9632e-5, 6.0593e-3, 7.1983e-3), 23.706,
+                 _FWUAV_SCALED, "estimate", "fwuav",
+                 note="FWUAV's scaled monarch body, not a bumblebee measurement"),
+        "wing_mass": _v(4.6e-7, _FWUAV_PARAMS, "verified", "berman2007", "fwuav"),
+    }
     return Preset("bumblebee", "Bombus", "Berman & Wang's bumblebee at Sun & Xiong's 6.4 ms "
-                  "wingbeat", "Berman & Wang 2007; Sun & Xiong 2005", values, extras)
+                  "wingbeat", "Berman & Wang 2007; Sun & Xiong 2005", values, extras, measured)
 
 
 def _fruit_fly_preset() -> Preset:
@@ -392,9 +491,14 @@ def _fruit_fly_preset() -> Preset:
         "mass": _v(mass, bw, "verified", "berman2007", "fwuav"),
         "pitch_inertia": _inertia(mass, 2.5e-3, 0.9e-3, "L and d estimated"),
     }
-    extras = {"wing_mass": _v(8.6e-10, _FWUAV_PARAMS, "verified", "berman2007", "fwuav")}
+    measured = {
+        **_hinge(_fwuav_body_cg(4.30968e-7, 2.87312e-7, 0.97093e-3, 1.15344e-3), 26.835,
+                 _FWUAV_SCALED, "estimate", "fwuav",
+                 note="FWUAV's scaled monarch body, not a fruit-fly measurement"),
+        "wing_mass": _v(8.6e-10, _FWUAV_PARAMS, "verified", "berman2007", "fwuav"),
+    }
     return Preset("fruit_fly", "Drosophila", "Berman & Wang's fruit fly",
-                  "Berman & Wang 2007", values, extras)
+                  "Berman & Wang 2007", values, {}, measured)
 
 
 def _honeybee_preset() -> Preset:
@@ -414,8 +518,17 @@ def _honeybee_preset() -> Preset:
                    "ellington1984", low=8e-5, high=1.2e-4),
         "pitch_inertia": _inertia(mass, 13e-3, 4.5e-3, "L unverified, d estimated"),
     }
+    measured = {
+        **_hinge(0.13 * 13e-3, 90.0, "no measurement found: the hoverfly's 0.13 body lengths "
+                 "(L = 13 mm), the CG straight below the hinge", "estimate",
+                 note="an analogy, not a honeybee measurement"),
+        "wing_mass": _v(0.0053 * mass / 2.0, "no measurement found: the bumblebee's 2 m_w / m = "
+                        "0.53 %", "estimate", low=0.0025 * mass / 2.0, high=0.01 * mass / 2.0,
+                        note="an analogy, not a honeybee measurement"),
+    }
     return Preset("honeybee", "Apis mellifera", "Altshuler et al.'s short, fast stroke; "
-                  "morphology unverified", "Altshuler et al. 2005; Ellington 1984", values)
+                  "morphology unverified", "Altshuler et al. 2005; Ellington 1984", values, {},
+                  measured)
 
 
 def _hoverfly_preset() -> Preset:
@@ -434,13 +547,20 @@ def _hoverfly_preset() -> Preset:
         "pitch_inertia": _inertia(mass, 1.29 * r, 5e-3, "L = 1.29 R second-hand, d estimated"),
     }
     extras = {
-        "hinge_to_cg": _v(0.13 * 1.29 * r, sun + ": 0.13 body lengths along the body axis",
-                          "second-hand", "sun2007", note="not in the model (hinge_offset = 0)"),
-        "wing_mass": _v(3.26e-7, sun, "second-hand", "sun2007"),
+        "hinge_to_cg": _v(0.13 * 1.29 * r, sun + ": wing root to CG 0.13 body lengths; free "
+                          "body angle 53.3 deg (the CG hangs below the wing base)",
+                          "second-hand", "xu2015", "sun2007"),
+    }
+    measured = {
+        **_hinge(0.13 * 1.29 * r, 90.0, sun + " (Xu & Sun 2015's model drone fly); in hover "
+                 "the CG taken straight below the hinge, as when the body hangs freely",
+                 "second-hand", "xu2015", "sun2007"),
+        "wing_mass": _v(3.26e-7, sun + " (Xu & Sun 2015)", "second-hand", "xu2015", "sun2007",
+                        low=0.8 * 3.26e-7, high=1.2 * 3.26e-7, note="+-20 %: not re-read here"),
     }
     return Preset("hoverfly", "Eristalis-type model hoverfly", "Sun's group's model hoverfly "
                   "(an Eristalis-type drone fly)", "Sun et al. 2007 (data from Dudley)",
-                  values, extras)
+                  values, extras, measured)
 
 
 def _monarch_preset() -> Preset:
@@ -464,15 +584,15 @@ def _monarch_preset() -> Preset:
                             high=INERTIA_RANGE[1] * _monarch_pitch_inertia(),
                             note="the thorax alone (a free abdomen) would give 2.95e-9"),
     }
-    extras = {
+    measured = {
+        **_hinge(_fwuav_body_cg(1.485e-4, 1.092e-4, 7.315e-3, 8.69e-3), 17.513,
+                 _FWUAV_MONARCH + "; stroke plane WK.beta of " + _FWUAV_HOVER, "estimate",
+                 "fwuav", note="arithmetic on FWUAV's measured monarch, the abdomen straight"),
         "wing_mass": _v(2.51e-5, _FWUAV_MONARCH, "verified", "fwuav",
-                        note="per wing, 8 % of the total: the model neglects it"),
-        "hinge_to_cg": _v(6.78e-3, "wing roots ahead of the thorax + abdomen CG (arithmetic "
-                          "on " + _FWUAV_MONARCH + ")", "estimate", "fwuav",
-                          note="not in the model (hinge_offset = 0)"),
+                        note="per wing, 8 % of the total"),
     }
     return Preset("monarch", "Danaus plexippus", "FWUAV's monarch: every number from its data "
-                  "files", "FWUAV (fdcl-gwu)", values, extras)
+                  "files", "FWUAV (fdcl-gwu)", values, {}, measured)
 
 
 _BUILDERS: tuple[Callable[[], Preset], ...] = (
@@ -489,13 +609,16 @@ def preset_names() -> tuple[str, ...]:
     return tuple(PRESETS)
 
 
-def preset(name: str, /, **overrides: Any) -> Insect:
+def preset(name: str, /, geometry: str = "paper", **overrides: Any) -> Insect:
     """The preset ``name`` as an :class:`Insect`, with some fields changed.
 
     Parameters
     ----------
     name : str
         One of :func:`preset_names` (positional: ``name=`` renames the insect).
+    geometry : {"paper", "measured"}
+        The paper's geometry (hinge at the centre of gravity, massless wings; the default) or the
+        sources' hinge position and wing mass (:attr:`Preset.measured`).
     **overrides
         Any :class:`Insect` field, in SI units.
 
@@ -509,7 +632,7 @@ def preset(name: str, /, **overrides: Any) -> Insect:
         If ``name`` is not a preset (the message lists them) or an override is out of range.
     """
     _validation.choice("name", name, tuple(PRESETS))
-    return PRESETS[name].insect(**overrides)
+    return PRESETS[name].insect(geometry, **overrides)
 
 
 def species_table() -> list[dict[str, Any]]:

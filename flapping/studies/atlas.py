@@ -51,6 +51,10 @@ __all__ = [
     "robust_hover_orbit",
     "SpeciesStability",
     "species_stability",
+    "GEOMETRY_CASES",
+    "TWO_TRIMS",
+    "GeometryCase",
+    "geometry_comparison",
     "attitude_fixed_exponents",
     "frequency_sweep",
     "SensitivityBar",
@@ -123,6 +127,11 @@ def interpolate_insects(start: Insect, target: Insect, s: float) -> Insect:
     values: dict[str, Any] = {}
     for name in _NUMERIC:
         a, b = getattr(start, name), getattr(target, name)
+        if name in ("wing_mass_r1", "wing_mass_r2"):
+            if a is None and b is None:  # both the area's radii: so is every intermediate
+                continue
+            i = name == "wing_mass_r2"
+            a, b = start.wing_mass_radii[i], target.wing_mass_radii[i]
         if name in SCALE_FIELDS:
             values[name] = a ** (1.0 - s) * b**s
         else:
@@ -436,6 +445,120 @@ def species_stability(insect: Insect | None = None, orbit: HoverOrbit | None = N
         fixed_attitude=fixed, fixed_attitude_averaged=fixed_avg,
         liouville_error=stab.liouville_error,
         climb_speed=orbit.mean_inertial_velocity["climb"], nit=int(orbit.nit))
+
+
+# =========================================================================== geometry
+#: The three geometries of :func:`geometry_comparison`, in order: the paper's (hinge at the CG,
+#: massless wings), the sources' hinge position with massless wings, and with the wings' mass.
+GEOMETRY_CASES: tuple[str, ...] = ("paper", "measured hinge", "measured hinge and wing mass")
+
+#: The trims of a hover with the hinge off the centre of gravity: the mean stroke angle puts the
+#: mean lift over the centre of gravity (else the orbit drifts).
+TWO_TRIMS = ("amplitude", "stroke_mean")
+
+#: A leading multiplier whose imaginary part is below this fraction of its modulus is real.
+_REAL_TOL = 1e-8
+
+
+@dataclass(frozen=True)
+class GeometryCase:
+    """One insect in one geometry of :func:`geometry_comparison`.
+
+    Attributes
+    ----------
+    case : str
+        One of :data:`GEOMETRY_CASES`.
+    insect : Insect
+        The insect solved (its hinge position and wing mass).
+    stroke_mean_deg : float
+        The hover's mean stroke angle phi_bar [deg] (0 in the paper's geometry).
+    stability : SpeciesStability
+        The atlas's numbers of its hover orbit.
+    """
+
+    case: str
+    insect: Insect
+    stroke_mean_deg: float
+    stability: SpeciesStability
+
+    @property
+    def leading_multiplier(self) -> complex:
+        """The multiplier of largest modulus."""
+        return complex(self.stability.multipliers[0])
+
+    @property
+    def mode_type(self) -> str:
+        """``"oscillatory"`` (a complex pair), ``"real"`` (a positive real multiplier) or
+        ``"flip"`` (a negative one): the type of the leading mode."""
+        mu = self.leading_multiplier
+        if abs(mu.imag) > _REAL_TOL * abs(mu):
+            return "oscillatory"
+        return "real" if mu.real > 0.0 else "flip"
+
+    @property
+    def oscillation_period(self) -> float:
+        """Period of the leading mode's oscillation [s]: 2 pi T / |arg mu| (inf if real)."""
+        if self.mode_type != "oscillatory":
+            return math.inf
+        return 2.0 * math.pi * self.insect.period / abs(math.atan2(self.leading_multiplier.imag,
+                                                                   self.leading_multiplier.real))
+
+
+def geometry_comparison(name: str, **hover_options: Any) -> tuple[GeometryCase, ...]:
+    """A preset in the paper's geometry, at its measured hinge, and with its wings' mass.
+
+    Each case is solved from the previous one's orbit (initial state, amplitude and mean stroke
+    angle), by continuation in the geometry (:func:`hover_by_homotopy`) if the warm start fails;
+    the measured cases trim the mean stroke angle as well (:data:`TWO_TRIMS`).
+
+    Parameters
+    ----------
+    name : str
+        A preset name (:data:`~flapping.model.presets.PRESETS`).
+    **hover_options
+        Passed to :func:`~flapping.hover.find_hover_orbit` (not ``trims``, ``x0_guess`` or
+        ``amplitude_guess``, which this sets).
+
+    Returns
+    -------
+    tuple of 3 GeometryCase
+        In the order of :data:`GEOMETRY_CASES`.
+
+    Raises
+    ------
+    ValueError
+        For an unknown preset or a reserved option.
+    ConvergenceError
+        If a case's orbit cannot be found.
+    """
+    name = _validation.choice("name", name, tuple(PRESETS))
+    if {"trims", "x0_guess", "amplitude_guess"} & set(hover_options):
+        raise ValueError("geometry_comparison sets `trims`, `x0_guess` and `amplitude_guess`")
+    paper = PRESETS[name].insect()
+    measured = PRESETS[name].insect("measured")
+    insects = (paper, measured.with_(wing_mass=0.0), measured)
+    orbit, _ = robust_hover_orbit(paper, **hover_options)
+    cases = [GeometryCase(GEOMETRY_CASES[0], paper, 0.0, species_stability(orbit=orbit))]
+    for case, insect in zip(GEOMETRY_CASES[1:], insects[1:], strict=True):
+        orbit = _warm_two_trim_orbit(insect, cases[-1].insect, orbit, hover_options)
+        cases.append(GeometryCase(case, insect, math.degrees(orbit.stroke_mean),
+                                  species_stability(orbit=orbit)))
+    return tuple(cases)
+
+
+def _warm_two_trim_orbit(insect: Insect, previous: Insect, orbit: HoverOrbit,
+                         hover_options: dict[str, Any]) -> HoverOrbit:
+    """The two-trim hover orbit of ``insect`` from ``previous``'s orbit (by homotopy if need be)."""
+    start = previous.with_(stroke_mean=orbit.stroke_mean)
+    target = insect.with_(stroke_mean=orbit.stroke_mean)  # phi_bar's first guess
+    options = {**hover_options, "trims": TWO_TRIMS}
+    try:
+        return find_hover_orbit(target, x0_guess=np.asarray(orbit.x0).tolist(),
+                                amplitude_guess=orbit.amplitude, **options)
+    except (ConvergenceError, ValueError):
+        start_orbit = find_hover_orbit(start, x0_guess=np.asarray(orbit.x0).tolist(),
+                                       amplitude_guess=orbit.amplitude, **options)
+        return hover_by_homotopy(target, start, start_orbit=start_orbit, **options).orbit
 
 
 # =========================================================================== sweeps

@@ -197,3 +197,48 @@ def test_each_preset_satisfies_liouvilles_formula(hover):
     # det M from the multipliers against exp(int trace J): both at rtol 1e-12 integrations.
     assert stab.liouville_error < 1e-9
     assert np.prod(stab.multipliers).real == pytest.approx(stab.det, rel=1e-9)
+
+
+# ------------------------------------------------------------------------------ measured geometry
+@pytest.mark.parametrize("name", presets.preset_names())
+def test_the_paper_geometry_is_the_default_and_unchanged(name):
+    assert presets.preset(name, geometry="paper") == presets.preset(name)
+    insect = presets.preset(name)
+    assert (insect.hinge_offset, insect.hinge_height, insect.wing_mass) == (0.0, 0.0, 0.0)
+
+
+@pytest.mark.parametrize("name", presets.preset_names())
+def test_the_measured_geometry_sets_the_hinge_and_the_wing_mass_with_sources(name):
+    p = presets.PRESETS[name]
+    assert {"hinge_offset", "hinge_height", "wing_mass"} <= set(p.measured)
+    insect = presets.preset(name, geometry="measured")
+    for field, value in p.measured.items():
+        assert getattr(insect, field) == value.value
+        assert value.source and value.status in presets.STATUSES
+        # Anything short of a verified number carries the range a sensitivity study needs.
+        assert value.status == "verified" or value.has_range
+    assert insect.hinge_height > 0.0 and 0.0 < 2 * insect.wing_mass < 0.2 * insect.mass
+
+
+def test_the_hoverflys_hinge_is_sun_and_xus_distance_straight_above_the_cg():
+    fly = presets.preset("hoverfly", geometry="measured")
+    assert fly.hinge_offset == pytest.approx(0.0, abs=1e-18)
+    assert fly.hinge_height == pytest.approx(0.13 * 1.29 * 11.2e-3)  # 0.13 body lengths
+
+
+def test_hinge_geometry_places_the_hinge_on_a_circle_about_the_cg():
+    x, h = presets.hinge_geometry(2e-3, math.radians(30.0))
+    assert math.hypot(x, h) == pytest.approx(2e-3)
+    assert math.degrees(math.atan2(h, x)) == pytest.approx(30.0)
+    assert presets.hinge_geometry(1e-3, math.pi / 2)[1] == 1e-3
+
+
+@pytest.mark.parametrize(("args", "match"), [((-1e-3, 0.5), "distance"), ((1e-3, 2.0), "elevation")])
+def test_hinge_geometry_refuses_bad_arguments_by_name(args, match):
+    with pytest.raises(ValueError, match=match):
+        presets.hinge_geometry(*args)
+
+
+def test_an_unknown_geometry_is_refused_naming_the_choices():
+    with pytest.raises(ValueError, match="geometry.*measured"):
+        presets.preset("hawkmoth", geometry="anatomical")
