@@ -36,13 +36,14 @@ from typing import Any, NoReturn
 import numpy as np
 
 from flapping import __version__
-from flapping.errors import ConvergenceError
+from flapping.errors import ConvergenceError, PlausibilityWarning
 from flapping.hover import HoverOrbit, find_hover_orbit
 from flapping.hover.stability import HoverStability, hover_stability
 from flapping.model import presets as species
 from flapping.model.dynamics import AERODYNAMIC_MODELS, STATE_NAMES
 from flapping.model.insect_file import resolve_insect
 from flapping.model.morphology import Insect
+from flapping.studies.atlas import robust_hover_orbit
 from flapping.studies.sweep import SWEEPABLE, sweep_hover
 
 __all__ = ["PRESETS", "UNITS", "NonFiniteResultError", "hover_report", "main"]
@@ -58,7 +59,8 @@ INSECT_UNITS: dict[str, str | None] = {
     "frequency": "Hz", "stroke_amplitude": "rad", "mass": "kg", "pitch_inertia": "kg m^2",
     "air_density": "kg/m^3", "gravity": "m/s^2", "a0": "1/rad", "aspect_ratio_convention": None,
     "pitch_axis": _COUNT, "center_of_pressure": _COUNT, "hinge_offset": "m", "mu1": _COUNT,
-    "mu2": _COUNT, "hinge_height": "m", "stroke_mean": "rad",
+    "mu2": _COUNT, "hinge_height": "m", "stroke_mean": "rad", "wing_mass": "kg",
+    "wing_mass_r1": _COUNT, "wing_mass_r2": _COUNT,
 }
 _ATOL_UNIT = "SI units of each state (m/s, rad/s, rad; m for z)"
 _SHOOTING_UNITS: dict[str, str | None] = {
@@ -77,6 +79,9 @@ UNITS: dict[str, Any] = {
     "insect": None,
     "insect_parameters": INSECT_UNITS,
     "aerodynamics": None,
+    "trims": None,
+    "stroke_mean_deg": "deg",
+    "continued_from": None,
     "amplitude_deg": "deg",
     "alpha_m_deg": "deg",
     "initial_state": _STATE_UNITS,
@@ -130,8 +135,11 @@ residual_norm, mean_inertial_velocity, multipliers, floquet_exponents, det_monod
 liouville_det, averaged_eigenvalues, stable, and version, insect, insect_parameters,
 aerodynamics, mean_horizontal_velocity, mean_vertical_velocity, is_hover, liouville_error,
 status (hover, drifting or climbing), backend (compiled or adaptive: the path that solved it),
-solver (settings and iteration counts); `units` gives the unit of every key. Complex numbers are
-{{"re": ..., "im": ...}}. NaN and infinity are never printed: a non-finite result exits with 1.
+solver (settings and iteration counts), trims (amplitude, and stroke_mean where the hinge is off
+the centre of gravity), stroke_mean_deg, continued_from (null, or the insect a continuation
+started from when the default guess failed); `units` gives the unit of every key. Complex
+numbers are {{"re": ..., "im": ...}}. NaN and infinity are never printed: a non-finite result
+exits with 1.
 
 {_EXIT_CODES}"""
 
@@ -173,6 +181,11 @@ def _parser() -> argparse.ArgumentParser:
     hover.add_argument("--aerodynamics", default="linear", choices=AERODYNAMIC_MODELS,
                        help="loads model (default: %(default)s, the paper's eq. 29; small-angle "
                             "and exact: the blade-element loads)")
+    hover.add_argument("--geometry", default="paper", choices=species.GEOMETRIES,
+                       help="with a preset: the paper's geometry (hinge at the centre of "
+                            "gravity, massless wings; the default) or the sources' measured "
+                            "hinge position and wing mass (the mean stroke angle is then trimmed "
+                            "too)")
     hover.add_argument("--json", action="store_true",
                        help="print one JSON object (SI units, a `units` map) instead of text")
     listing = sub.add_parser("species", help="list the preset insects",
@@ -282,10 +295,21 @@ def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str = "linear"
     shooting = _defaults(find_hover_orbit, "method", "rtol", "atol", "tol", "backend")
     stability = _defaults(hover_stability, "method", "rtol", "atol", "rk4_steps", "n_average",
                           "backend")
-    orbit = find_hover_orbit(insect, aerodynamics=aerodynamics, **shooting)
+    # A hinge ahead of or behind the CG drifts unless the mean stroke angle is trimmed too.
+    trims = ("amplitude",) if insect.hinge_offset == 0.0 else ("amplitude", "stroke_mean")
+    # From the default guess, or by continuation from the same insect hinged at its CG with
+    # massless wings (the monarch with its heavy wings needs it).
+    with warnings.catch_warnings():  # the insect's own implausible values were warned already
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        plain = insect.with_(name=f"{insect.name} hinged at its CG, massless wings",
+                             hinge_offset=0.0, hinge_height=0.0, wing_mass=0.0, stroke_mean=0.0)
+    orbit, homotopy = robust_hover_orbit(insect, start=plain, aerodynamics=aerodynamics,
+                                         trims=trims, **shooting)
     stab = hover_stability(orbit, **stability)
     report = {"version": __version__, "insect": insect.name,
               "insect_parameters": _insect_parameters(insect), "aerodynamics": aerodynamics,
+              "trims": list(trims), "stroke_mean_deg": math.degrees(orbit.stroke_mean),
+              "continued_from": None if homotopy is None else homotopy.start,
               **_orbit_report(orbit), **_stability_report(stab),
               "solver": _solver_report(orbit, shooting, stability), "units": UNITS}
     bad = _non_finite(report)
@@ -336,10 +360,14 @@ def _write(text: str) -> bool:
     return True
 
 
-def _insect_argument(parser: argparse.ArgumentParser, spec: str) -> Insect:
+def _insect_argument(parser: argparse.ArgumentParser, spec: str,
+                     geometry: str = "paper") -> Insect:
     """``--insect`` as an Insect (a preset or a file), or exit 2 with one line saying why."""
     if spec in PRESETS:
-        return PRESETS[spec]()
+        return PRESETS[spec]() if geometry == "paper" else species.preset(spec, geometry=geometry)
+    if geometry != "paper":
+        parser.error("argument --geometry: applies to a preset (" + ", ".join(PRESETS)
+                     + "); an insect file gives its hinge position and wing mass itself")
     try:
         return resolve_insect(spec)
     except ValueError as exc:
@@ -362,7 +390,7 @@ def _species(as_json: bool) -> int:
 
 def _hover(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     """The ``hover`` subcommand: the report as text or one JSON object."""
-    insect = _insect_argument(parser, args.insect)
+    insect = _insect_argument(parser, args.insect, args.geometry)
     try:
         report = hover_report(insect, args.aerodynamics)
         text = json.dumps(report, allow_nan=False) if args.json else _text(report)

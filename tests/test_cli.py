@@ -19,7 +19,8 @@ ORIGINAL_KEYS = {"insect", "aerodynamics", "amplitude_deg", "alpha_m_deg", "init
                  "stable"}
 ADDED_KEYS = {"version", "insect_parameters", "solver", "liouville_error",
               "mean_horizontal_velocity", "mean_vertical_velocity", "is_hover", "units",
-              "status", "backend"}  # status and backend: one hover problem (issue 17)
+              "status", "backend",  # status and backend: one hover problem (issue 17)
+              "trims", "stroke_mean_deg", "continued_from"}  # measured geometry (issue 18)
 
 
 def strict_loads(text):

@@ -27,7 +27,13 @@ def test_species_lists_every_preset_as_json():
     assert [r["name"] for r in rows] == list(preset_names())
     for row in rows:
         assert set(row) == {"name", "species", "mass_kg", "wing_length_m", "frequency_hz",
-                            "source"}
+                            "source", "measured_geometry"}
+        measured = preset(row["name"], geometry="measured")
+        geometry = row["measured_geometry"]
+        assert set(geometry) == {"hinge_offset_m", "hinge_height_m", "wing_mass_kg"}
+        assert geometry["hinge_height_m"]["value"] == measured.hinge_height
+        assert geometry["wing_mass_kg"]["value"] == measured.wing_mass
+        assert all(entry["source"] and entry["status"] for entry in geometry.values())
         insect = preset(row["name"])
         assert (row["mass_kg"], row["wing_length_m"], row["frequency_hz"]) == (
             insect.mass, insect.semi_span, insect.frequency)
@@ -79,3 +85,26 @@ def test_a_bad_name_or_file_is_one_line_and_exit_2(tmp_path, spec, text, expecte
     assert out.stdout == ""
     assert len(out.stderr.strip().splitlines()) == 1
     assert expected in out.stderr and "Traceback" not in out.stderr
+
+
+@pytest.mark.parametrize("name", ["hoverfly", "bumblebee"])
+def test_hover_at_the_measured_geometry_trims_the_stroke_where_the_hinge_is_off_the_cg(name):
+    out = run("hover", "--insect", name, "--geometry", "measured", "--json")
+    assert out.returncode == 0, out.stderr
+    report = json.loads(out.stdout)
+    assert set(report) >= HOVER_KEYS  # the keys of the paper geometry stay
+    insect = preset(name, geometry="measured")
+    assert report["insect_parameters"]["wing_mass"] == insect.wing_mass
+    assert report["trims"] == (["amplitude"] if insect.hinge_offset == 0.0
+                               else ["amplitude", "stroke_mean"])
+    assert report["is_hover"]
+    if insect.hinge_offset > 0.0:  # the mean lift returns over a CG behind the hinge
+        assert report["stroke_mean_deg"] < 0.0
+
+
+def test_geometry_applies_to_presets_only(tmp_path):
+    path = tmp_path / "bee.toml"
+    path.write_text('preset = "bumblebee"\n')
+    out = run("hover", "--insect", str(path), "--geometry", "measured")
+    assert out.returncode == 2
+    assert "--geometry" in out.stderr and len(out.stderr.strip().splitlines()) <= 2

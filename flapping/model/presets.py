@@ -376,6 +376,8 @@ def hinge_geometry(distance: float, elevation: float) -> tuple[float, float]:
     """
     distance = _validation.real("distance", distance, low=0.0, unit="m")
     elevation = _validation.real("elevation", elevation, low=0.0, high=math.pi / 2, unit="rad")
+    if elevation == math.pi / 2:  # exactly above: x_h = 0, not cos(pi/2) d = 6e-17 d
+        return 0.0, distance
     return distance * math.cos(elevation), distance * math.sin(elevation)
 
 
@@ -636,16 +638,26 @@ def preset(name: str, /, geometry: str = "paper", **overrides: Any) -> Insect:
 
 
 def species_table() -> list[dict[str, Any]]:
-    """One row per preset: name, species, mass [kg], wing length [m], frequency [Hz], source.
+    """One row per preset: name, species, mass [kg], wing length [m], frequency [Hz], source, and
+    the measured geometry with its sources.
 
     Returns
     -------
     list of dict
         Keys ``name``, ``species``, ``mass_kg``, ``wing_length_m`` (the semi-span R),
-        ``frequency_hz``, ``source``.
+        ``frequency_hz``, ``source``, and ``measured_geometry``: for each field of
+        :attr:`Preset.measured`, keyed by the field and its unit (``hinge_offset_m``,
+        ``hinge_height_m``, ``wing_mass_kg``), a dict of ``value``, ``source``, ``status``,
+        ``cite`` and ``low``/``high`` (None without a range).
     """
+    units = {"hinge_offset": "m", "hinge_height": "m", "wing_mass": "kg"}
     return [{"name": p.name, "species": p.species, "mass_kg": p.mass,
-             "wing_length_m": p.semi_span, "frequency_hz": p.frequency, "source": p.source}
+             "wing_length_m": p.semi_span, "frequency_hz": p.frequency, "source": p.source,
+             "measured_geometry": {
+                 f"{k}_{units.get(k, 'si')}": {"value": v.value, "source": v.source,
+                                               "status": v.status, "cite": list(v.cite),
+                                               "low": v.low, "high": v.high}
+                 for k, v in p.measured.items()}}
             for p in PRESETS.values()]
 
 
