@@ -1,0 +1,390 @@
+"""Published results on the longitudinal hover stability of insects, for comparison with ours.
+
+:data:`PUBLISHED` holds one :class:`PublishedResult` per (source, species, configuration): what
+the source says about the hover's stability, the mode that decides it (oscillatory or real), its
+growth, and how we know: ``status`` is ``"verified"`` when the record was read in the source's
+abstract, data file or page in the session that wrote it, ``"second-hand"`` when it was read in
+another source that reports it, ``"unverified"`` when it comes from our own notes only. A number
+that could not be read is ``None``: none is inferred, none is converted from a figure.
+
+:func:`published_for` selects the records of one species; :func:`as_rows` flattens records into
+table rows with the units in the keys (``doubling_time_ms``, ``doubling_time_wingbeats``, ...).
+
+The species names are the presets' (:mod:`flapping.model.presets`: ``hawkmoth``, ``bumblebee``,
+``fruit_fly``, ``honeybee``, ``hoverfly``, ``monarch``) where the source's insect is the preset's,
+and the source's own name otherwise (``"cranefly"``, ``"dronefly"``).
+
+Imports the standard library and the package's validation only: the table is data, and a reader of
+the book can check each row against its quote without running a model.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Any
+
+from flapping import _validation as check
+
+__all__ = [
+    "PublishedResult", "PUBLISHED", "published_for", "as_rows",
+    "STATUSES", "MODE_TYPES", "VERDICTS", "ATTITUDES",
+]
+
+#: How a record was checked (see the module docstring).
+STATUSES = ("verified", "second-hand", "unverified")
+#: The mode that decides stability: ``"oscillatory"`` (a complex pair), ``"real"`` (a real
+#: eigenvalue or multiplier), ``"stable"`` (every mode decays); ``None``: not stated.
+MODE_TYPES = ("oscillatory", "real", "stable", None)
+#: The source's verdict on the hover; ``None``: the source (as read) gives none.
+VERDICTS = ("unstable", "stable", None)
+#: Body attitude free (pitch a degree of freedom) or prescribed (translation only).
+ATTITUDES = ("free", "prescribed")
+
+
+def _optional_positive(name: str, value: Any, unit: str) -> float | None:
+    return None if value is None else check.positive(name, value, unit=unit)
+
+
+def _times(name: str, value: Any) -> tuple[float, ...]:
+    if isinstance(value, (str, bytes)) or not isinstance(value, Iterable):
+        raise ValueError(f"`{name}` must be a tuple of positive times in s; got {value!r}")
+    return tuple(check.positive(f"{name}[{i}]", v, unit="s") for i, v in enumerate(value))
+
+
+def _text(name: str, value: Any, *, empty: bool = True) -> str:
+    if not isinstance(value, str) or (not empty and not value.strip()):
+        what = "a string" if empty else "a non-empty string"
+        raise ValueError(f"`{name}` must be {what}; got {value!r}")
+    return value
+
+
+@dataclass(frozen=True)
+class PublishedResult:
+    """One published hover-stability result: a source, an insect, a configuration.
+
+    Parameters
+    ----------
+    cite : str
+        Key of the source in ``book/references.bib``.
+    species : str
+        The preset's name when the source's insect is the preset's, the source's name otherwise.
+    method : str
+        How the source gets its result (e.g. ``"CFD derivatives + averaging"``,
+        ``"quasi-steady + Floquet"``).
+    attitude : str
+        ``"free"`` or ``"prescribed"`` body attitude (:data:`ATTITUDES`).
+    verdict : str or None
+        ``"unstable"``, ``"stable"`` or ``None`` when the source, as read, gives no verdict.
+    mode_type : str or None
+        The mode that decides stability (:data:`MODE_TYPES`).
+    status : str
+        How the record was checked (:data:`STATUSES`).
+    quote : str
+        Where the record comes from: a short quote or close paraphrase of the source, and which
+        page or file; required (non-empty) for a verified record.
+    doubling_time_s : float, optional
+        Time for the unstable mode's amplitude to double [s].
+    oscillation_period_s : float, optional
+        Period of the unstable oscillatory mode [s].
+    wingbeat_s : float, optional
+        The wingbeat period of the source's insect [s], when the source gives it.
+    halving_times_s : tuple of float
+        Times to halve of the stable modes [s], when given.
+    exponents_per_s : tuple of float
+        Floquet (characteristic) exponents or eigenvalues' real parts [1/s], when given.
+    note : str
+        What else a reader needs (what the numbers do not say, how the insect relates to ours).
+
+    Raises
+    ------
+    ValueError
+        On any argument out of its set or range, naming the argument.
+    """
+
+    cite: str
+    species: str
+    method: str
+    attitude: str
+    verdict: str | None
+    mode_type: str | None
+    status: str
+    quote: str
+    doubling_time_s: float | None = None
+    oscillation_period_s: float | None = None
+    wingbeat_s: float | None = None
+    halving_times_s: tuple[float, ...] = ()
+    exponents_per_s: tuple[float, ...] = ()
+    note: str = ""
+
+    def __post_init__(self) -> None:
+        for name in ("cite", "species", "method"):
+            _text(name, getattr(self, name), empty=False)
+        check.choice("attitude", self.attitude, ATTITUDES)
+        check.choice("verdict", self.verdict, VERDICTS)
+        check.choice("mode_type", self.mode_type, MODE_TYPES)
+        check.choice("status", self.status, STATUSES)
+        _text("quote", self.quote, empty=self.status != "verified")
+        _text("note", self.note)
+        for name in ("doubling_time_s", "oscillation_period_s", "wingbeat_s"):
+            object.__setattr__(self, name, _optional_positive(name, getattr(self, name), "s"))
+        object.__setattr__(self, "halving_times_s",
+                           _times("halving_times_s", self.halving_times_s))
+        exponents = self.exponents_per_s
+        if isinstance(exponents, (str, bytes)) or not isinstance(exponents, Iterable):
+            raise ValueError(f"`exponents_per_s` must be a tuple of real numbers in 1/s; "
+                             f"got {exponents!r}")
+        object.__setattr__(self, "exponents_per_s", tuple(
+            check.real(f"exponents_per_s[{i}]", v, unit="1/s") for i, v in enumerate(exponents)))
+        if self.doubling_time_s is not None and self.verdict == "stable":
+            raise ValueError("`doubling_time_s` is given, so `verdict` cannot be 'stable'")
+
+    @property
+    def growth_rate_per_s(self) -> float | None:
+        """ln 2 / doubling time [1/s]: the growth rate the doubling time states (None if none)."""
+        return None if self.doubling_time_s is None else math.log(2.0) / self.doubling_time_s
+
+    @property
+    def doubling_time_wingbeats(self) -> float | None:
+        """The doubling time in wingbeats of the source's own insect (None if either is missing)."""
+        if self.doubling_time_s is None or self.wingbeat_s is None:
+            return None
+        return self.doubling_time_s / self.wingbeat_s
+
+
+_SUN2005 = ("Sun & Xiong (2005), J. Exp. Biol. abstract: 'three natural modes were identified: one "
+            "unstable oscillatory mode, one stable fast subsidence mode and one stable slow "
+            "subsidence mode'; 'The period of the oscillations is 0.32 s'; 'The oscillations "
+            "double in amplitude in 0.1 s'; fast subsidence 'decay[s] to half of the starting "
+            "values in 0.024 s', slow 'in 0.37 s'; 'the wingbeat period (6.4 ms)'")
+_SUNWANG = ("Sun & Wang (2007), J. Exp. Biol. 210:2714, summary: 'The model insect has the same "
+            "three natural modes of motion as those reported recently for a hovering bumblebee: "
+            "one unstable oscillatory mode, one stable fast subsidence mode and one stable slow "
+            "subsidence mode'; 'morphological and certain kinematical data of hoverflies were "
+            "used for the model insect'")
+_ACTA = ("Second-hand, from the introduction of Sci. Rep. (2025) s41598-025-24175-5: Sun & Xiong "
+         "'found ... one unstable oscillatory mode, one stable fast subsidence mode, and one "
+         "stable slow subsidence mode. Follow-up research on hoverfly, cranefly, dronefly, and "
+         "hawkmoth revealed the same conclusion'")
+_WU = ("Wu & Sun (2012), abstract: 'The Floquet theory (cyclic-motion stability analysis) agreed "
+       "well with the simulation for both the model dronefly and the model hawkmoth; but the "
+       "averaged-model theory gave good results only for the dronefly'")
+_FWUAV = ("FWUAV data file matlab/sim_data/other_insects/sim_QS_x_hover_conv_rate.mat at commit "
+          "1a25d41, read with scipy.io.loadmat: conv_rate_{insect} rows 4-6 (rows 1-3, position, "
+          "are 0); floquet_stability.m computes them as log|rho| * f [1/s]; "
+          "fig_convergence_rate.m labels rows 4, 5, 6 'Longitudinal mode 1', 'Longitudinal mode "
+          "2', 'Lateral mode'")
+_FWUAV_NOTE = ("Attitude prescribed: perturbations of position and velocity only (eom_hover, 6 "
+               "states), so no pitch mode; the third exponent is a lateral (sideways) mode. "
+               "Magnitudes only (log|rho|): the file does not say which modes are complex.")
+_CHENG_DENG = ("Cheng & Deng (2011), IEEE T-RO abstract: damping 'linearly dependent on the body "
+               "translational and angular velocities and increases with wing-stroke amplitude "
+               "and frequency'; 'The model was then used to estimate the flight dynamics and "
+               "stability of four different species of flying insects as case studies'")
+
+
+def _sun_group() -> list[PublishedResult]:
+    """Sun's group: CFD stability derivatives, linearised and cycle-averaged, attitude free."""
+    method = "CFD derivatives + averaging"
+    rows = [
+        PublishedResult(
+            "sun2005", "bumblebee", method, "free", "unstable", "oscillatory", "verified",
+            _SUN2005, doubling_time_s=0.1, oscillation_period_s=0.32, wingbeat_s=6.4e-3,
+            halving_times_s=(0.024, 0.37),
+            note="Unstable mode: pitch and horizontal motion, 'negligible vertical motion'; "
+                 "caused by nose-up pitch coupled with forward motion. Abstract on PubMed/JEB."),
+        PublishedResult(
+            "sun2005honeybee", "honeybee", method, "free", "unstable", "oscillatory",
+            "verified",
+            "Sun & Xiong (2005), Acta Aeronaut. Astronaut. Sin. 26(4), abstract: 'The disturbed "
+            "motion has three natural modes: an unstable oscillatory mode, a stable fast "
+            "subsidence mode and a stable slow subsidence mode'; (Chinese abstract) the "
+            "doubling time of the disturbance, 0.11 s, is 22 times the wingbeat period, 5.1 ms",
+            doubling_time_s=0.11, wingbeat_s=5.1e-3,
+            note="Period of the oscillation not in the abstract."),
+        PublishedResult(
+            "sun2007", "hoverfly", method, "free", "unstable", "oscillatory", "verified",
+            _SUNWANG,
+            note="Stabilised by feeding pitch attitude, pitch rate and horizontal velocity into "
+                 "the mean stroke angle (or a differential down/upstroke angle of attack); the "
+                 "slow subsidence needs vertical-speed feedback. No growth rate in the summary."),
+    ]
+    for species, note in (("hoverfly", ""), ("cranefly", ""), ("dronefly", ""),
+                          ("hawkmoth", "Sun's group's hawkmoth: CFD finds it unstable, Gao et "
+                                       "al. (2009) with CFD too find it stable.")):
+        rows.append(PublishedResult(
+            "sun2007acta", species, method, "free", "unstable", "oscillatory", "second-hand",
+            _ACTA, note=(note + " The paper itself not read: no numbers.").strip()))
+    rows += [
+        PublishedResult(
+            "xu2015", "dronefly", method, "free", "unstable", None, "verified",
+            "Xu & Sun (2015), J. Beijing Univ. Aeronaut. Astronaut. 41(1), abstract: 'at "
+            "hovering, the longitudinal and lateral disturbed motion both includes the "
+            "unstable mode, therefore hovering is unstable'; in forward flight the longitudinal "
+            "unstable mode's doubling time is shorter than at hover",
+            note="The morphology of our hoverfly preset (145 mg, R = 11.2 mm, data from R. "
+                 "Dudley) is this paper's model dronefly. Mode type and doubling time not in "
+                 "the abstract."),
+        PublishedResult(
+            "wu2012", "dronefly", "CFD + Floquet vs averaging, checked by NS-coupled simulation",
+            "free", None, None, "verified", _WU,
+            note="The abstract gives no verdict and no numbers: averaging valid for the "
+                 "dronefly (high wingbeat frequency, small wing-to-body mass ratio)."),
+        PublishedResult(
+            "wu2012", "hawkmoth", "CFD + Floquet vs averaging, checked by NS-coupled simulation",
+            "free", None, None, "verified", _WU,
+            note="The abstract gives no verdict and no numbers: averaging fails for the hawkmoth "
+                 "(low frequency, large wing mass, large body oscillation)."),
+    ]
+    return rows
+
+
+def _others() -> list[PublishedResult]:
+    """Everyone else: Gao et al., Taha et al., FWUAV, the quasi-steady models, the paper."""
+    rows = [
+        PublishedResult(
+            "gao2009", "hawkmoth", "CFD derivatives + averaging", "free", "stable", "stable",
+            "verified",
+            "Gao, Aono & Liu (2009), J. Biomech. Sci. Eng. 4(1) abstract: 'three natural modes "
+            "are identified of a stable oscillatory mode, a stable fast subsidence mode and a "
+            "stable slow subsidence mode, which indicate that the hawkmoth hovering flight is "
+            "stable'",
+            note="Disagrees with Sun's group's CFD hawkmoth (sun2007acta)."),
+        PublishedResult(
+            "taha2020", "hawkmoth", "chronological calculus (beyond first-order averaging) + "
+            "experiment", "free", "stable", None, "verified",
+            "Taha, Kiani, Hedrick & Greeter (2020), Science Robotics abstract (NSF PAR record): "
+            "'we reveal a passive stabilization mechanism that insects exploit through their "
+            "natural wing oscillations: vibrational stabilization'; 'supported through "
+            "experiments on a real hawkmoth subjected to pitch disturbance from hovering'",
+            note="Pitch stabilised by the flapping itself, which direct averaging misses. "
+                 "Second-hand (UC Irvine news, Oct. 2020): the effect grows as the flapping "
+                 "frequency falls. No growth rates in the abstract."),
+        PublishedResult(
+            "elsadek", "hawkmoth", "quasi-steady + Floquet", "free", "unstable", None,
+            "verified",
+            "Elsadek, El-Bayoumi & Taha (manuscript), abstract: 'Floquet theorem is used to "
+            "assess the stability of the captured periodic orbit corresponding to hovering "
+            "equilibrium. The results showed that the system is indeed unstable.'",
+            note="The paper this project reproduces; its multipliers are in the book's "
+                 "appendix of the paper's numbers."),
+        PublishedResult(
+            "ristroph2013", "fruit_fly", "pitch model from flapping-wing aerodynamics + "
+            "magnetic perturbation experiments", "free", "unstable", None, "verified",
+            "Ristroph et al. (2013), abstract: 'a theory that predicts the instability growth "
+            "rate in body pitch from flapping-wing aerodynamics'; flies 'employ active control "
+            "that is indeed fast relative to the instability'; with sensors disabled they stay "
+            "upright only with 'high-drag fibres' attached",
+            note="Growth rate not in the abstract. Passive stability by body drag, not by the "
+                 "wing hinge."),
+    ]
+    for species, exponents in (("hawkmoth", (-1.77552044, -4.6284423, -1.48133668)),
+                               ("bumblebee", (-1.52894323, -2.89196594, -2.01187695)),
+                               ("fruit_fly", (-3.9368558, -7.03588389, -4.6478547)),
+                               ("monarch", (-8.43546036, -12.84492058, -2.73144541))):
+        rows.append(PublishedResult(
+            "fwuav", species, "quasi-steady + Floquet (finite differences, 2 periods)",
+            "prescribed", "stable", "stable", "verified", _FWUAV, exponents_per_s=exponents,
+            note=_FWUAV_NOTE))
+    rows += [
+        PublishedResult(
+            "chengdeng2011", "four species", "quasi-steady damping derivatives + linear 6-DOF "
+            "model", "free", None, None, "verified", _CHENG_DENG,
+            note="Which four species, their derivatives and their modes are not in the "
+                 "abstract: not read, not recorded."),
+        PublishedResult(
+            "bluman2017", "insect-scale wing", "Floquet, with wing-wake interaction", "free",
+            "unstable", None, "unverified",
+            "Project reading list (READING.md): 'Floquet hover stability, wing-wake interaction "
+            "destabilises'; the paper's abstract was not found this session",
+            note="Species, numbers and mode type unknown."),
+        PublishedResult(
+            "tahmasian2023", "five species", "averaging with wing inertia and mean stroke angle",
+            "free", None, None, "verified",
+            "Tahmasian & Kotulak-Smith (2023), abstract: 'the wing inertial forces have a "
+            "considerable effect on pitch dynamics'; 'the body of hovering insects can not be "
+            "vibrationally stabilized in a non-vertical orientation'; the body angle balances "
+            "the weight's moment against the moment of flapping 'with a nonzero mean stroke "
+            "angle'",
+            note="Predicts the body angle of five species; the abstract names neither the "
+                 "species nor a stability verdict."),
+    ]
+    return rows
+
+
+#: Every published result recorded, Sun's group first.
+PUBLISHED: tuple[PublishedResult, ...] = tuple(_sun_group() + _others())
+
+
+def published_for(species: str) -> tuple[PublishedResult, ...]:
+    """The records of one species.
+
+    Parameters
+    ----------
+    species : str
+        A species name as it appears in :data:`PUBLISHED` (the presets' names, or the source's).
+
+    Returns
+    -------
+    tuple of PublishedResult
+        The records of that species, in :data:`PUBLISHED`'s order.
+
+    Raises
+    ------
+    ValueError
+        If ``species`` is not a string or no record has it (the message lists the names).
+    """
+    names = sorted({r.species for r in PUBLISHED})
+    check.choice("species", species, names)
+    return tuple(r for r in PUBLISHED if r.species == species)
+
+
+def _ms(value: float | None) -> float | None:
+    return None if value is None else 1e3 * value
+
+
+def _row(r: PublishedResult) -> dict[str, Any]:
+    ms = _ms
+    return {
+        "cite": r.cite, "species": r.species, "method": r.method, "attitude": r.attitude,
+        "verdict": r.verdict, "mode_type": r.mode_type,
+        "doubling_time_ms": ms(r.doubling_time_s),
+        "doubling_time_wingbeats": r.doubling_time_wingbeats,
+        "oscillation_period_ms": ms(r.oscillation_period_s),
+        "wingbeat_ms": ms(r.wingbeat_s),
+        "halving_times_ms": tuple(1e3 * t for t in r.halving_times_s),
+        "exponents_per_s": r.exponents_per_s,
+        "status": r.status, "quote": r.quote, "note": r.note,
+    }
+
+
+def as_rows(records: Iterable[PublishedResult] | None = None) -> list[dict[str, Any]]:
+    """Records as table rows (dicts), times in ms and the doubling time also in wingbeats.
+
+    Parameters
+    ----------
+    records : iterable of PublishedResult, optional
+        The records to flatten (default: all of :data:`PUBLISHED`).
+
+    Returns
+    -------
+    list of dict
+        One dict per record, with keys ``cite``, ``species``, ``method``, ``attitude``,
+        ``verdict``, ``mode_type``, ``doubling_time_ms``, ``doubling_time_wingbeats`` (None
+        unless the source gives the wingbeat), ``oscillation_period_ms``, ``wingbeat_ms``,
+        ``halving_times_ms``, ``exponents_per_s``, ``status``, ``quote``, ``note``.
+
+    Raises
+    ------
+    ValueError
+        If ``records`` is not an iterable of :class:`PublishedResult`.
+    """
+    if records is None:
+        records = PUBLISHED
+    if isinstance(records, (str, bytes)) or not isinstance(records, Iterable):
+        raise ValueError(f"`records` must be an iterable of PublishedResult; got {records!r}")
+    items = list(records)
+    for i, r in enumerate(items):
+        check.instance(f"records[{i}]", r, PublishedResult)
+    return [_row(r) for r in items]

@@ -1,0 +1,199 @@
+"""The table of published hover-stability results (flapping.studies.literature) and the .bib."""
+
+import dataclasses
+import math
+import re
+from pathlib import Path
+
+import pytest
+
+from flapping.studies.literature import (
+    ATTITUDES,
+    MODE_TYPES,
+    PUBLISHED,
+    STATUSES,
+    VERDICTS,
+    PublishedResult,
+    as_rows,
+    published_for,
+)
+
+BIB = Path(__file__).resolve().parents[1] / "book" / "references.bib"
+PRESETS = {"hawkmoth", "bumblebee", "fruit_fly", "honeybee", "hoverfly", "monarch"}
+
+#: FWUAV's characteristic exponents [1/s] as the project's reading list gives them (READING.md,
+#: three decimals): longitudinal 1, longitudinal 2, lateral.
+READING_FWUAV = {
+    "hawkmoth": (-1.776, -4.628, -1.481),
+    "bumblebee": (-1.529, -2.892, -2.012),
+    "fruit_fly": (-3.937, -7.036, -4.648),
+}
+
+
+def _bib_keys() -> set[str]:
+    return set(re.findall(r"^@\w+\{([^,\s]+),", BIB.read_text(encoding="utf-8"), re.MULTILINE))
+
+
+def _valid(**changes):
+    base = dict(cite="sun2005", species="bumblebee", method="CFD", attitude="free",
+                verdict="unstable", mode_type="oscillatory", status="verified", quote="q")
+    base.update(changes)
+    return PublishedResult(**base)
+
+
+# ------------------------------------------------------------------ the records
+
+
+def test_every_record_cites_a_key_of_the_bibliography():
+    keys = _bib_keys()
+    assert len(keys) > 30  # the parse found the file's entries
+    missing = sorted({r.cite for r in PUBLISHED} - keys)
+    assert not missing, f"cite keys missing from book/references.bib: {missing}"
+
+
+def test_fields_are_in_their_sets():
+    for r in PUBLISHED:
+        assert r.status in STATUSES and r.mode_type in MODE_TYPES
+        assert r.verdict in VERDICTS and r.attitude in ATTITUDES
+
+
+def test_verified_records_carry_a_quote():
+    for r in PUBLISHED:
+        if r.status == "verified":
+            assert r.quote.strip(), r
+
+
+def test_numbers_are_positive_where_given():
+    for r in PUBLISHED:
+        for value in (r.doubling_time_s, r.oscillation_period_s, r.wingbeat_s):
+            assert value is None or (math.isfinite(value) and value > 0)
+        assert all(t > 0 for t in r.halving_times_s)
+
+
+def test_a_doubling_time_agrees_with_the_stated_growth_rate():
+    # Where a source gives both a doubling time and exponents, ln 2 / t_2 is the largest exponent.
+    for r in PUBLISHED:
+        if r.doubling_time_s is not None:
+            assert r.verdict == "unstable"
+            assert r.growth_rate_per_s == pytest.approx(math.log(2) / r.doubling_time_s)
+            if r.exponents_per_s:
+                assert max(r.exponents_per_s) == pytest.approx(r.growth_rate_per_s, rel=0.05)
+
+
+def test_stable_records_have_no_growing_exponent():
+    for r in PUBLISHED:
+        if r.verdict == "stable" and r.exponents_per_s:
+            assert max(r.exponents_per_s) < 0
+
+
+def test_sun_and_xiong_bumblebee_is_the_abstracts_numbers():
+    (r,) = [r for r in published_for("bumblebee") if r.cite == "sun2005"]
+    assert (r.mode_type, r.verdict, r.status) == ("oscillatory", "unstable", "verified")
+    assert (r.doubling_time_s, r.oscillation_period_s, r.wingbeat_s) == (0.1, 0.32, 6.4e-3)
+    assert r.halving_times_s == (0.024, 0.37)
+    assert r.doubling_time_wingbeats == pytest.approx(15.625)  # "more than 15 times"
+
+
+def test_fwuav_exponents_are_the_reading_lists():
+    for species, expected in READING_FWUAV.items():
+        (r,) = [r for r in published_for(species) if r.cite == "fwuav"]
+        assert r.attitude == "prescribed" and r.verdict == "stable"
+        assert [round(e, 3) for e in r.exponents_per_s] == list(expected)
+
+
+def test_species_names_are_presets_or_the_sources_own():
+    for r in PUBLISHED:
+        assert r.species in PRESETS or "_" not in r.species, r.species
+
+
+def test_records_are_frozen():
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        PUBLISHED[0].status = "unverified"  # type: ignore[misc]
+
+
+# ------------------------------------------------------------------ helpers
+
+
+def test_published_for_returns_the_species_records_in_order():
+    hawk = published_for("hawkmoth")
+    assert hawk and all(r.species == "hawkmoth" for r in hawk)
+    assert list(hawk) == [r for r in PUBLISHED if r.species == "hawkmoth"]
+    assert {r.cite for r in hawk} >= {"gao2009", "taha2020", "fwuav", "sun2007acta", "wu2012"}
+
+
+@pytest.mark.parametrize("bad", ["locust", "", None, 3, "Hawkmoth"])
+def test_published_for_refuses_an_unknown_species(bad):
+    with pytest.raises(ValueError, match="`species`"):
+        published_for(bad)
+
+
+def test_as_rows_puts_units_in_the_keys():
+    rows = as_rows()
+    assert len(rows) == len(PUBLISHED)
+    row = next(r for r in rows if r["cite"] == "sun2005")
+    assert row["doubling_time_ms"] == pytest.approx(100.0)
+    assert row["oscillation_period_ms"] == pytest.approx(320.0)
+    assert row["doubling_time_wingbeats"] == pytest.approx(0.1 / 6.4e-3)
+    assert row["halving_times_ms"] == pytest.approx((24.0, 370.0))
+    no_wingbeat = next(r for r in rows if r["cite"] == "gao2009")
+    assert no_wingbeat["doubling_time_wingbeats"] is None
+
+
+def test_as_rows_takes_a_selection_and_refuses_other_things():
+    assert as_rows(published_for("monarch"))[0]["species"] == "monarch"
+    assert as_rows([]) == []
+    with pytest.raises(ValueError, match="`records`"):
+        as_rows("sun2005")
+    with pytest.raises(ValueError, match=r"`records\[0\]`"):
+        as_rows([{"cite": "sun2005"}])
+
+
+# ------------------------------------------------------------------ validation of a record
+
+
+@pytest.mark.parametrize("field, value", [
+    ("status", "checked"), ("mode_type", "divergent"), ("verdict", "neutral"),
+    ("attitude", "fixed"), ("cite", ""), ("species", None), ("method", 3),
+    ("doubling_time_s", -0.1), ("doubling_time_s", 0.0), ("wingbeat_s", float("nan")),
+    ("oscillation_period_s", "0.3"), ("halving_times_s", (0.1, -1.0)), ("halving_times_s", 0.1),
+    ("exponents_per_s", (1.0, float("inf"))), ("exponents_per_s", "1.0"), ("note", None),
+])
+def test_a_bad_field_is_refused_by_name(field, value):
+    with pytest.raises(ValueError, match=rf"`{field}"):
+        _valid(**{field: value})
+
+
+def test_a_verified_record_needs_a_quote_and_a_stable_one_no_doubling_time():
+    with pytest.raises(ValueError, match="`quote`"):
+        _valid(quote="  ")
+    assert _valid(status="unverified", quote="").quote == ""
+    with pytest.raises(ValueError, match="`doubling_time_s`"):
+        _valid(verdict="stable", mode_type="stable", doubling_time_s=0.1)
+
+
+def test_numbers_are_stored_as_floats():
+    r = _valid(doubling_time_s=1, halving_times_s=[2], exponents_per_s=[-1])
+    assert type(r.doubling_time_s) is float and r.halving_times_s == (2.0,)
+    assert r.exponents_per_s == (-1.0,) and isinstance(r.exponents_per_s, tuple)
+
+
+# ------------------------------------------------------------------ the bibliography
+
+
+def test_the_bibliography_parses_with_years_and_full_author_lists():
+    database = pytest.importorskip("pybtex.database")
+    entries = database.parse_file(str(BIB)).entries
+    assert set(entries) == _bib_keys()
+    for key, entry in entries.items():
+        assert entry.fields.get("year", "").strip(), f"{key} has no year"
+        for person in entry.persons.get("author", []):
+            assert str(person) != "others", f"{key} ends its author list with 'and others'"
+
+
+def test_every_key_the_book_cites_is_in_the_bibliography():
+    book = BIB.parent
+    cited = set()
+    for page in book.glob("*.md"):
+        for group in re.findall(r"\{cite(?::\w+)?\}`([^`]+)`", page.read_text(encoding="utf-8")):
+            cited.update(k.strip() for k in group.split(","))
+    assert cited and not cited - _bib_keys(), sorted(cited - _bib_keys())
