@@ -219,3 +219,21 @@ def test_mode_type_and_period_follow_the_leading_multiplier(hoverfly_cases):
     flip = dataclasses.replace(case, stability=dataclasses.replace(
         case.stability, multipliers=np.array([-1.2, 0.9, 0.8, 0.7])))
     assert flip.mode_type == "flip" and math.isinf(flip.oscillation_period)
+
+
+@pytest.mark.parametrize("name", ["bumblebee", "hoverfly"])
+def test_the_mode_turns_oscillatory_where_the_averaged_speed_pitch_moment_changes_sign(name):
+    # Second route for speed_pitch_neutral_height: Floquet multipliers either side of it.
+    from flapping.studies.atlas import TWO_TRIMS, speed_pitch_neutral_height
+    neutral = speed_pitch_neutral_height(preset(name))
+    below, above = (hover_stability(find_hover_orbit(preset(name, hinge_height=f * neutral),
+                                                     trims=TWO_TRIMS)).multipliers[0]
+                    for f in (0.85, 1.15))
+    assert abs(below.imag) < 1e-9 and below.real > 1.0
+    assert abs(above.imag) > 1e-3
+
+
+def test_speed_pitch_neutral_height_refuses_an_offset_hinge():
+    from flapping.studies.atlas import speed_pitch_neutral_height
+    with pytest.raises(ValueError, match="hinge_offset"):
+        speed_pitch_neutral_height(preset("hawkmoth", hinge_offset=1e-3))

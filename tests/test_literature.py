@@ -197,3 +197,15 @@ def test_every_key_the_book_cites_is_in_the_bibliography():
         for group in re.findall(r"\{cite(?::\w+)?\}`([^`]+)`", page.read_text(encoding="utf-8")):
             cited.update(k.strip() for k in group.split(","))
     assert cited and not cited - _bib_keys(), sorted(cited - _bib_keys())
+
+
+def test_agreement_compares_mode_types_of_unstable_results_and_verdicts_otherwise():
+    from flapping.studies.literature import agreement
+    sun = next(r for r in PUBLISHED if r.cite == "sun2005" and r.species == "bumblebee")
+    assert agreement(sun, "real", "unstable") == "no"  # similar rate, different instability
+    assert agreement(sun, "oscillatory", "unstable") == "yes"
+    assert agreement(sun, "real", "stable") == "no"
+    stable = next(r for r in PUBLISHED if r.verdict == "stable")
+    assert agreement(stable, "real", "stable") == "yes"
+    with pytest.raises(ValueError, match="verdict"):
+        agreement(sun, "real", "maybe")

@@ -55,6 +55,7 @@ __all__ = [
     "TWO_TRIMS",
     "GeometryCase",
     "geometry_comparison",
+    "speed_pitch_neutral_height",
     "attitude_fixed_exponents",
     "frequency_sweep",
     "SensitivityBar",
@@ -359,6 +360,8 @@ class SpeciesStability:
         Cycle-mean inertial climb speed of the orbit [m/s] (0 on hover).
     nit : int
         Shooting iterations.
+    averaged_jacobian : ndarray, shape (4, 4)
+        The Jacobian averaged over the orbit (the averaged system's matrix) [SI].
     """
 
     name: str
@@ -376,6 +379,7 @@ class SpeciesStability:
     liouville_error: float
     climb_speed: float
     nit: int
+    averaged_jacobian: np.ndarray
 
     @property
     def doubling_time(self) -> float:
@@ -444,7 +448,8 @@ def species_stability(insect: Insect | None = None, orbit: HoverOrbit | None = N
         mode=np.real(mode) if np.iscomplexobj(mode) else mode,
         fixed_attitude=fixed, fixed_attitude_averaged=fixed_avg,
         liouville_error=stab.liouville_error,
-        climb_speed=orbit.mean_inertial_velocity["climb"], nit=int(orbit.nit))
+        climb_speed=orbit.mean_inertial_velocity["climb"], nit=int(orbit.nit),
+        averaged_jacobian=stab.averaged_jacobian)
 
 
 # =========================================================================== geometry
@@ -496,6 +501,13 @@ class GeometryCase:
         return "real" if mu.real > 0.0 else "flip"
 
     @property
+    def speed_pitch_moment(self) -> float:
+        """M_u of the averaged system: the pitch acceleration per forward speed, averaged
+        d(q_dot)/du [rad/s^2 per m/s]. Negative: forward speed pitches the body nose down, a
+        divergence (a real multiplier above 1); see :func:`speed_pitch_neutral_height`."""
+        return float(self.stability.averaged_jacobian[2, 0])
+
+    @property
     def oscillation_period(self) -> float:
         """Period of the leading mode's oscillation [s]: 2 pi T / |arg mu| (inf if real)."""
         if self.mode_type != "oscillatory":
@@ -544,6 +556,60 @@ def geometry_comparison(name: str, **hover_options: Any) -> tuple[GeometryCase, 
         cases.append(GeometryCase(case, insect, math.degrees(orbit.stroke_mean),
                                   species_stability(orbit=orbit)))
     return tuple(cases)
+
+
+def speed_pitch_neutral_height(insect: Insect, high: float | None = None, *,
+                               xtol: float = 1e-6, **hover_options: Any) -> float:
+    """The hinge height [m] at which the averaged M_u of the hover orbit vanishes.
+
+    Raising the hinge adds -(m h_w / I_y) X_u > 0 to M_u (the wings' drag acts higher; book
+    chapter control). In the averaged speed-pitch cubic
+    (:func:`~flapping.hover.stability.speed_pitch_cubic`) the constant term is g M_u: where M_u
+    changes sign, the real root that makes hover diverge passes through zero (its multiplier
+    through +1), and above it the instability, if any, is an oscillation. Found by Brent's method
+    on M_u(h_w), each value from the hover orbit at that height (the hinge straight above the
+    centre of gravity: one trim).
+
+    Parameters
+    ----------
+    insect : Insect
+        With ``hinge_offset = 0`` (the heights are searched straight above the CG).
+    high : float, optional
+        Upper end of the search [m], > 0; default the wing length R.
+    xtol : float
+        Absolute tolerance on the height [m], > 0.
+    **hover_options
+        Passed to :func:`~flapping.hover.find_hover_orbit`.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        For bad arguments, or if M_u does not change sign on [0, high].
+    ConvergenceError
+        If an orbit fails.
+    """
+    from scipy.optimize import brentq
+
+    insect = _validation.instance("insect", insect, Insect)
+    if insect.hinge_offset != 0.0:
+        raise ValueError("`insect.hinge_offset` must be 0: the heights are searched straight "
+                         f"above the centre of gravity; got {insect.hinge_offset!r} m")
+    high = insect.semi_span if high is None else _validation.positive("high", high, unit="m")
+    xtol = _validation.positive("xtol", xtol, unit="m")
+
+    def moment(height: float) -> float:
+        orbit = find_hover_orbit(insect.with_(hinge_height=height), **hover_options)
+        return float(hover_stability(orbit).averaged_jacobian[2, 0])
+
+    low_value, high_value = moment(0.0), moment(high)
+    if low_value * high_value > 0.0:
+        raise ValueError(f"the averaged M_u keeps its sign ({low_value:.4g}, {high_value:.4g} "
+                         f"rad/s^2 per m/s) on hinge heights [0, {high:.4g}] m")
+    return float(brentq(moment, 0.0, high, xtol=xtol))
 
 
 def _warm_two_trim_orbit(insect: Insect, previous: Insect, orbit: HoverOrbit,

@@ -29,7 +29,7 @@ from flapping import _validation as check
 
 __all__ = [
     "PublishedResult", "PUBLISHED", "published_for", "as_rows",
-    "STATUSES", "MODE_TYPES", "VERDICTS", "ATTITUDES",
+    "STATUSES", "MODE_TYPES", "VERDICTS", "ATTITUDES", "agreement",
 ]
 
 #: How a record was checked (see the module docstring).
@@ -388,3 +388,37 @@ def as_rows(records: Iterable[PublishedResult] | None = None) -> list[dict[str, 
     for i, r in enumerate(items):
         check.instance(f"records[{i}]", r, PublishedResult)
     return [_row(r) for r in items]
+
+
+def agreement(record: PublishedResult, mode_type: str, verdict: str) -> str:
+    """Whether our result agrees with a published one: ``"yes"``, ``"no"`` or ``"not stated"``.
+
+    Where either side is stable the verdicts are compared; otherwise the type of the unstable
+    mode (``"oscillatory"``, ``"real"``): a real divergence and an oscillation are different
+    instabilities even at similar growth rates.
+
+    Parameters
+    ----------
+    record : PublishedResult
+    mode_type : str
+        Our leading mode's type (``"oscillatory"``, ``"real"`` or ``"flip"``).
+    verdict : {"unstable", "stable"}
+        Ours.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ValueError
+        If ``verdict`` is not one of the two.
+    """
+    verdict = check.choice("verdict", verdict, ("unstable", "stable"))
+    if record.verdict is None:
+        return "not stated"
+    if record.verdict == "stable" or verdict == "stable":
+        return "yes" if record.verdict == verdict else "no"
+    if record.mode_type in (None, "stable"):
+        return "not stated"
+    return "yes" if record.mode_type == mode_type else "no"
