@@ -418,8 +418,12 @@ def plot_agreement(t, reference: Mapping[str, np.ndarray], other: Mapping[str, n
                   color=colour, ms=4, mfc="none", label=f"{symbol}, {labels[1]}")
     left.set_xlabel(xlabel)
     left.set_ylabel("value / max|value|")
-    left.set_ylim(-1.15, 1.6)
-    left.legend(fontsize="x-small", ncols=2, loc="upper center", frameon=False)
+    left.set_ylim(-1.15, 1.15)
+    # below the panels, at the text size of the axis labels: inside the left panel it had to be
+    # x-small (about 6 px high once the figure is scaled to the page)
+    handles, texts = left.get_legend_handles_labels()
+    fig.legend(handles, texts, loc="outside lower center", ncols=max(1, len(shown)),
+               frameon=False)
     rel = []
     for name in names:
         ref = np.asarray(reference[name], dtype=float)
