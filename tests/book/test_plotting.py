@@ -107,3 +107,17 @@ def test_plot_agreement_legend_below_the_panels_at_a_readable_size():
     assert size >= fig.axes[0].xaxis.label.get_fontsize()
     import matplotlib.pyplot as plt
     plt.close(fig)
+
+
+def test_label_levels_separate_close_labels():
+    import pytest
+
+    from flapping.book.plotting import label_levels
+
+    assert label_levels([0.0, 10.0, 20.0], 5.0) == [0, 0, 0]
+    assert label_levels([0.0, 1.0, 2.0, 10.0], 5.0) == [0, 1, 2, 0]
+    assert label_levels([2.0, 0.0, 1.0], 1.5) == [0, 0, 1]   # returned in the order given
+    rows = label_levels([-25.0, -3.0, -1.0, 6.0], 8.0)
+    assert rows[1] != rows[2] and rows[0] == 0
+    with pytest.raises(ValueError):
+        label_levels([0.0], 0.0)
