@@ -81,13 +81,11 @@ def label_levels(x: Sequence[float], min_gap: float) -> list[int]:
     last: list[float] = []          # the rightmost label of each row so far
     rows = [0] * len(x)
     for k in order:
-        for row, right in enumerate(last):
-            if x[k] - right >= min_gap:
-                break
+        row = next((r for r, right in enumerate(last) if x[k] - right >= min_gap), len(last))
+        if row == len(last):
+            last.append(x[k])
         else:
-            row = len(last)
-            last.append(-math.inf)
-        last[row] = x[k]
+            last[row] = x[k]
         rows[k] = row
     return rows
 
