@@ -160,3 +160,25 @@ def test_no_orange_unit_circle(name):
         if "axhline(1.0" in line or "axhline(1," in line:
             assert "paper" not in line and "C_REF" not in line and "E69F00" not in line, \
                 f"{name}: {line.strip()}"
+
+
+def _code_lines(text: str) -> list[str]:
+    lines, inside = [], False
+    for line in text.splitlines():
+        if line.startswith("```{code-cell}"):
+            inside = True
+        elif inside and line.startswith("```"):
+            inside = False
+        elif inside:
+            lines.append(line)
+    return lines
+
+
+@pytest.mark.parametrize("name", [n for n in _toc_order() if n != "references"])
+def test_figure_text_uses_only_what_matplotlib_typesets(name):
+    # matplotlib's mathtext has no \lvert, \rvert: the figure then fails to render and myst-nb
+    # silently shows its text repr ("<Figure size 640x380 with 1 Axes>") in place of the image
+    figure_text = re.compile(r"label|title|\.text\(|annotate|suptitle")
+    bad = [line.strip() for line in _code_lines(_text(name))
+           if figure_text.search(line) and re.search(r"\\\\?[lr]vert", line)]
+    assert not bad, f"{name}: {bad}"
