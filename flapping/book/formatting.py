@@ -16,7 +16,10 @@ from __future__ import annotations
 import re
 from typing import Any
 
-__all__ = ["E_NUMBER", "scientific", "split_scientific", "latex_scientific", "setup"]
+import numpy as np
+
+__all__ = ["E_NUMBER", "scientific", "split_scientific", "latex_scientific", "roundoff_bound",
+           "setup"]
 
 #: A number in Python's ``e`` notation, alone in its text: ``1.2e-13``, ``-3e+05``, ``4.0E2``.
 E_NUMBER = re.compile(r"^(?P<sign>[-+−]?)(?P<mantissa>\d+(?:\.\d+)?)[eE](?P<exponent>[-+]?\d+)$")
@@ -28,12 +31,14 @@ def split_scientific(text: str) -> tuple[str, str] | None:
     """``"1.2e-13"`` -> ``("1.2 × 10", "−13")``: the base and the exponent to set as superscript.
 
     A mantissa of exactly one (``"1e-06"``) is dropped: ``("10", "−6")``. The exponent loses its
-    ``+`` and leading zeros and takes a true minus sign. Returns ``None`` if ``text`` (stripped)
-    is not a single number in ``e`` notation.
+    ``+`` and leading zeros and takes a true minus sign. Zero (``"0e+00"``) is ``("0", "")``.
+    Returns ``None`` if ``text`` (stripped) is not a single number in ``e`` notation.
     """
     match = E_NUMBER.match(text.strip())
     if match is None:
         return None
+    if float(match["mantissa"]) == 0:   # "0e+00": zero, not "0 × 10⁰"
+        return "0", ""
     sign = "−" if match["sign"] in ("-", "−") else ""
     exponent = int(match["exponent"])
     power = ("−" if exponent < 0 else "") + str(abs(exponent))
@@ -63,6 +68,16 @@ def latex_scientific(value: float, digits: int = 2) -> str:
     return f"{base}10^{{{int(exponent)}}}"
 
 
+def roundoff_bound(value: float, scale: float) -> float:
+    """The size of a quantity that vanishes up to round-off, as a bound that never prints as 0.
+
+    ``max(|value|, eps |scale|)``, with ``eps`` the double-precision machine epsilon and
+    ``scale`` the magnitude of the numbers it was computed from: "zero to within ..." then reads
+    the same whether the round-off happened to cancel exactly on this machine or not.
+    """
+    return max(abs(float(value)), float(np.finfo(float).eps) * abs(float(scale)))
+
+
 # ------------------------------------------------------------------------------ Sphinx extension
 def _typeset(node, nodes) -> bool:
     """Replace the text of ``node`` (its only child) with base + superscript; True if done."""
@@ -74,7 +89,8 @@ def _typeset(node, nodes) -> bool:
     base, power = parts
     node.children = []
     node += nodes.Text(base)
-    node += nodes.superscript(power, power)
+    if power:
+        node += nodes.superscript(power, power)
     return True
 
 

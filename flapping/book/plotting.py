@@ -45,6 +45,7 @@ __all__ = [
     "plot_orbit_projections",
     "plot_stroboscopic",
     "plot_stroboscopic_map",
+    "label_levels",
 ]
 
 
@@ -53,6 +54,40 @@ def _pyplot():
     import matplotlib.pyplot as plt  # lazy: matplotlib is not a dependency of the package
 
     return plt
+
+
+def label_levels(x: Sequence[float], min_gap: float) -> list[int]:
+    """Rows for labels placed above points at ``x`` so that no two in a row are closer than
+    ``min_gap`` (same units as ``x``): 0 for the first row, 1 for the one above, ...
+
+    Greedy from left to right: each label takes the lowest row whose last label is at least
+    ``min_gap`` to its left.
+
+    Parameters
+    ----------
+    x : sequence of float
+        Label positions.
+    min_gap : float
+        Smallest distance between two labels in the same row (> 0).
+
+    Returns
+    -------
+    list of int
+        The row of each label, in the order of ``x``.
+    """
+    if not min_gap > 0:
+        raise ValueError(f"min_gap must be > 0; got {min_gap!r}")
+    order = sorted(range(len(x)), key=lambda k: x[k])
+    last: list[float] = []          # the rightmost label of each row so far
+    rows = [0] * len(x)
+    for k in order:
+        row = next((r for r, right in enumerate(last) if x[k] - right >= min_gap), len(last))
+        if row == len(last):
+            last.append(x[k])
+        else:
+            last[row] = x[k]
+        rows[k] = row
+    return rows
 
 
 def _time_axis(t, period):
@@ -418,8 +453,12 @@ def plot_agreement(t, reference: Mapping[str, np.ndarray], other: Mapping[str, n
                   color=colour, ms=4, mfc="none", label=f"{symbol}, {labels[1]}")
     left.set_xlabel(xlabel)
     left.set_ylabel("value / max|value|")
-    left.set_ylim(-1.15, 1.6)
-    left.legend(fontsize="x-small", ncols=2, loc="upper center", frameon=False)
+    left.set_ylim(-1.15, 1.15)
+    # below the panels, at the text size of the axis labels: inside the left panel it had to be
+    # x-small (about 6 px high once the figure is scaled to the page)
+    handles, texts = left.get_legend_handles_labels()
+    fig.legend(handles, texts, loc="outside lower center", ncols=max(1, len(shown)),
+               frameon=False)
     rel = []
     for name in names:
         ref = np.asarray(reference[name], dtype=float)

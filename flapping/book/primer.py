@@ -9,6 +9,12 @@
   criterion that second-order averaging recovers.
 * :func:`averaging_error`: for a periodic forcing of fixed size, the gap between the Floquet
   exponents and the eigenvalues of the averaged matrix shrinks as the period goes to zero.
+* :func:`floquet_factorisation`: Floquet's theorem made concrete, ``Psi(t) = P(t) exp(B t)`` with
+  ``B = log(Psi(T)) / T`` and ``P`` periodic.
+* :func:`read_multiplier`: what a multiplier's logarithm says, for positive, negative and complex
+  multipliers (growth per period, turn per period, the branch of the logarithm).
+* :func:`linearisation_error`: the stroboscopic map of the nonlinear flow against its
+  linearisation ``Psi(T)``, for shrinking disturbances.
 
 Everything is computed with :mod:`flapping.periodic`, as for the insect.
 """
@@ -21,8 +27,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import scipy.linalg
 
-from flapping.periodic.floquet import monodromy
+from flapping.periodic.floquet import floquet_exponents, monodromy
+from flapping.periodic.integrate import flow, variational_flow
 
 __all__ = [
     "scalar_system",
@@ -30,6 +38,11 @@ __all__ = [
     "FloquetVersusAveraging",
     "floquet_versus_averaging",
     "averaging_error",
+    "FloquetFactorisation",
+    "floquet_factorisation",
+    "MultiplierReading",
+    "read_multiplier",
+    "linearisation_error",
 ]
 
 
@@ -214,3 +227,203 @@ def averaging_error(a0: Any, a1: Any, periods: Sequence[float]) -> np.ndarray:
         exponents = np.sort(np.log(np.abs(mon.multipliers)) / period)
         gaps.append(float(np.max(np.abs(exponents - averaged))))
     return np.array(gaps)
+
+
+@dataclass(frozen=True)
+class FloquetFactorisation:
+    """Floquet's theorem for one linear periodic system: ``Psi(t) = P(t) exp(B t)``.
+
+    Attributes
+    ----------
+    times : ndarray, shape (m,)
+        Times t [s] at which ``Psi`` and ``P`` are given (from 0 to ``periods`` periods).
+    stm : ndarray, shape (n, n, m)
+        State-transition matrices ``Psi(t)`` from the variational equations.
+    B : ndarray, shape (n, n), complex
+        ``log(Psi(T)) / T`` (principal matrix logarithm); complex when a multiplier is negative.
+    P : ndarray, shape (n, n, m), complex
+        ``Psi(t) exp(-B t)``: T-periodic, ``P(0) = P(T) = I``.
+    period : float
+        T [s].
+    """
+
+    times: np.ndarray
+    stm: np.ndarray
+    B: np.ndarray
+    P: np.ndarray
+    period: float
+
+    def periodicity_error(self) -> float:
+        """``max |P(t + T) - P(t)|`` over the sampled times one period apart (0 if none)."""
+        shift = {round(t / self.period, 9): k for k, t in enumerate(self.times)}
+        errors = [float(np.max(np.abs(self.P[..., shift[key + 1.0]] - self.P[..., k])))
+                  for key, k in shift.items() if key + 1.0 in shift]
+        return max(errors, default=0.0)
+
+    def exponents(self) -> np.ndarray:
+        """Eigenvalues of ``B``, sorted by decreasing real part: the Floquet exponents [1/s]."""
+        eig = np.linalg.eigvals(self.B)
+        return eig[np.argsort(-eig.real, kind="stable")]
+
+
+def floquet_factorisation(fun: Callable[..., Any], x0: Any, period: float, *,
+                          jac: Callable[..., Any] | None = None, periods: int = 2,
+                          samples_per_period: int = 16, args: tuple = ()
+                          ) -> FloquetFactorisation:
+    """Split the state-transition matrix along a periodic orbit as ``P(t) exp(B t)``.
+
+    Parameters
+    ----------
+    fun : callable
+        ``fun(t, x, *args)``, T-periodic in t; ``x0`` must start a T-periodic solution (for a
+        linear system, ``x0 = 0``).
+    x0 : array_like, shape (n,)
+        Start of the periodic orbit.
+    period : float
+        T [s].
+    jac : callable, optional
+        ``d fun / dx``; default finite differences (see
+        :func:`flapping.periodic.integrate.variational_flow`).
+    periods : int
+        Number of periods sampled (at least 1; 2 lets :meth:`FloquetFactorisation.periodicity_error`
+        compare P one period apart at every sample).
+    samples_per_period : int
+        Samples per period.
+    args : tuple
+        Extra arguments of ``fun`` and ``jac``.
+
+    Returns
+    -------
+    FloquetFactorisation
+    """
+    if periods < 1 or samples_per_period < 1:
+        raise ValueError("periods and samples_per_period must be >= 1; "
+                         f"got {periods!r}, {samples_per_period!r}")
+    times = np.linspace(0.0, periods * period, periods * samples_per_period + 1)
+    var = variational_flow(fun, jac, (0.0, times[-1]), x0, t_out=times, args=args)
+    stm = var.stm
+    k_period = samples_per_period          # index of t = T
+    B = scipy.linalg.logm(stm[..., k_period]) / period
+    P = np.stack([stm[..., k] @ scipy.linalg.expm(-B * t) for k, t in enumerate(times)], axis=-1)
+    return FloquetFactorisation(times=times, stm=stm, B=np.asarray(B, dtype=complex),
+                                P=P, period=float(period))
+
+
+@dataclass(frozen=True)
+class MultiplierReading:
+    """What the logarithm of one Floquet multiplier ``mu = exp(lambda T)`` says.
+
+    Attributes
+    ----------
+    multiplier : complex
+        mu.
+    exponent : complex
+        ``log(mu) / T`` on the principal branch [1/s]; the imaginary part is defined only up to
+        multiples of ``2 pi / T``, the real part is not ambiguous.
+    growth_per_period : float
+        ``ln |mu|``: e-folds of growth (negative: decay) per period.
+    turn_per_period : float
+        ``arg(mu) / (2 pi)`` in (-1/2, 1/2]: the fraction of a turn the disturbance makes per
+        period in the plane of its (complex) eigenvector; 1/2 for a negative multiplier.
+    kind : str
+        ``"positive"``, ``"negative"`` or ``"complex"``.
+    """
+
+    multiplier: complex
+    exponent: complex
+    growth_per_period: float
+    turn_per_period: float
+    kind: str
+
+    @property
+    def periods_per_turn(self) -> float:
+        """Periods for one full turn, ``1 / |turn_per_period|`` (2 for a negative multiplier,
+        infinite for a positive one)."""
+        return math.inf if self.turn_per_period == 0 else 1.0 / abs(self.turn_per_period)
+
+    def branches(self, period: float, ks: Sequence[int] = (-1, 0, 1)) -> np.ndarray:
+        """Other logarithms of the same multiplier: ``exponent + 2 pi i k / T`` [1/s]."""
+        return np.array([self.exponent + 2j * math.pi * k / period for k in ks])
+
+
+def read_multiplier(mu: complex, period: float, *, imag_tol: float = 1e-12) -> MultiplierReading:
+    """Read one multiplier as growth and turn per period (its logarithm, on every branch).
+
+    Parameters
+    ----------
+    mu : complex
+        A nonzero Floquet multiplier.
+    period : float
+        T [s].
+    imag_tol : float
+        An imaginary part below ``imag_tol * |mu|`` counts as zero (numerical round-off).
+
+    Returns
+    -------
+    MultiplierReading
+
+    Raises
+    ------
+    ValueError
+        For a zero multiplier (no logarithm).
+    """
+    mu = complex(mu)
+    if mu == 0:
+        raise ValueError("a zero multiplier has no logarithm")
+    if abs(mu.imag) <= imag_tol * abs(mu):
+        mu = complex(mu.real, 0.0)
+    kind = "complex" if mu.imag != 0 else ("negative" if mu.real < 0 else "positive")
+    exponent = complex(floquet_exponents([mu], period)[0])
+    turn = math.atan2(mu.imag, mu.real) / (2.0 * math.pi)
+    if kind == "negative":
+        turn = 0.5                           # atan2(-0.0, -1) would give -1/2
+    return MultiplierReading(multiplier=mu, exponent=exponent, growth_per_period=math.log(abs(mu)),
+                             turn_per_period=turn, kind=kind)
+
+
+def linearisation_error(fun: Callable[..., Any], x0: Any, period: float, direction: Any,
+                        sizes: Sequence[float], *, jac: Callable[..., Any] | None = None,
+                        args: tuple = (), rtol: float = 1e-12, atol: float = 1e-14
+                        ) -> np.ndarray:
+    """How far the nonlinear one-period map departs from its linearisation ``Psi(T)``.
+
+    For each size eps, the disturbance ``d = eps v / |v|`` is carried one period by the full
+    equations and by the monodromy matrix; returns ``|x(T; x0 + d) - x(T; x0) - Psi(T) d| / eps``,
+    which shrinks like eps for a smooth right-hand side (like eps**2 when its second derivatives
+    vanish at the orbit, as for ``sin x`` about ``x = 0``).
+
+    Parameters
+    ----------
+    fun : callable
+        ``fun(t, x, *args)``.
+    x0 : array_like, shape (n,)
+        Start of the (periodic) reference solution.
+    period : float
+        T [s].
+    direction : array_like, shape (n,)
+        Direction v of the disturbance (normalised here).
+    sizes : sequence of float
+        Sizes eps > 0.
+    jac : callable, optional
+        ``d fun / dx`` for the monodromy matrix.
+    args : tuple
+        Extra arguments of ``fun`` and ``jac``.
+    rtol, atol : float
+        Integration tolerances (tight: the differences are small).
+
+    Returns
+    -------
+    ndarray, shape (len(sizes),)
+    """
+    x0 = np.asarray(x0, dtype=float)
+    v = np.asarray(direction, dtype=float)
+    v = v / np.linalg.norm(v)
+    var = variational_flow(fun, jac, (0.0, period), x0, args=args, rtol=rtol, atol=atol)
+    base, M = var.x[:, -1], var.stm[..., -1]
+    errors = []
+    for eps in sizes:
+        if not eps > 0:
+            raise ValueError(f"sizes must be > 0; got {eps!r}")
+        moved = flow(fun, (0.0, period), x0 + eps * v, args=args, rtol=rtol, atol=atol).x_end
+        errors.append(float(np.linalg.norm(moved - base - M @ (eps * v)) / eps))
+    return np.array(errors)

@@ -10,6 +10,12 @@ declared" on every page; sphinx-togglebutton's ``var togglebuttonSelector`` is a
 Fixed upstream by sphinx-doc/sphinx#13402 ("Sphinx.add_js_file(): replace None filename with ''
 before passing to HTML builder", Sphinx 8.2.x); remove this extension when Sphinx is upgraded.
 
+It also writes the status column of myst-nb's ``nb-exec-table`` (``book/status.md``) as words:
+myst-nb writes it as the emoji U+2705 / U+274C, which show as empty boxes where no emoji font is
+installed (the book is read offline). :func:`exec_status_text` maps them; the handler replaces
+them in every table of the resolved doctree and tags the cell ``exec-status-succeeded`` or
+``exec-status-failed`` for CSS.
+
 Sphinx is imported by the build only: nothing in :mod:`flapping` imports this module.
 """
 
@@ -17,7 +23,10 @@ from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["unique_scripts", "setup"]
+__all__ = ["unique_scripts", "exec_status_text", "EXEC_STATUS_TEXT", "setup"]
+
+#: myst-nb's execution-table status symbols (myst_nb.ext.execution_tables) and the book's words.
+EXEC_STATUS_TEXT: dict[str, str] = {"\u2705": "succeeded", "\u274c": "failed"}
 
 
 def _script_key(script: Any) -> tuple:
@@ -57,7 +66,29 @@ def _drop_repeated_scripts(app, pagename, templatename, context, doctree) -> Non
         scripts[:] = unique_scripts(scripts)
 
 
+def exec_status_text(text: str) -> str | None:
+    """The word for an execution-table status symbol (``"\u2705"`` -> ``"succeeded"``); None for
+    any other text."""
+    return EXEC_STATUS_TEXT.get(text.strip())
+
+
+def _exec_status_as_words(app, doctree, docname) -> None:
+    """``doctree-resolved``: the status symbols in tables (the nb-exec-table) as words."""
+    from docutils import nodes
+
+    for table in list(doctree.findall(nodes.table)):
+        for text in list(table.findall(nodes.Text)):
+            word = exec_status_text(text.astext())
+            if word is None:
+                continue
+            text.parent.replace(text, nodes.Text(word))
+            for entry in table.findall(nodes.entry):
+                if word in entry.astext() and entry.astext().strip() == word:
+                    entry["classes"].append(f"exec-status-{word}")
+
+
 def setup(app) -> dict[str, Any]:
-    """Register the handler (run late, after extensions that add per-page scripts)."""
+    """Register the handlers (the scripts' late, after extensions that add per-page scripts)."""
     app.connect("html-page-context", _drop_repeated_scripts, priority=900)
+    app.connect("doctree-resolved", _exec_status_as_words)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}

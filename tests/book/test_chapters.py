@@ -106,3 +106,79 @@ def test_the_paper_chapters_are_about_half_their_length_before_the_appendices():
         f"the chapters that follow the paper have {words} words of prose, more than "
         f"{MAIN_LINE_SHARE:.0%} of the {PAPER_CHAPTERS_WORDS_BEFORE} before issue 13: move "
         "forensic detail to an appendix")
+
+
+# Pages another session is fixing for issue 19 (control's figures and its Exercise 26): the checks
+# below hold for every other page and will hold for these once they are fixed; then empty this.
+ISSUE_19_ELSEWHERE = frozenset({"control"})
+
+
+def _toc_order() -> list[str]:
+    return [TOC["root"]] + [chapter["file"] for part in TOC["parts"] for chapter in part["chapters"]]
+
+
+def test_the_floquet_primer_comes_before_the_first_chapter_that_uses_its_words():
+    order = _toc_order()
+    # the words shooting_validation used before the reader had met them (a passing "analogue of
+    # a Floquet multiplier" in stability_derivatives' table caption needs no theory)
+    words = re.compile(r"monodromy|trivial multiplier|Liouville|Poincar", re.IGNORECASE)
+    taught = _taught_chapters()
+    first = next(name for name in taught if name != "primer_floquet"
+                 and words.search(_text(name).split("\n# ", 1)[1]))
+    assert order.index("primer_floquet") < order.index(first), (
+        f"{first} uses the primer's words before book/primer_floquet.md")
+    primer = _text("primer_floquet")
+    for topic in (r"P\(t\)\\?,?\s*e\^\{Bt\}", r"linearis", r"negative", r"complex"):
+        assert re.search(topic, primer), f"the primer does not treat {topic!r}"
+
+
+@pytest.mark.parametrize("name", [n for n in _toc_order() if n != "references"])
+def test_every_figure_a_page_shows_is_numbered_and_captioned(name):
+    if name in ISSUE_19_ELSEWHERE:
+        pytest.skip("fixed by another session (issue 19)")
+    text = _text(name)
+    assert "plt.show()" not in text, f"{name}: a figure shown without a number or caption"
+    glued = set(re.findall(r"""glue\(\s*["'](fig-[\w-]+)["']""", text))
+    shown = set(re.findall(r"```\{glue:figure\} (fig-[\w-]+)\n:name: \1", text))
+    assert glued <= shown, f"{name}: glued figures never shown as numbered figures: {glued - shown}"
+
+
+@pytest.mark.parametrize("name", [n for n in _toc_order() if n != "references"])
+def test_every_exercise_solution_executes(name):
+    if name in ISSUE_19_ELSEWHERE:
+        pytest.skip("fixed by another session (issue 19)")
+    assert "skip-execution" not in _text(name), f"{name}: a code cell the build does not run"
+
+
+@pytest.mark.parametrize("name", [n for n in _toc_order() if n != "references"])
+def test_no_orange_unit_circle(name):
+    if name in ISSUE_19_ELSEWHERE:
+        pytest.skip("fixed by another session (issue 19)")
+    # the unit circle and other reference lines are grey; orange (SOURCE_COLORS["paper"]) is the
+    # paper's printed numbers only
+    for line in _text(name).splitlines():
+        if "axhline(1.0" in line or "axhline(1," in line:
+            assert "paper" not in line and "C_REF" not in line and "E69F00" not in line, \
+                f"{name}: {line.strip()}"
+
+
+def _code_lines(text: str) -> list[str]:
+    lines, inside = [], False
+    for line in text.splitlines():
+        if line.startswith("```{code-cell}"):
+            inside = True
+        elif inside and line.startswith("```"):
+            inside = False
+        elif inside:
+            lines.append(line)
+    return lines
+
+
+@pytest.mark.parametrize("name", [n for n in _toc_order() if n != "references"])
+def test_figure_text_uses_only_what_matplotlib_typesets(name):
+    # matplotlib's mathtext has no \lvert, \rvert: the figure then fails to render and myst-nb
+    # silently shows its text repr ("<Figure size 640x380 with 1 Axes>") in place of the image
+    figure_text = re.compile(r"label|title|\.text\(|annotate|suptitle")
+    bad = [line.strip() for line in _code_lines(_text(name))
+           if figure_text.search(line) and re.search(r"\\\\?[lr]vert", line)]
+    assert not bad, f"{name}: {bad}"

@@ -88,3 +88,36 @@ def test_orbit_projections_and_stroboscopic_figures():
     assert isinstance(ax, Axes)
     with pytest.raises(ValueError):
         plotting.plot_orbit_projections(x[:, :n])
+
+
+def test_plot_agreement_legend_below_the_panels_at_a_readable_size():
+    import matplotlib
+    import numpy as np
+
+    matplotlib.use("Agg")
+    from flapping.book.plotting import plot_agreement
+
+    t = np.linspace(0.0, 1.0, 50)
+    ref = {"Zw": np.sin(2 * np.pi * t), "Mq": np.cos(2 * np.pi * t)}
+    fig = plot_agreement(t, ref, ref, shown=["Zw", "Mq"], names=["Zw", "Mq"], period=1.0)
+    assert fig.axes[0].get_legend() is None            # not squeezed into the panel
+    (legend,) = fig.legends
+    assert len(legend.get_texts()) == 4
+    size = legend.get_texts()[0].get_fontsize()
+    assert size >= fig.axes[0].xaxis.label.get_fontsize()
+    import matplotlib.pyplot as plt
+    plt.close(fig)
+
+
+def test_label_levels_separate_close_labels():
+    import pytest
+
+    from flapping.book.plotting import label_levels
+
+    assert label_levels([0.0, 10.0, 20.0], 5.0) == [0, 0, 0]
+    assert label_levels([0.0, 1.0, 2.0, 10.0], 5.0) == [0, 1, 2, 0]
+    assert label_levels([2.0, 0.0, 1.0], 1.5) == [0, 0, 1]   # returned in the order given
+    rows = label_levels([-25.0, -3.0, -1.0, 6.0], 8.0)
+    assert rows[1] != rows[2] and rows[0] == 0
+    with pytest.raises(ValueError):
+        label_levels([0.0], 0.0)

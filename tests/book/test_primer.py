@@ -44,3 +44,57 @@ def test_averaging_error_shrinks_like_the_period_squared():
                            [0.4, 0.2, 0.1])
     ratios = gaps[:-1] / gaps[1:]
     assert np.all(ratios > 3.5) and np.all(ratios < 4.5)   # second order: 4 per halving
+
+
+def test_floquet_factorisation_periodic_factor_and_exponents():
+    from flapping.book.primer import floquet_factorisation
+
+    pendulum = KapitzaPendulum()
+    fact = floquet_factorisation(pendulum.rhs, [0.0, 0.0], pendulum.period,
+                                 jac=pendulum.jacobian, periods=2, samples_per_period=8)
+    assert np.allclose(fact.P[..., 0], np.eye(2))
+    assert fact.periodicity_error() < 1e-8                   # P(t + T) = P(t)
+    mu = floquet_versus_averaging(pendulum).multipliers
+    expected = np.log(mu) / pendulum.period
+    for part in (np.real, np.imag):   # the pair in either order (equal real parts)
+        assert np.allclose(np.sort(part(fact.exponents())), np.sort(part(expected)), atol=1e-8)
+    # Psi(t) = P(t) exp(B t) at every sample, by construction and at t = T by the logarithm
+    import scipy.linalg
+    k = 8
+    assert np.allclose(fact.stm[..., k], fact.P[..., k] @ scipy.linalg.expm(fact.B * fact.times[k]))
+
+
+def test_read_multiplier_positive_negative_complex():
+    import pytest
+
+    from flapping.book.primer import read_multiplier
+
+    T = 0.5
+    pos = read_multiplier(math.e, T)
+    assert pos.kind == "positive" and pos.turn_per_period == 0 and pos.periods_per_turn == math.inf
+    assert math.isclose(pos.exponent.real, 1 / T) and pos.exponent.imag == 0
+    neg = read_multiplier(-2.0, T)
+    assert neg.kind == "negative" and neg.turn_per_period == 0.5 and neg.periods_per_turn == 2
+    assert math.isclose(neg.exponent.real, math.log(2) / T)
+    assert math.isclose(neg.exponent.imag, math.pi / T)
+    # every branch is a logarithm of the same multiplier
+    assert np.allclose(np.exp(neg.branches(T) * T), -2.0)
+    rot = read_multiplier(0.5 * np.exp(1j * math.pi / 3), T)
+    assert rot.kind == "complex" and math.isclose(rot.turn_per_period, 1 / 6)
+    assert math.isclose(rot.growth_per_period, math.log(0.5))
+    assert read_multiplier(complex(-3.0, 1e-15), T).kind == "negative"   # round-off ignored
+    with pytest.raises(ValueError):
+        read_multiplier(0.0, T)
+
+
+def test_linearisation_error_shrinks_with_the_disturbance():
+    from flapping.book.primer import linearisation_error
+
+    pendulum = KapitzaPendulum()
+    errors = linearisation_error(pendulum.rhs, [0.0, 0.0], pendulum.period, [1.0, 0.0],
+                                 [0.1, 0.05, 0.025], jac=pendulum.jacobian)
+    ratios = errors[:-1] / errors[1:]
+    assert np.all(ratios > 3.5) and np.all(ratios < 4.5)   # sin x: cubic, error/eps ~ eps^2
+    # a linear system is its own linearisation
+    fun, _ = scalar_system(0.2, 1.0, 1.0)
+    assert np.all(linearisation_error(fun, [0.0], 1.0, [1.0], [1.0, 0.1]) < 1e-9)

@@ -22,3 +22,30 @@ def test_distinct_scripts_and_their_order_are_kept():
                assets._JavaScript("_static/b.js")]
     assert unique_scripts(scripts) == scripts
     assert unique_scripts(["a.js", "b.js", "a.js"]) == ["a.js", "b.js"]
+
+
+def test_exec_table_status_symbols_become_words():
+    from flapping.book.sphinx_ext import EXEC_STATUS_TEXT, exec_status_text
+
+    assert exec_status_text("\u2705") == "succeeded"
+    assert exec_status_text(" \u274c ") == "failed"
+    assert exec_status_text("force") is None
+    # the words contain no emoji (no character outside the Basic Multilingual Plane's letters)
+    assert all(word.isascii() for word in EXEC_STATUS_TEXT.values())
+
+
+def test_exec_table_handler_rewrites_the_table_cells():
+    nodes = pytest.importorskip("docutils.nodes")
+    from flapping.book.sphinx_ext import _exec_status_as_words
+
+    doctree = nodes.document(None, None)
+    table = nodes.table()
+    row = nodes.row()
+    for text in ("intro", "force", "\u2705"):
+        row += nodes.entry("", nodes.paragraph(text=text))
+    table += row
+    doctree += table
+    _exec_status_as_words(None, doctree, "status")
+    cells = [entry.astext() for entry in doctree.findall(nodes.entry)]
+    assert cells == ["intro", "force", "succeeded"]
+    assert "exec-status-succeeded" in list(doctree.findall(nodes.entry))[2]["classes"]
