@@ -51,6 +51,7 @@ from flapping.studies._path import Guess, WarmStart, follow
 
 __all__ = [
     "BODY_LENGTHS",
+    "BODY_DIAMETERS",
     "SPEED_PITCH",
     "PITCH_RATE_ANGLE",
     "PassiveSweep",
@@ -79,6 +80,12 @@ __all__ = [
 #: the hinge heights studied run from 0 to half (and up to one) body length.
 BODY_LENGTHS: dict[str, float] = {"hawkmoth": 48e-3, "bumblebee": 18e-3, "honeybee": 13e-3,
                                   "hoverfly": 1.29 * 11.2e-3}
+
+#: Body diameters [m] behind the same estimates (the ellipsoids of :mod:`flapping.model.presets`;
+#: the hawkmoth's is the 10 mm of the check against the paper's inertia): anatomy's scale for a
+#: hinge height, since the wing base lies within the thorax, less than one diameter above the CG.
+BODY_DIAMETERS: dict[str, float] = {"hawkmoth": 10e-3, "bumblebee": 7e-3, "honeybee": 4.5e-3,
+                                    "hoverfly": 5e-3}
 
 #: Gains act on (u, w, q, theta). The default pair feeds back the forward speed u and the pitch
 #: angle theta: the pair that stabilises the hawkmoth with the longest delay (the pitch-only pair
