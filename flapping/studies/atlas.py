@@ -509,7 +509,7 @@ class GeometryCase:
 
     @property
     def oscillation_period(self) -> float:
-        """Period of the leading mode's oscillation [s]: 2 pi T / |arg mu| (inf if real)."""
+        """Period of the leading mode's oscillation [s]: 2 pi T / abs(arg mu) (inf if real)."""
         if self.mode_type != "oscillatory":
             return math.inf
         return 2.0 * math.pi * self.insect.period / abs(math.atan2(self.leading_multiplier.imag,
