@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from flapping.peers.fwuav import FwuavHover, hover_floquet
+from flapping.errors import ConvergenceError
+from flapping.peers.fwuav import FwuavHover, fwuav_procedure, hover_floquet
 
 # FWUAV's exponents (1/s), typed from its data file, not from our code:
 # conv_rate_<insect> = [0, 0, 0, longitudinal 1, longitudinal 2, lateral]
@@ -67,3 +68,18 @@ def test_bad_arguments_are_value_errors_naming_them(kwargs, word):
 def test_an_unknown_insect_is_a_value_error():
     with pytest.raises(ValueError, match="name"):
         hover_floquet("locust")
+
+
+def test_fwuavs_procedure_converges_onto_our_exponents_when_refined():
+    r = hover_floquet("fruit_fly")
+    ours = np.array([*r.longitudinal.real, r.lateral.real])
+    loose = fwuav_procedure("fruit_fly", rtol=1e-6)
+    tight = fwuav_procedure("fruit_fly", rtol=1e-10, start=r.x0[3:6])
+    np.testing.assert_allclose(loose, FWUAV["fruit_fly"], rtol=0.02)  # FWUAV's own setting
+    assert np.abs(tight - ours).max() < 1e-3 * np.abs(loose - ours).max()
+    np.testing.assert_allclose(tight, ours, rtol=1e-5)
+
+
+def test_the_monarch_is_refused_with_a_convergence_error_saying_why():
+    with pytest.raises(ConvergenceError, match="stroke reversal"):
+        hover_floquet("monarch")

@@ -12,8 +12,9 @@ FWUAV is cited as {cite}`fwuav` in the book's chapter "A second model".
 """
 
 from flapping.peers.fwuav.data import SPECIES, Kinematics, Morphology, Species, species
-from flapping.peers.fwuav.floquet import NAMES, HoverFloquet, hover_floquet
+from flapping.peers.fwuav.floquet import NAMES, HoverFloquet, fwuav_procedure, hover_floquet
 from flapping.peers.fwuav.model import FwuavHover, Motion, prescribed_motion, wing_angles
 
 __all__ = ["SPECIES", "NAMES", "Species", "Morphology", "Kinematics", "species", "FwuavHover",
-           "Motion", "prescribed_motion", "wing_angles", "HoverFloquet", "hover_floquet"]
+           "Motion", "prescribed_motion", "wing_angles", "HoverFloquet", "hover_floquet",
+           "fwuav_procedure"]

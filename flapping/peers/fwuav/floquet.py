@@ -25,8 +25,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
+from scipy.integrate import solve_ivp
 
 from flapping.errors import ConvergenceError, require_success
 from flapping.peers.fwuav.data import SPECIES, Species, species
@@ -35,7 +37,7 @@ from flapping.periodic.floquet import monodromy
 from flapping.periodic.integrate import flow
 from flapping.periodic.shooting import find_periodic_orbit
 
-__all__ = ["HoverFloquet", "hover_floquet", "NAMES"]
+__all__ = ["HoverFloquet", "hover_floquet", "fwuav_procedure", "NAMES"]
 
 #: The insects FWUAV stores hover exponents for.
 NAMES: tuple[str, ...] = tuple(SPECIES)
@@ -129,6 +131,12 @@ def _relative(ours: np.ndarray, theirs: np.ndarray) -> np.ndarray:
 
 
 def _build(sp: Species, rtol: float, quadrature: str, n_strips: int) -> HoverFloquet:
+    if sp.morphology.coefficients != "sane-dickinson":
+        raise ConvergenceError(
+            f"the {sp.name}'s fitted lift does not vanish at a strip's stroke reversal, so the "
+            "force jumps a hundred times a wingbeat and adaptive integration at these "
+            "tolerances stalls there (tried: the step budget runs out); its orbit needs event "
+            "location or a fixed-step integrator, not written yet", iterations=0)
     model = FwuavHover(sp, n_strips=n_strips, quadrature=quadrature)
     T = model.period
     v0, residual, nfev = _velocity_orbit(model, rtol)
@@ -188,10 +196,66 @@ def hover_floquet(name: str, *, rtol: float = 1e-11, quadrature: str = "fwuav",
         For an unknown name or an argument out of range.
     ConvergenceError
         If the shooting does not converge (carries the residual and the iterations), an
-        integration fails, or the lateral motion is not decoupled.
+        integration fails, or the lateral motion is not decoupled; at once for the monarch,
+        whose discontinuous force adaptive integration cannot cross (see the chapter "A second
+        model").
     """
     species(name)
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-13 <= rtol <= 1e-3:
         raise ValueError(f"`rtol` must be a number in [1e-13, 1e-3]; got {rtol!r}")
     FwuavHover(name, n_strips=n_strips, quadrature=quadrature)  # checks the two
     return _cached(name, float(rtol), quadrature, int(n_strips))
+
+
+def fwuav_procedure(name: str, *, rtol: float = 1e-6, start: Any = None) -> np.ndarray:
+    """FWUAV's own way to its exponents (``floquet_stability.m``), re-run on our model.
+
+    The state and the variational equations, perturbations ``1e-8 I``, integrated over two
+    periods with a Dormand-Prince 5(4) pair (scipy's ``RK45``, the pair of MATLAB's ``ode45``)
+    at ``rtol = atol``, output on 1001 equally spaced points; the period map is read between the
+    251st and the 751st point, ``B = D(T/2)^-1 D(3T/2)``; exponents ``log|eig| f``.
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`NAMES` with Sane & Dickinson's coefficients (not the monarch).
+    rtol : float, optional
+        Tolerance, in [1e-12, 1e-3] (FWUAV: 1e-6).
+    start : array_like, shape (3,), optional
+        Initial velocity (m/s); default FWUAV's ``x_dot0``, which is not on the periodic orbit.
+
+    Returns
+    -------
+    ndarray, shape (3,)
+        The two longitudinal exponents (descending) and the lateral one (1/s).
+
+    Raises
+    ------
+    ValueError
+        For an unknown name, the monarch, or ``rtol`` out of range.
+    ConvergenceError
+        If the integration fails.
+    """
+    sp = species(name)
+    if sp.morphology.coefficients != "sane-dickinson":
+        raise ValueError(f"`name` must have Sane & Dickinson's coefficients; {name!r} has not")
+    if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-12 <= rtol <= 1e-3:
+        raise ValueError(f"`rtol` must be a number in [1e-12, 1e-3]; got {rtol!r}")
+    model = FwuavHover(sp)
+    v0 = np.array(sp.velocity_guess) if start is None else np.asarray(start, dtype=float)
+    f = sp.kinematics.f
+    t = np.linspace(0.0, 2.0 / f, 1001)
+
+    def augmented(time: float, y: np.ndarray) -> np.ndarray:
+        return np.concatenate([model.rhs(time, y[:6]),
+                               (model.jac(time, y[:6]) @ y[6:].reshape(6, 6)).ravel()])
+
+    y0 = np.concatenate([np.zeros(3), v0, (1e-8 * np.eye(6)).ravel()])
+    sol = solve_ivp(augmented, (t[0], t[-1]), y0, method="RK45", t_eval=t, rtol=rtol,
+                    atol=rtol)
+    if not sol.success:
+        raise ConvergenceError(f"FWUAV's procedure: the integration failed ({sol.message})")
+    D = sol.y[6:].T.reshape(-1, 6, 6)
+    block = np.linalg.solve(D[250], D[750])[3:6, 3:6]
+    pair = np.log(np.abs(np.linalg.eigvals(block[np.ix_([0, 2], [0, 2])]))) * f
+    return np.array([*np.sort(pair)[::-1], np.log(abs(block[1, 1])) * f])
