@@ -8,7 +8,7 @@
   shooting and its Floquet exponents from our variational equations;
 - :mod:`~flapping.peers.fwuav.cli`: the ``fwuav`` subcommand of ``python -m flapping``.
 
-FWUAV is cited as {cite}`fwuav` in the book's chapter "A second model".
+The book's chapter "A second model" compares its exponents with FWUAV's stored ones.
 """
 
 from flapping.peers.fwuav.data import SPECIES, Kinematics, Morphology, Species, species

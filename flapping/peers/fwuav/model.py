@@ -9,7 +9,7 @@ free, and the state is ``(x, x')`` (six components).
 
 Equation of motion. The system's momentum is ``m x' + sum_i m_i s_i'``, where ``m`` is the total
 mass and ``s_i = R (mu_i + Q_i nu_i)`` the prescribed position of the centre of mass of body
-``i`` (wings, abdomen) relative to the thorax's. Newton's law for the whole system gives
+``i`` (wings, abdomen) relative to the thorax's. Newton's law for the whole system gives::
 
     m x'' = F_aero + m g e3 - sum_i m_i s_i'',
 
@@ -21,13 +21,13 @@ LL_12 xi_2`` term is ``sum_i m_i s_i''`` minus its ``x''``-independent part, ter
 
 Aerodynamics (Sane & Dickinson's translational quasi-steady model, FWUAV's span integration):
 each wing is cut into strips at ``r_k`` along its span with chord ``c(r_k)``; the strip velocity
-in the wing frame, its component along the span removed, is
+in the wing frame, its component along the span removed, is::
 
     U_k = P Q^T (R^T x' + W ^ mu) +/- r_k (Q W + Om) ^ e2,      P = I - e2 e2^T
 
 (``+`` right wing, ``-`` left; ``Q W`` as FWUAV's code and its ``doc/QS_model.tex`` write it,
 where the rotation of ``W`` into the wing frame would be ``Q^T W``: see ``body_rate_term``). The
-angle of attack is ``a = acos(|U_1| / |U|)`` and the strip force
+angle of attack is ``a = acos(|U_1| / |U|)`` and the strip force::
 
     dF = 1/2 rho c dr [C_L(a) sgn(U_1 U_3) (e2 ^ U) |U| - C_D(a) |U| U],
 
