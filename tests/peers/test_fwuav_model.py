@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from flapping.peers.fwuav import SPECIES, FwuavHover, prescribed_motion, wing_angles
+from flapping.peers.fwuav import SPECIES, FwuavHover, Motion, prescribed_motion, wing_angles
 from flapping.peers.fwuav.data import species
 from flapping.peers.fwuav.model import _wing
 
@@ -190,3 +190,16 @@ def test_bad_options_are_value_errors_naming_them(kwargs, word):
 def test_an_unknown_insect_is_a_value_error_listing_the_four():
     with pytest.raises(ValueError, match="hawkmoth, bumblebee, fruit_fly, monarch"):
         FwuavHover("dragonfly")
+
+
+def test_the_body_rate_term_changes_the_force_only_through_the_body_rate():
+    fwuav, rotated = FwuavHover("fruit_fly"), FwuavHover("fruit_fly", body_rate_term="rotated")
+    v = np.array([-0.15, 0.0, -0.08])
+    t = 0.0013
+    motion = prescribed_motion(fwuav.species, t)
+    assert abs(motion.W[1]) > 1.0  # the thorax pitches (rad/s)
+    a, b = fwuav.aerodynamic_force(motion, v), rotated.aerodynamic_force(motion, v)
+    assert np.abs(a - b).max() > 1e-3 * np.abs(a).max()
+    still = Motion(**{**vars(motion), "W": np.zeros(3)})
+    np.testing.assert_allclose(fwuav.aerodynamic_force(still, v),
+                               rotated.aerodynamic_force(still, v), rtol=1e-13)

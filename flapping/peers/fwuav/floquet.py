@@ -130,14 +130,16 @@ def _relative(ours: np.ndarray, theirs: np.ndarray) -> np.ndarray:
     return np.abs(ours - theirs) / np.abs(theirs)
 
 
-def _build(sp: Species, rtol: float, quadrature: str, n_strips: int) -> HoverFloquet:
+def _build(sp: Species, rtol: float, quadrature: str, n_strips: int, body_rate_term: str
+           ) -> HoverFloquet:
     if sp.morphology.coefficients != "sane-dickinson":
         raise ConvergenceError(
             f"the {sp.name}'s fitted lift does not vanish at a strip's stroke reversal, so the "
             "force jumps a hundred times a wingbeat and adaptive integration at these "
             "tolerances stalls there (tried: the step budget runs out); its orbit needs event "
             "location or a fixed-step integrator, not written yet", iterations=0)
-    model = FwuavHover(sp, n_strips=n_strips, quadrature=quadrature)
+    model = FwuavHover(sp, n_strips=n_strips, quadrature=quadrature,
+                       body_rate_term=body_rate_term)
     T = model.period
     v0, residual, nfev = _velocity_orbit(model, rtol)
     x0 = np.concatenate([np.zeros(3), v0])
@@ -165,12 +167,13 @@ def _build(sp: Species, rtol: float, quadrature: str, n_strips: int) -> HoverFlo
 
 
 @lru_cache(maxsize=32)
-def _cached(name: str, rtol: float, quadrature: str, n_strips: int) -> HoverFloquet:
-    return _build(species(name), rtol, quadrature, n_strips)
+def _cached(name: str, rtol: float, quadrature: str, n_strips: int, body_rate_term: str
+            ) -> HoverFloquet:
+    return _build(species(name), rtol, quadrature, n_strips, body_rate_term)
 
 
 def hover_floquet(name: str, *, rtol: float = 1e-11, quadrature: str = "fwuav",
-                  n_strips: int = 50) -> HoverFloquet:
+                  n_strips: int = 50, body_rate_term: str = "fwuav") -> HoverFloquet:
     """The hover orbit of FWUAV's insect ``name`` and its six Floquet exponents.
 
     Parameters
@@ -183,6 +186,8 @@ def hover_floquet(name: str, *, rtol: float = 1e-11, quadrature: str = "fwuav",
         Span quadrature of the aerodynamic force (FWUAV's by default).
     n_strips : int, optional
         Span points per wing, in [2, 10000] (FWUAV: 50).
+    body_rate_term : {"fwuav", "rotated"}, optional
+        The body-rate term of the strip velocity (see :class:`FwuavHover`); FWUAV's by default.
 
     Returns
     -------
@@ -203,8 +208,9 @@ def hover_floquet(name: str, *, rtol: float = 1e-11, quadrature: str = "fwuav",
     species(name)
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-13 <= rtol <= 1e-3:
         raise ValueError(f"`rtol` must be a number in [1e-13, 1e-3]; got {rtol!r}")
-    FwuavHover(name, n_strips=n_strips, quadrature=quadrature)  # checks the two
-    return _cached(name, float(rtol), quadrature, int(n_strips))
+    FwuavHover(name, n_strips=n_strips, quadrature=quadrature,
+               body_rate_term=body_rate_term)  # checks the three
+    return _cached(name, float(rtol), quadrature, int(n_strips), body_rate_term)
 
 
 def fwuav_procedure(name: str, *, rtol: float = 1e-6, start: Any = None) -> np.ndarray:
@@ -218,7 +224,8 @@ def fwuav_procedure(name: str, *, rtol: float = 1e-6, start: Any = None) -> np.n
     Parameters
     ----------
     name : str
-        One of :data:`NAMES` with Sane & Dickinson's coefficients (not the monarch).
+        One of :data:`NAMES`. The monarch's force jumps at every strip's stroke reversal: its
+        Jacobian comes from central differences, and tight tolerances cost many steps.
     rtol : float, optional
         Tolerance, in [1e-12, 1e-3] (FWUAV: 1e-6).
     start : array_like, shape (3,), optional
@@ -232,13 +239,11 @@ def fwuav_procedure(name: str, *, rtol: float = 1e-6, start: Any = None) -> np.n
     Raises
     ------
     ValueError
-        For an unknown name, the monarch, or ``rtol`` out of range.
+        For an unknown name or ``rtol`` out of range.
     ConvergenceError
         If the integration fails.
     """
     sp = species(name)
-    if sp.morphology.coefficients != "sane-dickinson":
-        raise ValueError(f"`name` must have Sane & Dickinson's coefficients; {name!r} has not")
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-12 <= rtol <= 1e-3:
         raise ValueError(f"`rtol` must be a number in [1e-12, 1e-3]; got {rtol!r}")
     model = FwuavHover(sp)
