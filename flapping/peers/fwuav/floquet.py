@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
+import flapping._validation as check
 from flapping.errors import ConvergenceError, require_success
 from flapping.peers.fwuav.data import SPECIES, Species, species
 from flapping.peers.fwuav.model import FwuavHover
@@ -247,7 +248,7 @@ def fwuav_procedure(name: str, *, rtol: float = 1e-6, start: Any = None) -> np.n
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-12 <= rtol <= 1e-3:
         raise ValueError(f"`rtol` must be a number in [1e-12, 1e-3]; got {rtol!r}")
     model = FwuavHover(sp)
-    v0 = np.array(sp.velocity_guess) if start is None else np.asarray(start, dtype=float)
+    v0 = np.array(sp.velocity_guess) if start is None else check.vector("start", start, size=3)
     f = sp.kinematics.f
     t = np.linspace(0.0, 2.0 / f, 1001)
 

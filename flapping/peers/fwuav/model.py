@@ -332,7 +332,20 @@ class FwuavHover:
         return out
 
     def aerodynamic_force(self, motion: Motion, v: np.ndarray) -> np.ndarray:
-        """The wings' quasi-steady force (N, inertial frame) at thorax velocity ``v``."""
+        """The wings' quasi-steady force at thorax velocity ``v``.
+
+        Parameters
+        ----------
+        motion : Motion
+            The prescribed motion at the instant (:func:`prescribed_motion`).
+        v : ndarray, shape (3,)
+            Thorax velocity (m/s), inertial frame.
+
+        Returns
+        -------
+        ndarray, shape (3,)
+            Force (N), inertial frame.
+        """
         return sum((RQ @ _strip_forces(self.species, U, self.weights)
                     for RQ, _, U in self._strip_velocities(motion, v)), np.zeros(3))
 
@@ -352,7 +365,21 @@ class FwuavHover:
         return self._last[1]
 
     def loads(self, t: float, x: Any) -> dict[str, np.ndarray]:
-        """Aerodynamic, gravitational and inertial loads (N, inertial frame) at ``(t, x)``."""
+        """The three loads on the insect's translation at time ``t`` and state ``x``.
+
+        Parameters
+        ----------
+        t : float
+            Time (s).
+        x : array_like, shape (6,)
+            Position (m) and velocity (m/s), inertial frame.
+
+        Returns
+        -------
+        dict
+            ``"aerodynamic"``, ``"gravity"`` and ``"inertial"`` (``-sum m_i s_i''``), each a
+            force (N, inertial frame) of shape (3,); their sum is ``m x''``.
+        """
         motion = self._motion(float(t))
         v = np.asarray(x, dtype=float)[3:6]
         aero = self.aerodynamic_force(motion, v) if self.aerodynamics else np.zeros(3)
@@ -361,7 +388,19 @@ class FwuavHover:
         return {"aerodynamic": aero, "gravity": gravity, "inertial": -motion.inertial_load}
 
     def rhs(self, t: float, x: np.ndarray) -> np.ndarray:
-        """``(x', v')`` at time ``t`` (m/s, m/s^2)."""
+        """The right-hand side ``(x', v')`` (m/s, m/s^2) at time ``t`` (s) and state ``x``.
+
+        Parameters
+        ----------
+        t : float
+            Time (s).
+        x : ndarray, shape (6,)
+            Position (m) and velocity (m/s).
+
+        Returns
+        -------
+        ndarray, shape (6,)
+        """
         f = self.loads(t, x)
         return np.concatenate([x[3:6], (f["aerodynamic"] + f["gravity"] + f["inertial"])
                                / self.mass])
@@ -385,6 +424,19 @@ class FwuavHover:
         return J
 
     def momentum(self, t: float, x: Any) -> np.ndarray:
-        """Linear momentum of the whole insect (kg m/s), inertial frame."""
+        """Linear momentum of the whole insect, ``m v + sum_i m_i s_i'``.
+
+        Parameters
+        ----------
+        t : float
+            Time (s).
+        x : array_like, shape (6,)
+            Position (m) and velocity (m/s).
+
+        Returns
+        -------
+        ndarray, shape (3,)
+            Momentum (kg m/s), inertial frame; constant without aerodynamics and gravity.
+        """
         motion = prescribed_motion(self.species, float(t))
         return self.mass * np.asarray(x, dtype=float)[3:6] + motion.appendage_momentum
