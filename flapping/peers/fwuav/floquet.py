@@ -136,7 +136,7 @@ def _build(sp: Species, rtol: float, quadrature: str, n_strips: int, body_rate_t
     if sp.morphology.coefficients != "sane-dickinson":
         raise ConvergenceError(
             f"the {sp.name}'s fitted lift does not vanish at a strip's stroke reversal, so the "
-            "force jumps a hundred times a wingbeat and adaptive integration at these "
+            "force jumps hundreds of times a wingbeat and adaptive integration at these "
             "tolerances stalls there (tried: the step budget runs out); its orbit needs event "
             "location or a fixed-step integrator, not written yet", iterations=0)
     model = FwuavHover(sp, n_strips=n_strips, quadrature=quadrature,
