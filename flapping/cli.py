@@ -43,6 +43,7 @@ from flapping.model import presets as species
 from flapping.model.dynamics import AERODYNAMIC_MODELS, STATE_NAMES
 from flapping.model.insect_file import resolve_insect
 from flapping.model.morphology import Insect
+from flapping.peers.fwuav import cli as fwuav_cli
 from flapping.studies.atlas import robust_hover_orbit
 from flapping.studies.sweep import SWEEPABLE, sweep_hover
 
@@ -193,6 +194,7 @@ def _parser() -> argparse.ArgumentParser:
     listing.add_argument("--json", action="store_true",
                          help="print a JSON list of objects (SI units in the key names)")
     add_sweep_parser(sub, tuple(PRESETS))
+    fwuav_cli.add_parser(sub)
     return parser
 
 
@@ -406,6 +408,8 @@ def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
         return _sweep(parser, args)
     if args.command == "species":
         return _species(args.json)
+    if args.command == "fwuav":
+        return fwuav_cli.run(args, parser.prog)
     return _hover(parser, args)
 
 

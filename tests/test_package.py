@@ -46,6 +46,8 @@ ALLOWED = {
     "studies": ("flapping.studies", "flapping.hover", "flapping.fast", "flapping.model",
                 "flapping.periodic", "flapping.errors", "flapping._validation",
                 "flapping._numdiff"),
+    "peers": ("flapping.peers", "flapping.periodic", "flapping.errors", "flapping._validation",
+              "flapping._numdiff"),
 }
 
 #: The modules at the top of the package: the namespace, the command line and the shared

@@ -1,0 +1,20 @@
+"""FWUAV (fdcl-gwu/FWUAV): a quasi-steady multibody hover model, rebuilt from its equations.
+
+- :mod:`~flapping.peers.fwuav.data`: the four insects' morphology, hover kinematics and FWUAV's
+  stored results, as literals with their provenance (repository, commit, file, variable);
+- :mod:`~flapping.peers.fwuav.model`: the prescribed-attitude translational equations of motion
+  (wing and abdomen inertia, Sane & Dickinson's quasi-steady force, gravity);
+- :mod:`~flapping.peers.fwuav.floquet`: :func:`hover_floquet`, the periodic hover orbit by our
+  shooting and its Floquet exponents from our variational equations;
+- :mod:`~flapping.peers.fwuav.cli`: the ``fwuav`` subcommand of ``python -m flapping``.
+
+The book's chapter "A second model" compares its exponents with FWUAV's stored ones.
+"""
+
+from flapping.peers.fwuav.data import SPECIES, Kinematics, Morphology, Species, species
+from flapping.peers.fwuav.floquet import NAMES, HoverFloquet, fwuav_procedure, hover_floquet
+from flapping.peers.fwuav.model import FwuavHover, Motion, prescribed_motion, wing_angles
+
+__all__ = ["SPECIES", "NAMES", "Species", "Morphology", "Kinematics", "species", "FwuavHover",
+           "Motion", "prescribed_motion", "wing_angles", "HoverFloquet", "hover_floquet",
+           "fwuav_procedure"]
