@@ -182,3 +182,15 @@ def test_figure_text_uses_only_what_matplotlib_typesets(name):
     bad = [line.strip() for line in _code_lines(_text(name))
            if figure_text.search(line) and re.search(r"\\\\?[lr]vert", line)]
     assert not bad, f"{name}: {bad}"
+
+
+@pytest.mark.parametrize("name", [n for n in _toc_order() if n not in ("references", "api")])
+def test_every_code_cell_fence_is_a_code_cell(name):
+    # A backtick inside a 4-backtick ````{table} caption made jupytext swallow the next six code
+    # cells of control.md into one Markdown cell (they never ran, the next cell failed).
+    import jupytext
+
+    text = _text(name)
+    fences = len(re.findall(r"^```\{code-cell\}", text, re.M))
+    cells = sum(c.cell_type == "code" for c in jupytext.reads(text, fmt="myst").cells)
+    assert cells == fences, f"{name}: {fences} code-cell fences, {cells} code cells"
