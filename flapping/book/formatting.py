@@ -19,12 +19,31 @@ from typing import Any
 import numpy as np
 
 __all__ = ["E_NUMBER", "scientific", "split_scientific", "latex_scientific", "roundoff_bound",
-           "setup"]
+           "term_latex", "setup"]
 
 #: A number in Python's ``e`` notation, alone in its text: ``1.2e-13``, ``-3e+05``, ``4.0E2``.
 E_NUMBER = re.compile(r"^(?P<sign>[-+−]?)(?P<mantissa>\d+(?:\.\d+)?)[eE](?P<exponent>[-+]?\d+)$")
 
 _SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+
+
+def term_latex(name: str) -> str:
+    r"""A term of the equations of motion as the book writes it: ``"Z0/m"`` -> ``$Z_0/m$``,
+    ``"Xu u"`` -> ``$X_u u$``, ``"g cos(theta)"`` -> ``$g \cos\theta$``, ``"M0/Iy"`` ->
+    ``$M_0/I_y$`` (the keys of :func:`flapping.hover.orbit.force_budget`).
+
+    Parameters
+    ----------
+    name : str
+
+    Returns
+    -------
+    str
+        Inline math.
+    """
+    tex = re.sub(r"\b([XZM])([0uwq])\b", r"\1_\2", name)
+    tex = re.sub(r"(sin|cos)\(theta\)", lambda m: "\\" + m.group(1) + "\\theta", tex)
+    return "$" + tex.replace("Iy", "I_y") + "$"
 
 
 def split_scientific(text: str) -> tuple[str, str] | None:

@@ -40,3 +40,16 @@ def test_roundoff_bound_never_zero():
     assert roundoff_bound(0.0, 100.0) == np.finfo(float).eps * 100.0
     assert roundoff_bound(-3e-12, 100.0) == 3e-12
     assert f"{roundoff_bound(0.0, 107.5):.0e}" != "0e+00"
+
+
+def test_every_force_budget_term_is_typeset_without_code_names():
+    from flapping.book.formatting import term_latex
+    from flapping.hover.orbit import force_budget  # noqa: F401  (the keys below are its keys)
+    keys = ["-q w", "-g sin(theta)", "X0/m", "Xu u", "Xw w", "Xq q", "q u", "g cos(theta)",
+            "Z0/m", "Zu u", "Zw w", "Zq q", "M0/Iy", "Mu u", "Mw w", "Mq q"]
+    out = {k: term_latex(k) for k in keys}
+    assert out["Z0/m"] == "$Z_0/m$" and out["g cos(theta)"] == r"$g \cos\theta$"
+    assert out["M0/Iy"] == "$M_0/I_y$" and out["Xq q"] == "$X_q q$"
+    for tex in out.values():
+        assert tex.startswith("$") and tex.endswith("$")
+        assert "theta" not in tex.replace(r"\theta", "") and "Iy" not in tex
