@@ -81,8 +81,9 @@ FWUAV_HOVER: dict[str, tuple[float, float, tuple[float, float]]] = {
 SUN_XIONG_2005 = {"wingbeat": 6.4e-3, "doubling": 0.1, "oscillation_period": 0.32,
                   "fast_halving": 0.024, "slow_halving": 0.37}
 
-#: Zhang & Sun (2010, Acta Mech. Sin. 26:175), model drone fly, CFD and averaging: the doubling
-#: time of the longitudinal unstable mode [wingbeats], as quoted in their abstract.
+#: UNVERIFIED, attribution doubtful: ~14 wingbeats for the doubling of a model drone fly's
+#: longitudinal mode, from an earlier reading note that cites Zhang & Sun (2010, Acta Mech. Sin.
+#: 26:175), a paper on the *lateral* motion. Kept importable; the book no longer quotes it.
 ZHANG_SUN_2010_DOUBLING_WINGBEATS = 14.0
 
 #: Fields interpolated geometrically by :func:`interpolate_insects` (positive scales spanning
