@@ -420,7 +420,7 @@ def find_hover_orbit(
     fixed_step_options : mapping, optional
         Options of the fixed-step path, passed to
         :func:`flapping.periodic.fixedstep.find_periodic_orbit_fixed_step`: ``n_steps`` (steps
-        per half-stroke to start with, default 32), ``error_tol`` (every unknown's Richardson
+        per half-stroke to start with, default 64), ``error_tol`` (every unknown's Richardson
         error estimate relative to max(1, |value|), default 1e-10), ``multiplier_tol``
         (default None: estimated, not enforced) and ``max_nfev``; ``tol`` is the residual's.
 
@@ -517,7 +517,7 @@ def _adaptive_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, n_
 
 #: Options of the fixed-step path (``fixed_step_options``) and its default start step count.
 _FIXED_STEP_OPTIONS = ("n_steps", "error_tol", "multiplier_tol", "max_nfev")
-_FIXED_STEP_START = 32
+_FIXED_STEP_START = 64
 
 
 def _fixed_step_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, n_samples: int,
