@@ -16,8 +16,8 @@ import pytest
 from flapping import hawkmoth
 from flapping.errors import ConvergenceError
 from flapping.hover import HoverProblem, find_hover_orbit
-from flapping.hover.stability import hover_stability
 from flapping.hover.problem import grading, grading_derivative
+from flapping.hover.stability import hover_stability
 from flapping.model.presets import preset
 from flapping.periodic._fixedmap import PeriodMap
 

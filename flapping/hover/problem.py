@@ -38,7 +38,8 @@ from flapping.model.dynamics import (
 from flapping.model.kinematics import check_alpha_m, check_amplitude, segment_stroke_sign
 from flapping.model.morphology import Insect
 
-__all__ = ["BACKENDS", "DEFAULT_BACKEND", "TRIMS", "HoverProblem"]
+__all__ = ["BACKENDS", "DEFAULT_BACKEND", "GRADING_POWER", "TRIMS", "HoverProblem", "grading",
+           "grading_derivative"]
 
 #: How the orbit and the monodromy are integrated: ``"compiled"``, the numba kernel of
 #: :mod:`flapping.fast` (eq. 29's linear loads only: fixed-step 8th-order Runge-Kutta per
