@@ -88,19 +88,33 @@ def test_agrees_with_the_adaptive_path_where_both_converge(continuation):
     assert new.fixed_step.multiplier_error < 1e-7
 
 
-def test_the_error_estimate_is_honest_under_refinement():
-    # A loose solve's estimated error bounds its actual error (against a tight solve), and is
-    # not far above it; the tight solve's step count follows the order-8 prediction.
-    insect = hawkmoth(hinge_height=10e-3)
-    loose = find_hover_orbit(insect, aerodynamics="small-angle",
-                             fixed_step_options={"n_steps": 16, "error_tol": 1e-6})
-    tight = find_hover_orbit(insect, aerodynamics="small-angle", x0_guess=loose.x0,
-                             amplitude_guess=loose.amplitude,
-                             fixed_step_options={"n_steps": 128, "error_tol": 1e-12})
-    actual = np.abs(loose.fixed_step.unknowns - tight.fixed_step.unknowns)
-    estimate = loose.fixed_step.unknowns_error
-    assert np.all(actual <= estimate + 1e-12)
-    assert np.max(estimate) < 1e4 * max(np.max(actual), 1e-13)
+def test_the_error_estimate_is_honest_under_refinement(continuation):
+    # At 16, 32 and 64 steps per half-stroke (no refinement: error_tol 1e-2), the error of the
+    # unknowns against a tight solve (128 steps, error_tol 1e-12) falls at order ~8, and the
+    # Richardson estimate bounds it (max over the unknowns, each relative to max(1, |z_i|)) without
+    # being far above it. (Component by component it can fall short by a few times on the small
+    # components, measured up to 7x: the norm is what it bounds.)
+    start = continuation[10]
+    insect = start.problem.insect
+
+    def solve(n, tol):
+        return find_hover_orbit(insect, aerodynamics="small-angle", x0_guess=start.x0,
+                                amplitude_guess=start.amplitude,
+                                fixed_step_options={"n_steps": n, "error_tol": tol}).fixed_step
+
+    tight = solve(128, 1e-12)
+    scale = np.maximum(1.0, np.abs(tight.unknowns))
+    errors = []
+    for n in (16, 32, 64):
+        fs = solve(n, 1e-2)
+        assert fs.n_steps == n
+        actual = float(np.max(np.abs(fs.unknowns - tight.unknowns) / scale))
+        estimate = float(np.max(fs.unknowns_error / scale))
+        assert actual <= estimate, (n, actual, estimate)
+        assert estimate < 100.0 * max(actual, 1e-13), (n, actual, estimate)
+        errors.append(actual)
+    orders = np.log2(np.array(errors[:-1]) / np.maximum(np.array(errors[1:]), 1e-13))
+    assert np.all(orders >= 6.0), (errors, orders)
 
 
 def test_the_graded_mesh_restores_the_order_of_the_period_map():
