@@ -50,8 +50,8 @@ __all__ = ["BACKENDS", "DEFAULT_BACKEND", "GRADING_POWER", "TRIMS", "HoverProble
 #: (:meth:`HoverProblem.graded_fields`; any loads model, made for the blade-element ones: 5-30 s in
 #: Python, the loads' evaluations most of it); ``"auto"``, the kernel where it applies (linear
 #: loads, one trim, the default ``method`` and ``jacobian``, numba installed), the fixed-step
-#: path for the blade-element
-#: models (with the default ``method`` and ``jacobian``), else adaptive.
+#: path for the blade-element models (with the default ``method`` and ``jacobian``), else
+#: adaptive.
 BACKENDS: tuple[str, ...] = ("auto", "compiled", "adaptive", "fixed-step")
 
 #: The time mesh of the fixed-step path: on each half-stroke t = t_k + (T/2) g(s), s uniform in
