@@ -163,3 +163,12 @@ def test_non_convergence_is_a_convergence_error_with_residual_and_iterations():
                          fixed_step_options={"max_nfev": 2000})
     assert info.value.residual is not None or info.value.iterations is not None
     assert info.value.iterations is not None
+
+
+def test_on_the_linear_loads_it_agrees_with_the_adaptive_path():
+    # No kinks there: the graded mesh alone, against the adaptive reference (measured 3e-12).
+    new = find_hover_orbit(hawkmoth(), backend="fixed-step")
+    old = find_hover_orbit(hawkmoth(), backend="adaptive")
+    _check(new)
+    assert abs(new.amplitude - old.amplitude) < 1e-11
+    assert np.max(np.abs(new.x0 - old.x0)) < 1e-10
