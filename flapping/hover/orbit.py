@@ -185,7 +185,13 @@ class HoverOrbit:
         The fixed-step path's result when it found the orbit: the Richardson error estimate of
         every unknown (:attr:`~flapping.periodic.fixedstep.FixedStepOrbit.unknowns_error`, the
         states then the trims), the monodromy of the augmented state, its multipliers and their
-        error estimate, the step count per half-stroke.
+        error estimate, the step count per half-stroke. The unknowns' estimate bounds their
+        error (checked against solves at more steps); the multipliers' does *not* on the
+        blade-element loads: measured on the hawkmoth (small-angle, 64 steps), the fixed-step
+        monodromy's multipliers are 3.5e-8 from the adaptive analysis' against an estimate of
+        2.7e-10, and they converge erratically in the step count (6e-9, 3.5e-8, 8e-10 at 32, 64,
+        128). Take the multipliers from :func:`~flapping.hover.stability.hover_stability`
+        (adaptive, to ~2e-9 here).
     """
 
     problem: HoverProblem | None
