@@ -84,8 +84,10 @@ def test_agrees_with_the_adaptive_path_where_both_converge(continuation):
     mu_new = np.sort(np.abs(new.fixed_step.multipliers))
     mu_new = np.delete(mu_new, np.argmin(np.abs(mu_new - 1.0)))
     mu_old = np.sort(np.abs(hover_stability(old).multipliers))
-    assert np.max(np.abs(mu_new - mu_old)) < 1e-7
-    assert new.fixed_step.multiplier_error < 1e-7
+    assert np.max(np.abs(mu_new - mu_old)) < 1e-7  # measured 3.7e-8 (see HoverOrbit.fixed_step)
+    # The adaptive analysis of the two orbits (measured 2.1e-9).
+    mu_analysed = np.sort(np.abs(hover_stability(new).multipliers))
+    assert np.max(np.abs(mu_analysed - mu_old)) < 1e-8
 
 
 def test_the_error_estimate_is_honest_under_refinement(continuation):
