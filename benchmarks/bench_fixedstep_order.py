@@ -20,7 +20,8 @@ error of x(T) against 512-1024 steps per half-stroke):
 
 The graded mesh of :meth:`flapping.hover.HoverProblem.graded_fields` (t = T (k + g(s)) / 2 per
 half-stroke, g' ~ sin^4(pi s): steps shrink as s^4 towards the reversals) with the root and tip
-switches restores order ~8 (hinge height 10 mm, against 1024 steps; the script uses 512):
+switches (the backend adds q = 0, the rotational damping's kink, which matters for the monodromy)
+restores order ~8 (hinge height 10 mm, against 1024 steps; the script uses 512):
 
     n     small-angle graded + switches   (graded, no switches)
     16    2.9e-07                          9.4e-07

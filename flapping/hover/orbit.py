@@ -186,12 +186,11 @@ class HoverOrbit:
         every unknown (:attr:`~flapping.periodic.fixedstep.FixedStepOrbit.unknowns_error`, the
         states then the trims), the monodromy of the augmented state, its multipliers and their
         error estimate, the step count per half-stroke. The unknowns' estimate bounds their
-        error (checked against solves at more steps); the multipliers' does *not* on the
-        blade-element loads: measured on the hawkmoth (small-angle, 64 steps), the fixed-step
-        monodromy's multipliers are 3.5e-8 from the adaptive analysis' against an estimate of
-        2.7e-10, and they converge erratically in the step count (6e-9, 3.5e-8, 8e-10 at 32, 64,
-        128). Take the multipliers from :func:`~flapping.hover.stability.hover_stability`
-        (adaptive, to ~2e-9 here).
+        error (checked against solves at more steps); the multipliers' is the integration
+        error's Richardson estimate and can understate it where the convergence in the step
+        count is not yet regular (measured on the hawkmoth, small-angle, 64 steps: 1.9e-10 from
+        the adaptive analysis against an estimate of 5.8e-11).
+        :func:`~flapping.hover.stability.hover_stability` is the reference for the multipliers.
     """
 
     problem: HoverProblem | None
