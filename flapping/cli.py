@@ -211,7 +211,7 @@ def _defaults(function: Callable, *names: str) -> dict[str, Any]:
 def _solver_report(orbit: HoverOrbit, shooting: dict, stability: dict) -> dict[str, dict]:
     """The settings asked for and what the solve did (``jacobian`` and ``njev`` are null on the
     compiled path, which has no scipy shooting result; ``solved_by`` names the path)."""
-    result = orbit.shooting
+    result = orbit.shooting if orbit.shooting is not None else orbit.fixed_step
     return {
         "shooting": {**shooting, "jacobian": None if result is None else result.jacobian,
                      "success": True if result is None else bool(result.success),

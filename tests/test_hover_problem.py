@@ -48,10 +48,10 @@ def test_the_default_backend_is_the_fast_one():
 @needs_numba
 @pytest.mark.parametrize(("options", "expected"), [
     ({}, "compiled"),
-    ({"aerodynamics": "exact"}, "adaptive"),
+    ({"aerodynamics": "exact"}, "fixed-step"),
     ({"trims": ("amplitude", "stroke_mean")}, "adaptive"),
 ])
-def test_auto_runs_the_kernel_only_where_it_applies(moth, options, expected):
+def test_auto_runs_the_kernel_only_where_it_applies_and_fixed_step_for_blade_elements(moth, options, expected):
     assert HoverProblem(moth, **options).backend("auto") == expected
 
 

@@ -38,15 +38,31 @@ from flapping.model.dynamics import (
 from flapping.model.kinematics import check_alpha_m, check_amplitude, segment_stroke_sign
 from flapping.model.morphology import Insect
 
-__all__ = ["BACKENDS", "DEFAULT_BACKEND", "TRIMS", "HoverProblem"]
+__all__ = ["BACKENDS", "DEFAULT_BACKEND", "GRADING_POWER", "TRIMS", "HoverProblem", "grading",
+           "grading_derivative"]
 
 #: How the orbit and the monodromy are integrated: ``"compiled"``, the numba kernel of
 #: :mod:`flapping.fast` (eq. 29's linear loads only: fixed-step 8th-order Runge-Kutta per
 #: half-stroke, Newton, Phi to 1e-9 deg and the multipliers to 1e-8, ~1 ms); ``"adaptive"``, the
-#: scipy path (adaptive DOP853, the reference and the cross-check, ~0.3 s); ``"auto"``, the
-#: kernel where it applies (linear loads, one trim, the default ``method`` and ``jacobian``, numba
-#: installed), else adaptive.
-BACKENDS: tuple[str, ...] = ("auto", "compiled", "adaptive")
+#: scipy path (adaptive DOP853, the reference and the cross-check, ~0.3 s); ``"fixed-step"``,
+#: Newton on a fixed-step 8th-order period map on a time mesh graded towards the stroke
+#: reversals, with the loads' kinks as switching functions and a Richardson error estimate
+#: (:meth:`HoverProblem.graded_fields`; any loads model, made for the blade-element ones: 5-30 s in
+#: Python, the loads' evaluations most of it); ``"auto"``, the kernel where it applies (linear
+#: loads, one trim, the default ``method`` and ``jacobian``, numba installed), the fixed-step
+#: path for the blade-element models (with the default ``method`` and ``jacobian``), else
+#: adaptive.
+BACKENDS: tuple[str, ...] = ("auto", "compiled", "adaptive", "fixed-step")
+
+#: The time mesh of the fixed-step path: on each half-stroke t = t_k + (T/2) g(s), s uniform in
+#: [0, 1], with g' = sin^4(pi s) / (3/8): steps shrink as s^4 towards the stroke reversals. There
+#: the sign-change station r* = -u_c / phi_dot of the section airspeed U sweeps in from the tip
+#: on a time scale ~1e-4 T (the loads are analytic but vary that fast); a uniform step resolves
+#: it only with thousands of steps per half-stroke (observed order 1-4), the graded one with
+#: ~64 (observed order ~8 on the hawkmoth, small-angle and exact loads; see
+#: ``benchmarks/bench_fixedstep_order.py``). The exponent is fixed (:func:`grading` is written for
+#: it), not a setting.
+GRADING_POWER = 4
 
 #: The default backend of every hover path (:func:`~flapping.hover.find_hover_orbit`,
 #: :func:`~flapping.hover.hover_stability`, sweeps): the fast one where it applies. The kernel
@@ -131,6 +147,33 @@ class HoverProblem:
         """
         return _Fields(self).lists()
 
+    def graded_fields(self) -> tuple[list[Any], list[Any]]:
+        """The fields of :meth:`fields` on the graded time mesh, and their switching functions.
+
+        Per half-stroke k the time is t = T (k + g(s - k)) / 2 with s in [k, k + 1] and g the
+        grading of :data:`GRADING_POWER` (g(0) = 0, g(1) = 1, g'(0) = g'(1) = 0); the field in s
+        is ``dt/ds f(t(s), y, p)``. The period in s is 2, the breakpoint at s = 1 (fraction 0.5).
+
+        Returns
+        -------
+        funs : list of callables
+            ``F(s, y, p)`` per half-stroke.
+        switches : list of tuples of callables
+            Per half-stroke, ``g(s, y, p)`` whose sign changes mark the loads' kinks (a jump of
+            a derivative of the right-hand side at a state-dependent time): the section airspeed
+            U = 0 at the wing root (u - q h_w = 0) and at the tip
+            ((u - q h_w) cos(phi) + phi_dot R = 0), and q = 0 (the rotational damping's
+            ``|omega| omega``, omega = q cos(phi): a kink of the Jacobian; unmarked, the
+            monodromy's multipliers at 64 steps were 3.5e-8 off on the hawkmoth, marked 1.2e-9).
+            Empty for the linear loads (smooth within a half-stroke).
+        """
+        funs = self.fields()[0]
+        half = 0.5 * self.period
+        out = [_graded(f, k, half) for k, f in enumerate(funs)]
+        if self.aerodynamics == "linear":
+            return out, [() for _ in funs]
+        return out, [_switches(self, k) for k in range(len(funs))]
+
     def guess(self, amplitude: float | None = None) -> np.ndarray:
         """The trims' starting values: [Phi] or [Phi, phi_bar] (default the insect's own)."""
         amp = check_amplitude(self.insect.stroke_amplitude if amplitude is None else amplitude,
@@ -138,11 +181,16 @@ class HoverProblem:
         return np.array([amp, self.insect.stroke_mean][: self.n_conditions], dtype=float)
 
     def backend(self, backend: str = DEFAULT_BACKEND, *, adaptive_options: bool = False) -> str:
-        """Which path runs: ``"compiled"`` or ``"adaptive"`` (the one place that decides).
+        """Which path runs: ``"compiled"``, ``"fixed-step"`` or ``"adaptive"`` (the one place
+        that decides).
+
+        ``"auto"`` is the compiled kernel where it applies, the fixed-step path for the
+        blade-element models (the adaptive path's residual stalls at its integration noise,
+        ~3e-8, at some hinge heights), the adaptive path otherwise.
 
         Parameters
         ----------
-        backend : {"auto", "compiled", "adaptive"}
+        backend : {"auto", "compiled", "adaptive", "fixed-step"}
             What the user asked for (:data:`BACKENDS`).
         adaptive_options : bool
             True if the caller set options of the adaptive path only (another ``method`` or
@@ -162,8 +210,10 @@ class HoverProblem:
             ``"auto"`` where the kernel applies but numba is missing: the adaptive path runs.
         """
         backend = _validation.choice("backend", backend, BACKENDS)
-        if backend == "adaptive":
-            return "adaptive"
+        if backend in ("adaptive", "fixed-step"):
+            return backend
+        if backend == "auto" and self.aerodynamics != "linear":
+            return "adaptive" if adaptive_options else "fixed-step"
         why_not = self._kernel_refusal()
         if backend == "compiled":
             if why_not:
@@ -255,6 +305,51 @@ class _Fields:
         if self.size == 6:
             out[:4, 1:] = model.stroke_mean_jac(t, y, s, p[0])
         return out
+
+
+# =========================================================================== graded mesh
+# (8/3) sin^4 integrated: g(s) = s - (2/3) sin(2 pi s) / pi + sin(4 pi s) / (12 pi), so that
+# g' = (8/3) sin^4(pi s) (GRADING_POWER = 4; grading is its closed form, not a setting).
+def grading(s: float) -> float:
+    """g(s) of the graded mesh: a smooth increasing map of [0, 1] onto itself, g' ~ s^4 at 0."""
+    x = 2.0 * math.pi * s
+    return s - (4.0 / 3.0) * math.sin(x) / (2.0 * math.pi) + math.sin(2.0 * x) / (12.0 * math.pi)
+
+
+def grading_derivative(s: float) -> float:
+    """g'(s) = (8/3) sin^4(pi s)."""
+    return (8.0 / 3.0) * math.sin(math.pi * s) ** 4
+
+
+def _graded(f: Any, k: int, half: float) -> Any:
+    """F(s, y, p) = dt/ds f(t(s), y, p) on half-stroke k."""
+    def field(s: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
+        local = s - k
+        return (half * grading_derivative(local)) * f(half * (k + grading(local)), y, p)
+    return field
+
+
+def _switches(problem: HoverProblem, k: int) -> tuple[Any, ...]:
+    """The blade-element loads' switching functions on half-stroke k, in the graded time."""
+    insect = problem.insect
+    span, h_w = insect.semi_span, insect.hinge_height
+    omega, half = 2.0 * math.pi * insect.frequency, 0.5 * problem.period
+    two_trims = problem.n_conditions == 2
+
+    def root(s: float, y: np.ndarray, p: np.ndarray) -> float:
+        return float(y[0] - y[2] * h_w)
+
+    def tip(s: float, y: np.ndarray, p: np.ndarray) -> float:
+        t = half * (k + grading(s - k))
+        phi_bar = float(p[1]) if two_trims else insect.stroke_mean
+        phi = phi_bar + p[0] * math.cos(omega * t)
+        return float((y[0] - y[2] * h_w) * math.cos(phi)
+                     - omega * p[0] * math.sin(omega * t) * span)
+
+    def pitch_rate(s: float, y: np.ndarray, p: np.ndarray) -> float:
+        return float(y[2])
+
+    return (root, tip, pitch_rate)
 
 
 # =========================================================================== checks

@@ -193,8 +193,10 @@ def hover_stability(
     n_average : int
         Gauss-Legendre nodes per half-stroke for the cycle-averaged Jacobian (the integrand is
         smooth within a half-stroke, so the rule converges spectrally).
-    backend : {"auto", "compiled", "adaptive"}
-        The integration path (:data:`flapping.hover.BACKENDS`): the compiled kernel gives the
+    backend : {"auto", "compiled", "adaptive", "fixed-step"}
+        The integration path (:data:`flapping.hover.BACKENDS`; ``"fixed-step"`` analyses on the
+        adaptive path: the fixed-step orbit's own monodromy and multipliers, with their error
+        estimate, are in :attr:`HoverOrbit.fixed_step`): the compiled kernel gives the
         monodromy to 1e-8 in every multiplier (reusing the one of the orbit's last Newton
         integration when the kernel found the orbit); ``method``, ``rtol``, ``atol`` and
         ``rk4_steps`` belong to the adaptive path. ``"auto"`` (the default) analyses the orbit

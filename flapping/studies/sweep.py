@@ -162,6 +162,10 @@ def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
     if orbit.kernel is not None:
         row.update(amplitude_error_deg=math.degrees(orbit.kernel.amplitude_error),
                    multiplier_error=orbit.kernel.multiplier_error, n_steps=orbit.kernel.n_steps)
+    elif orbit.fixed_step is not None:
+        fs = orbit.fixed_step
+        row.update(amplitude_error_deg=math.degrees(float(fs.unknowns_error[4])),
+                   multiplier_error=fs.multiplier_error, n_steps=fs.n_steps)
     row.update(zip(("u0", "w0", "q0", "theta0"), map(float, orbit.x0), strict=True))
     for i in range(4):
         row[f"mu{i + 1}_real"], row[f"mu{i + 1}_imag"] = float(mu[i].real), float(mu[i].imag)
