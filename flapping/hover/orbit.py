@@ -426,7 +426,7 @@ def find_hover_orbit(
         Options of the fixed-step path, passed to
         :func:`flapping.periodic.fixedstep.find_periodic_orbit_fixed_step`: ``n_steps`` (steps
         per half-stroke to start with, default 64), ``error_tol`` (every unknown's Richardson
-        error estimate relative to max(1, |value|), default 1e-10), ``multiplier_tol``
+        error estimate relative to max(1, abs(value)), default 1e-10), ``multiplier_tol``
         (default None: estimated, not enforced) and ``max_nfev``; ``tol`` is the residual's.
 
     Returns
