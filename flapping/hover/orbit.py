@@ -506,14 +506,7 @@ def _adaptive_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, n_
         rhs, np.concatenate([x0, np.zeros(extra)]), problem.period, autonomous=False, jac=jac,
         param_jac=pjac, free_params=list(guess), fixed=tuple(range(4, 4 + extra)),
         breakpoints=problem.model.breakpoints, **options)
-    assert result.params is not None  # the trims are free parameters
-    trims = [float(v) for v in result.params]
-    _check_converged_trims(problem, result, trims)
-    phi = trims[0]
-    phi_bar = trims[1] if extra == 2 else problem.insect.stroke_mean
-    orbit = HoverOrbit(problem, np.array(result.x0[:4], dtype=float), phi, phi_bar,
-                       float(result.residual[4]), "adaptive", int(result.nit), int(result.nfev),
-                       float(result.residual_norm), shooting=result)
+    orbit = _orbit_of(problem, result, "adaptive", shooting=result)
     tol = {"rtol": options["rtol"], "atol": options["atol"]}
     t, x, _ = _sample(orbit.model, orbit.x0, n_samples, options["method"], **tol)
     object.__setattr__(orbit, "samples", _Sampled(t, x))
@@ -541,17 +534,22 @@ def _fixed_step_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, 
         funs, np.concatenate([x0, np.zeros(extra)]), 2.0, free_params=list(guess),
         fixed=tuple(range(4, 4 + extra)), breakpoints=(0.5,), switches=switches, tol=tol,
         **settings)
-    assert result.params is not None  # the trims are free parameters
-    trims = [float(v) for v in result.params]
-    _check_converged_trims(problem, result, trims)
-    phi = trims[0]
-    phi_bar = trims[1] if extra == 2 else problem.insect.stroke_mean
-    orbit = HoverOrbit(problem, np.array(result.x0[:4], dtype=float), phi, phi_bar,
-                       float(result.residual[4]), "fixed-step", int(result.nit),
-                       int(result.nfev), float(result.residual_norm), fixed_step=result)
+    orbit = _orbit_of(problem, result, "fixed-step", fixed_step=result)
     object.__setattr__(orbit, "samples",
                        _AdaptiveSamples(orbit.model, orbit.x0, n_samples, rtol, atol))
     return orbit
+
+
+def _orbit_of(problem: HoverProblem, result: PeriodicOrbit | FixedStepOrbit, backend: str,
+              **solver: Any) -> HoverOrbit:
+    """The HoverOrbit of a converged adaptive or fixed-step solve (its trims checked)."""
+    assert result.params is not None  # the trims are free parameters
+    trims = [float(v) for v in result.params]
+    _check_converged_trims(problem, result, trims)
+    phi_bar = trims[1] if len(trims) == 2 else problem.insect.stroke_mean
+    return HoverOrbit(problem, np.array(result.x0[:4], dtype=float), trims[0], phi_bar,
+                      float(result.residual[4]), backend, int(result.nit), int(result.nfev),
+                      float(result.residual_norm), **solver)
 
 
 def _check_converged_trims(problem: HoverProblem, result: PeriodicOrbit | FixedStepOrbit,
