@@ -264,11 +264,8 @@ class LongitudinalDynamics:
 
     def _stroke(self, t: float, amplitude: float) -> tuple[float, float]:
         """phi and phi_dot of eq. (39) at time t, with the mean stroke angle phi_bar."""
-        omega = 2.0 * math.pi * self.insect.frequency
-        phi = amplitude * math.cos(omega * t)
-        if self.insect.stroke_mean != 0.0:  # keeps phi bit for bit at phi_bar = 0
-            phi += self.insect.stroke_mean
-        return phi, -omega * amplitude * math.sin(omega * t)
+        phi, phi_dot, _ = stroke_phase(self.insect, t, amplitude)
+        return phi, phi_dot
 
     def _derivatives_with_amplitude(self, t: float, amplitude: float | None) -> tuple[float, ...]:
         amplitude = self.amplitude if amplitude is None else float(amplitude)
