@@ -150,6 +150,19 @@ def test_every_exercise_solution_executes(name):
     assert "skip-execution" not in _text(name), f"{name}: a code cell the build does not run"
 
 
+@pytest.mark.parametrize("name", _taught_chapters())
+def test_every_exercise_solution_prints_its_answer(name):
+    # a solution is a gated block (solution-start/-end) with a code cell that prints, shows or
+    # displays its answer, so the reader sees the computation and the number it gives
+    text = _text(name)
+    assert not re.search(r"```\{solution\} ", text), f"{name}: a solution without code"
+    for label, body in re.findall(r"```\{solution-start\} ([\w-]+)\n(.*?)```\{solution-end\}",
+                                  text, flags=re.DOTALL):
+        cells = re.findall(r"```\{code-cell\}[^\n]*\n(.*?)```", body, flags=re.DOTALL)
+        assert any(re.search(r"\b(print|show|display)\(", cell) for cell in cells), \
+            f"{name}: the solution of {label} prints no answer"
+
+
 @pytest.mark.parametrize("name", [n for n in _toc_order() if n != "references"])
 def test_no_orange_unit_circle(name):
     if name in ISSUE_19_ELSEWHERE:
