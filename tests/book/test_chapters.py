@@ -108,11 +108,6 @@ def test_the_paper_chapters_are_about_half_their_length_before_the_appendices():
         "forensic detail to an appendix")
 
 
-# Pages another session is fixing for issue 19 (control's figures and its Exercise 26): the checks
-# below hold for every other page and will hold for these once they are fixed; then empty this.
-ISSUE_19_ELSEWHERE: frozenset[str] = frozenset()
-
-
 def _toc_order() -> list[str]:
     return [TOC["root"]] + [chapter["file"] for part in TOC["parts"] for chapter in part["chapters"]]
 
@@ -134,8 +129,6 @@ def test_the_floquet_primer_comes_before_the_first_chapter_that_uses_its_words()
 
 @pytest.mark.parametrize("name", [n for n in _toc_order() if n != "references"])
 def test_every_figure_a_page_shows_is_numbered_and_captioned(name):
-    if name in ISSUE_19_ELSEWHERE:
-        pytest.skip("fixed by another session (issue 19)")
     text = _text(name)
     assert "plt.show()" not in text, f"{name}: a figure shown without a number or caption"
     glued = set(re.findall(r"""glue\(\s*["'](fig-[\w-]+)["']""", text))
@@ -145,8 +138,6 @@ def test_every_figure_a_page_shows_is_numbered_and_captioned(name):
 
 @pytest.mark.parametrize("name", [n for n in _toc_order() if n != "references"])
 def test_every_exercise_solution_executes(name):
-    if name in ISSUE_19_ELSEWHERE:
-        pytest.skip("fixed by another session (issue 19)")
     assert "skip-execution" not in _text(name), f"{name}: a code cell the build does not run"
 
 
@@ -165,8 +156,6 @@ def test_every_exercise_solution_prints_its_answer(name):
 
 @pytest.mark.parametrize("name", [n for n in _toc_order() if n != "references"])
 def test_no_orange_unit_circle(name):
-    if name in ISSUE_19_ELSEWHERE:
-        pytest.skip("fixed by another session (issue 19)")
     # the unit circle and other reference lines are grey; orange (SOURCE_COLORS["paper"]) is the
     # paper's printed numbers only
     for line in _text(name).splitlines():
@@ -209,13 +198,9 @@ def test_every_code_cell_fence_is_a_code_cell(name):
     assert cells == fences, f"{name}: {fences} code-cell fences, {cells} code cells"
 
 
-# The setup-cell convention (issue 19): the first code cell of every page (imports, the insect,
-# the page's small helpers) is tagged hide-input, collapsed behind "Show code cell source" so that
-# a student can open and copy it, never removed. The lead's two pages follow once edited; then
-# empty this.
-SETUP_CELL_ELSEWHERE: frozenset[str] = frozenset({"second_model", "control"})
-
-
+# The setup-cell convention: the first code cell of every page (imports, the insect, the page's
+# small helpers) is tagged hide-input, collapsed behind "Show code cell source" so that a student
+# can open and copy it, never removed.
 def _first_code_cell(name: str):
     import jupytext
 
@@ -225,8 +210,6 @@ def _first_code_cell(name: str):
 
 @pytest.mark.parametrize("name", [n for n in _toc_order() if n not in ("references", "api")])
 def test_every_setup_cell_is_collapsed_not_removed(name):
-    if name in SETUP_CELL_ELSEWHERE:
-        pytest.skip("the lead's page (issue 19): follows the convention once edited")
     cell = _first_code_cell(name)
     if cell is None:
         pytest.skip(f"{name} has no code")
