@@ -58,6 +58,7 @@ from flapping.model.morphology import Insect
 from flapping.periodic._readonly import freeze, readonly
 from flapping.periodic.fixedstep import FixedStepOrbit, find_periodic_orbit_fixed_step
 from flapping.periodic.integrate import flow, variational_flow
+from flapping.periodic.settings import SolverSettings, default, given, resolve
 from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
 
 __all__ = [
@@ -363,16 +364,17 @@ def find_hover_orbit(
     alpha_m: float | None = None,
     amplitude_guess: float | None = None,
     x0_guess: ArrayLike | None = None,
-    method: str = "DOP853",
+    method: str = default("DOP853"),
     jacobian: str | None = None,
-    rtol: float = 1e-11,
-    atol: float = 1e-12,
-    tol: float = 1e-10,
+    rtol: float = default(1e-11),
+    atol: float = default(1e-12),
+    tol: float = default(1e-10),
     n_samples: int = 512,
     backend: str = DEFAULT_BACKEND,
     trims: Sequence[str] = ("amplitude",),
     kernel_options: Mapping[str, Any] | None = None,
     fixed_step_options: Mapping[str, Any] | None = None,
+    settings: SolverSettings | None = None,
 ) -> HoverOrbit:
     """Find the hovering periodic orbit: initial state and stroke amplitude (and phi_bar).
 
@@ -428,6 +430,14 @@ def find_hover_orbit(
         per half-stroke to start with, default 64), ``error_tol`` (every unknown's Richardson
         error estimate relative to max(1, abs(value)), default 1e-10), ``multiplier_tol``
         (default None: estimated, not enforced) and ``max_nfev``; ``tol`` is the residual's.
+    settings : SolverSettings, optional
+        ``method``, ``rtol``, ``atol`` and ``tol`` as one object
+        (:class:`~flapping.periodic.SolverSettings`), with the same meaning as the keywords; the
+        adaptive path also takes its ``max_steps``, ``rk4_steps`` and ``max_nfev`` (passed to
+        :func:`~flapping.periodic.shooting.find_periodic_orbit`). A keyword given explicitly
+        overrides the same field; a field left at None keeps the default shown here. A
+        ``method`` other than ``"DOP853"`` selects the adaptive path under ``"auto"``, as the
+        keyword does.
 
     Returns
     -------
@@ -450,6 +460,9 @@ def find_hover_orbit(
         wingtip speed (the orbit holds its altitude but is not hover; see
         :attr:`HoverOrbit.is_hover`).
     """
+    o = resolve(settings, DEFAULTS, method=given(method), rtol=given(rtol), atol=given(atol),
+                tol=given(tol))
+    method, rtol, atol, tol = o["method"], o["rtol"], o["atol"], o["tol"]
     problem = _problem(insect, aerodynamics, alpha_m, trims)
     guess = problem.guess(amplitude_guess)
     x0 = state_guess(x0_guess)
@@ -481,9 +494,15 @@ def find_hover_orbit(
         if jacobian is None:
             jacobian = "variational" if problem.aerodynamics == "linear" else "finite-difference"
         orbit = _adaptive_orbit(problem, guess, x0, n_samples, method=method,
-                                jacobian=jacobian, rtol=rtol, atol=atol, tol=tol)
+                                jacobian=jacobian, rtol=rtol, atol=atol, tol=tol,
+                                settings=settings)
     _warn_if_drifting(orbit)
     return orbit
+
+
+#: What :func:`find_hover_orbit` uses for each :class:`~flapping.periodic.SolverSettings` field
+#: it reads when neither the keyword nor ``settings`` gives it (the signature's defaults).
+DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": 1e-11, "atol": 1e-12, "tol": 1e-10}
 
 
 def _problem(insect: Insect | HoverProblem, aerodynamics: str, alpha_m: float | None,

@@ -36,6 +36,7 @@ from flapping.model.morphology import Insect
 from flapping.periodic._readonly import freeze
 from flapping.periodic.floquet import monodromy
 from flapping.periodic.integrate import flow, variational_flow
+from flapping.periodic.settings import SolverSettings, default, given, resolve
 
 __all__ = [
     "HoverStability",
@@ -167,12 +168,13 @@ class PerturbationGrowth:
 def hover_stability(
     orbit: HoverOrbit,
     *,
-    method: str = "DOP853",
-    rtol: float = ANALYSIS_RTOL,
-    atol: float = ANALYSIS_ATOL,
-    rk4_steps: int = 1024,
+    method: str = default("DOP853"),
+    rtol: float = default(ANALYSIS_RTOL),
+    atol: float = default(ANALYSIS_ATOL),
+    rk4_steps: int = default(1024),
     n_average: int = 64,
     backend: str = DEFAULT_BACKEND,
+    settings: SolverSettings | None = None,
 ) -> HoverStability:
     """Monodromy matrix, Floquet multipliers and the averaged system of a periodic orbit.
 
@@ -201,6 +203,11 @@ def hover_stability(
         integration when the kernel found the orbit); ``method``, ``rtol``, ``atol`` and
         ``rk4_steps`` belong to the adaptive path. ``"auto"`` (the default) analyses the orbit
         on the path that solved it (:attr:`HoverOrbit.backend`).
+    settings : SolverSettings, optional
+        ``method``, ``rtol``, ``atol``, ``rk4_steps`` and ``max_steps`` of the adaptive path's
+        monodromy as one object (:class:`~flapping.periodic.SolverSettings`; ``rtol`` and
+        ``atol`` also integrate the orbit for the averaged Jacobian). A keyword given
+        explicitly overrides the same field; a field left at None keeps the default shown here.
 
     Returns
     -------
@@ -215,7 +222,10 @@ def hover_stability(
     """
     orbit = _validation.instance("orbit", orbit, HoverOrbit)
     n_average = _validation.integer("n_average", n_average, low=1, high=1 << 16)
-    rtol, atol = _validation.tolerances(rtol, atol)
+    o = resolve(settings, DEFAULTS, method=given(method), rtol=given(rtol), atol=given(atol),
+                rk4_steps=given(rk4_steps))
+    method, rk4_steps = o["method"], o["rk4_steps"]
+    rtol, atol = _validation.tolerances(o["rtol"], o["atol"])
     compiled = _use_kernel(orbit, backend, method)
     if compiled:
         matrix, values, det, liouville, trace = _kernel_monodromy(orbit)
@@ -223,7 +233,8 @@ def hover_stability(
         model = orbit.model
         rhs, jac = model.segment_functions()
         mon = monodromy(rhs, orbit.x0, orbit.period, jac=jac, breakpoints=model.breakpoints,
-                        method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps)
+                        method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps,
+                        max_steps=o["max_steps"])
         # Multipliers from the monodromy's product-QR iteration (accurate even when small).
         matrix, values = mon.matrix, np.asarray(mon.multipliers, dtype=complex)
         det, liouville, trace = mon.det, mon.liouville_det, mon.trace_integral
@@ -238,6 +249,13 @@ def hover_stability(
                           _exponents(values, orbit.period), vectors, float(det),
                           float(liouville), np.array(averaged, dtype=float), avg_eig,
                           float(trace))
+
+
+#: What :func:`hover_stability` uses for each :class:`~flapping.periodic.SolverSettings` field
+#: it reads when neither the keyword nor ``settings`` gives it (the signature's defaults;
+#: ``max_steps`` None: the monodromy's own budget).
+DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": ANALYSIS_RTOL, "atol": ANALYSIS_ATOL,
+                            "rk4_steps": 1024, "max_steps": None}
 
 
 def _use_kernel(orbit: HoverOrbit, backend: str, method: str) -> bool:

@@ -40,6 +40,7 @@ from flapping.hover import HoverOrbit, HoverProblem, HoverStatus, find_hover_orb
 from flapping.hover.stability import hover_stability
 from flapping.model.morphology import Insect
 from flapping.model.presets import preset_names
+from flapping.periodic.settings import SolverSettings
 from flapping.studies._path import Guess, Step, WarmStart, follow
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -79,6 +80,7 @@ class _Settings:
     backend: str
     amplitude_tol_deg: float
     multiplier_tol: float
+    solver: SolverSettings | None = None
 
 
 def grid_points(grid: Mapping[str, Sequence[float]]) -> list[dict[str, float]]:
@@ -172,12 +174,12 @@ def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
     return row
 
 
-def _multipliers(orbit: HoverOrbit) -> np.ndarray:
+def _multipliers(orbit: HoverOrbit, solver: SolverSettings | None = None) -> np.ndarray:
     """The orbit's Floquet multipliers: the kernel's (its last Newton integration), or those of
     :func:`~flapping.hover.stability.hover_stability` (a sweep needs no averaged system)."""
     if orbit.kernel is not None:
         return np.asarray(orbit.kernel.multipliers)
-    return hover_stability(orbit).multipliers
+    return hover_stability(orbit, settings=solver).multipliers
 
 
 class _Point:
@@ -204,14 +206,15 @@ def _solve_point(point: _Point, guess: Guess[tuple[HoverOrbit, np.ndarray]] | No
                       "multiplier_tol": settings.multiplier_tol}
     if guess is None:
         orbit = find_hover_orbit(problem, backend=settings.backend,
-                                 kernel_options=kernel_options)
+                                 kernel_options=kernel_options, settings=settings.solver)
     else:
         start = guess.previous[0]
         if start.kernel is not None:
             kernel_options["n_steps"] = start.kernel.n_steps
         orbit = find_hover_orbit(problem, amplitude_guess=start.amplitude, x0_guess=start.x0,
-                                 backend=settings.backend, kernel_options=kernel_options)
-    return orbit, _multipliers(orbit)
+                                 backend=settings.backend, kernel_options=kernel_options,
+                                 settings=settings.solver)
+    return orbit, _multipliers(orbit, settings.solver)
 
 
 def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insect],
@@ -289,6 +292,7 @@ def sweep_hover(
     backend: str = "auto",
     amplitude_tol_deg: float = kernel.AMPLITUDE_TOL_DEG,
     multiplier_tol: float = kernel.MULTIPLIER_TOL,
+    settings: SolverSettings | None = None,
 ) -> pandas.DataFrame:
     """Hover orbit and Floquet multipliers (eqs. 29, 42-49) at every point of a parameter grid.
 
@@ -312,6 +316,12 @@ def sweep_hover(
         warning); ``"adaptive"``: the scipy reference path.
     amplitude_tol_deg, multiplier_tol : float
         The kernel's accuracy targets for Phi [deg] and every multiplier (absolute).
+    settings : SolverSettings, optional
+        Solver options of the points solved off the kernel, passed to
+        :func:`~flapping.hover.find_hover_orbit` and
+        :func:`~flapping.hover.stability.hover_stability` (each reads the fields it uses, with
+        its own default for a field left at None). A ``method`` other than ``"DOP853"`` sends
+        every point to the adaptive path.
 
     Returns
     -------
@@ -337,15 +347,18 @@ def sweep_hover(
     import pandas
 
     chunk_size = _validation.integer("chunk_size", chunk_size, low=1)
-    settings = _Settings(_backend(backend),
-                         _validation.positive("amplitude_tol_deg", amplitude_tol_deg),
-                         _validation.positive("multiplier_tol", multiplier_tol))
+    if settings is not None and not isinstance(settings, SolverSettings):
+        raise ValueError(f"`settings` must be a SolverSettings; got {settings!r} "
+                         f"({type(settings).__name__})")
+    settings_ = _Settings(_backend(backend),
+                          _validation.positive("amplitude_tol_deg", amplitude_tol_deg),
+                          _validation.positive("multiplier_tol", multiplier_tol), settings)
     if executor is not None and not isinstance(executor, Executor):
         raise ValueError(f"`executor` must be a concurrent.futures.Executor; got {executor!r}")
     base, points, params, shape = _points(insect, grid)
     order = _snake(shape)
     tasks = [(idx, [points[i] for i in idx]) for idx in _chunks(order, chunk_size)]
-    rows = _run(tasks, base, settings, executor, progress)
+    rows = _run(tasks, base, settings_, executor, progress)
     table = pandas.DataFrame([rows[i] for i in range(len(points))], columns=list(COLUMNS))
     return pandas.concat([pandas.DataFrame(params), table], axis=1)
 
