@@ -346,7 +346,7 @@ class HoverOrbit:
 
 def _sample(model: LongitudinalDynamics, x0: np.ndarray, n_samples: int, method: str, **tol):
     """One period from x0 with the descent z alongside: (t, x (4 rows), z(T) - z(0))."""
-    rhs = _problem_of(model).fields()[0]
+    rhs = HoverProblem.of_model(model).fields()[0]
     t = np.linspace(0.0, model.period, n_samples + 1)
     res = require_success(
         flow(rhs, (0.0, model.period), np.append(x0, 0.0), breakpoints=model.breakpoints,
@@ -621,19 +621,8 @@ def use_kernel(backend: str, model: LongitudinalDynamics, default_settings: bool
     ValueError, ImportError
         As :meth:`HoverProblem.backend`.
     """
-    problem = _problem_of(model)
+    problem = HoverProblem.of_model(model)
     return problem.backend(backend, adaptive_options=not default_settings) == "compiled"
-
-
-def _problem_of(model: LongitudinalDynamics) -> HoverProblem:
-    """The hover problem a model belongs to (its insect, loads and alpha_m; one trim)."""
-    problem = HoverProblem.__new__(HoverProblem)
-    # No trim check: a model at any amplitude (forced_orbit's) has a problem to ask about.
-    for name, value in (("insect", model.insect), ("aerodynamics", model.aerodynamics),
-                        ("alpha_m", model.alpha_m), ("trims", TRIMS[0])):
-        object.__setattr__(problem, name, value)
-    problem.__dict__["model"] = model  # its rhs takes the amplitude: any amplitude's model serves
-    return problem
 
 
 def _kernel_orbit(problem: HoverProblem, amplitude: float, x0: np.ndarray, n_samples: int,

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
 
@@ -94,17 +94,24 @@ class HoverProblem:
         the trim of eq. (40) at the insect's nominal amplitude, as in the paper.
     trims : ("amplitude",) or ("amplitude", "stroke_mean")
         The trim unknowns (:data:`TRIMS`).
+    trim_check : bool, keyword-only
+        Refuse at once an insect that cannot hover even at rest (eq. 40 needs Phi > 90 deg;
+        the default). False skips that check only: the problem of a model at a prescribed
+        amplitude (:meth:`of_model`, for :func:`~flapping.hover.forced_orbit`, which solves no
+        trim) exists whether or not the insect can hover.
 
     Raises
     ------
     ValueError
-        For a bad argument, or an insect too heavy to trim (eq. 40 needs Phi > 90 deg).
+        For a bad argument, or (with ``trim_check``) an insect too heavy to trim (eq. 40 needs
+        Phi > 90 deg).
     """
 
     insect: Insect
     aerodynamics: str = "linear"
     alpha_m: float | None = None
     trims: tuple[str, ...] = ("amplitude",)
+    trim_check: bool = field(default=True, kw_only=True, repr=False)
 
     def __post_init__(self) -> None:
         insect = _validation.instance("insect", self.insect, Insect)
@@ -113,10 +120,34 @@ class HoverProblem:
                    else self.alpha_m)
         alpha_m = check_alpha_m(alpha_m)
         trims = check_trims(self.trims)
-        check_trim(insect, alpha_m)
+        if _validation.boolean("trim_check", self.trim_check):
+            check_trim(insect, alpha_m)
         object.__setattr__(self, "aerodynamics", aerodynamics)
         object.__setattr__(self, "alpha_m", alpha_m)
         object.__setattr__(self, "trims", trims)
+
+    @classmethod
+    def of_model(cls, model: LongitudinalDynamics) -> HoverProblem:
+        """The hover problem a model belongs to: its insect, loads and alpha_m, one trim.
+
+        Built without the trim check (``trim_check=False``): the model may be at any amplitude
+        (:func:`~flapping.hover.forced_orbit`'s), and its problem only hands out right-hand sides
+        and decides the backend. The problem's :attr:`model` is ``model`` itself (its right-hand
+        side takes the amplitude as an argument, so a model at any amplitude serves).
+
+        Parameters
+        ----------
+        model : LongitudinalDynamics
+
+        Returns
+        -------
+        HoverProblem
+        """
+        model = _validation.instance("model", model, LongitudinalDynamics)
+        problem = cls(model.insect, model.aerodynamics, model.alpha_m, TRIMS[0],
+                      trim_check=False)
+        problem.__dict__["model"] = model  # the cached_property's slot: no second model built
+        return problem
 
     # ---------------------------------------------------------------- what the solvers ask
     @property
