@@ -10,6 +10,8 @@ How it runs:
 - with the compiled kernel (:mod:`flapping.fast`, eq. 29's linear loads) when numba is installed,
   else with the adaptive scipy path (:func:`~flapping.hover.find_hover_orbit` and
   :func:`~flapping.hover.stability.hover_stability`; a warning says so: it is ~1000 times slower);
+  the blade-element loads (``aerodynamics``) on the fixed-step path, as
+  :func:`~flapping.hover.find_hover_orbit` runs them (or on any path named by ``backend``);
 - the points are visited in a boustrophedon ("snake") order through the grid, split into chunks
   of consecutive points; within a chunk each solve starts from its neighbour's answer (x0, Phi
   and the step count), so most take three Newton iterations instead of five;
@@ -36,8 +38,9 @@ import numpy as np
 import flapping._validation as _validation
 from flapping.errors import ConvergenceError, HoverDriftWarning
 from flapping.fast import kernel
-from flapping.hover import HoverOrbit, HoverProblem, HoverStatus, find_hover_orbit
+from flapping.hover import BACKENDS, HoverOrbit, HoverProblem, HoverStatus, find_hover_orbit
 from flapping.hover.stability import hover_stability
+from flapping.model.dynamics import AERODYNAMIC_MODELS
 from flapping.model.morphology import Insect
 from flapping.model.presets import preset_names
 from flapping.periodic.settings import SolverSettings
@@ -81,6 +84,7 @@ class _Settings:
     amplitude_tol_deg: float
     multiplier_tol: float
     solver: SolverSettings | None = None
+    aerodynamics: str = "linear"
 
 
 def grid_points(grid: Mapping[str, Sequence[float]]) -> list[dict[str, float]]:
@@ -201,7 +205,7 @@ class _Point:
 def _solve_point(point: _Point, guess: Guess[tuple[HoverOrbit, np.ndarray]] | None,
                  settings: _Settings) -> tuple[HoverOrbit, np.ndarray]:
     """One point: from the previous orbit's x0, Phi and step count, or cold without a guess."""
-    problem = HoverProblem(point.insect)
+    problem = HoverProblem(point.insect, settings.aerodynamics)
     kernel_options = {"amplitude_tol_deg": settings.amplitude_tol_deg,
                       "multiplier_tol": settings.multiplier_tol}
     if guess is None:
@@ -209,10 +213,14 @@ def _solve_point(point: _Point, guess: Guess[tuple[HoverOrbit, np.ndarray]] | No
                                  kernel_options=kernel_options, settings=settings.solver)
     else:
         start = guess.previous[0]
+        fixed_step_options = None
         if start.kernel is not None:
             kernel_options["n_steps"] = start.kernel.n_steps
+        elif start.fixed_step is not None:  # this point runs the fixed-step path too
+            fixed_step_options = {"n_steps": start.fixed_step.n_steps}
         orbit = find_hover_orbit(problem, amplitude_guess=start.amplitude, x0_guess=start.x0,
                                  backend=settings.backend, kernel_options=kernel_options,
+                                 fixed_step_options=fixed_step_options,
                                  settings=settings.solver)
     return orbit, _multipliers(orbit, settings.solver)
 
@@ -241,10 +249,16 @@ def _row_of(step: Step[tuple[HoverOrbit, np.ndarray]], backend: str) -> dict[str
 
 
 # =========================================================================== the sweep
-def _backend(backend: str) -> str:
-    backend = _validation.choice("backend", backend, ("auto", "compiled", "adaptive"))
-    if backend == "adaptive":
+def _backend(backend: str, aerodynamics: str) -> str:
+    backend = _validation.choice("backend", backend, BACKENDS)
+    if backend in ("adaptive", "fixed-step"):
         return backend
+    if aerodynamics != "linear":
+        if backend == "compiled":
+            raise ValueError(f"backend='compiled' does not apply: the kernel has eq. (29)'s "
+                             f"linear loads only, not aerodynamics={aerodynamics!r}; use "
+                             "backend='fixed-step' or 'auto'")
+        return backend  # "auto": the fixed-step path, as find_hover_orbit runs it
     if kernel.numba_available():
         return backend  # each point's HoverProblem decides where "auto" runs
     if backend == "compiled":
@@ -293,6 +307,7 @@ def sweep_hover(
     amplitude_tol_deg: float = kernel.AMPLITUDE_TOL_DEG,
     multiplier_tol: float = kernel.MULTIPLIER_TOL,
     settings: SolverSettings | None = None,
+    aerodynamics: str = "linear",
 ) -> pandas.DataFrame:
     """Hover orbit and Floquet multipliers (eqs. 29, 42-49) at every point of a parameter grid.
 
@@ -311,9 +326,14 @@ def sweep_hover(
         Show a tqdm progress bar.
     chunk_size : int
         Consecutive points per task (warm starts run within a chunk), >= 1.
-    backend : {"auto", "compiled", "adaptive"}
-        ``"auto"``: the compiled kernel if numba is installed, else the adaptive path (with a
-        warning); ``"adaptive"``: the scipy reference path.
+    backend : {"auto", "compiled", "adaptive", "fixed-step"}
+        ``"auto"``: for the linear loads the compiled kernel if numba is installed, else the
+        adaptive path (with a warning); for the blade-element loads the fixed-step path (as
+        :func:`~flapping.hover.find_hover_orbit` decides, with its fallback to the adaptive
+        path). ``"adaptive"``: the scipy reference path; ``"fixed-step"``: Newton on the
+        fixed-step period map (:data:`flapping.hover.BACKENDS`), any loads model, each point
+        warm-started with its neighbour's step count. The row's ``backend`` says which path
+        solved it.
     amplitude_tol_deg, multiplier_tol : float
         The kernel's accuracy targets for Phi [deg] and every multiplier (absolute).
     settings : SolverSettings, optional
@@ -322,6 +342,9 @@ def sweep_hover(
         :func:`~flapping.hover.stability.hover_stability` (each reads the fields it uses, with
         its own default for a field left at None). A ``method`` other than ``"DOP853"`` sends
         every point to the adaptive path.
+    aerodynamics : {"linear", "small-angle", "exact"}
+        Loads model of every point (:class:`~flapping.model.dynamics.LongitudinalDynamics`;
+        ``"linear"`` is eq. 29).
 
     Returns
     -------
@@ -350,9 +373,11 @@ def sweep_hover(
     if settings is not None and not isinstance(settings, SolverSettings):
         raise ValueError(f"`settings` must be a SolverSettings; got {settings!r} "
                          f"({type(settings).__name__})")
-    settings_ = _Settings(_backend(backend),
+    aerodynamics = _validation.choice("aerodynamics", aerodynamics, AERODYNAMIC_MODELS)
+    settings_ = _Settings(_backend(backend, aerodynamics),
                           _validation.positive("amplitude_tol_deg", amplitude_tol_deg),
-                          _validation.positive("multiplier_tol", multiplier_tol), settings)
+                          _validation.positive("multiplier_tol", multiplier_tol), settings,
+                          aerodynamics)
     if executor is not None and not isinstance(executor, Executor):
         raise ValueError(f"`executor` must be a concurrent.futures.Executor; got {executor!r}")
     base, points, params, shape = _points(insect, grid)
