@@ -25,14 +25,16 @@ def test_a_blade_element_sweep_runs_the_fixed_step_path():
     assert table.converged.all() and (table.message == "").all()
     assert (table.n_steps >= 64).all() and (table.amplitude_error_deg < 1e-8).all()
     # The first point starts cold: its row is the orbit find_hover_orbit finds on that path,
-    # and the multipliers are hover_stability's, exactly.
+    # and the multipliers and their error estimate are hover_stability's on that path, exactly.
     orbit = find_hover_orbit(flapping.hawkmoth(), aerodynamics="small-angle",
                              backend="fixed-step")
     row = table.iloc[0]
     assert row.amplitude_deg == orbit.amplitude_deg and row.nit == orbit.nit
     assert row.amplitude_error_deg == math.degrees(orbit.fixed_step.unknowns_error[4])
-    mu = hover_stability(orbit).multipliers
-    np.testing.assert_array_equal([row[f"mu{i}_real"] for i in range(1, 5)], mu.real)
+    stability = hover_stability(orbit, backend="fixed-step")
+    np.testing.assert_array_equal([row[f"mu{i}_real"] for i in range(1, 5)],
+                                  stability.multipliers.real)
+    assert row.multiplier_error == stability.multiplier_error > 0.0
 
 
 def test_the_kernel_is_refused_at_once_for_the_blade_element_loads():

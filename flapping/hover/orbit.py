@@ -191,7 +191,9 @@ class HoverOrbit:
         error's Richardson estimate and can understate it where the convergence in the step
         count is not yet regular (measured on the hawkmoth, small-angle, 64 steps: 1.9e-10 from
         the adaptive analysis against an estimate of 5.8e-11).
-        :func:`~flapping.hover.stability.hover_stability` is the reference for the multipliers.
+        ``hover_stability(orbit, backend="fixed-step")`` gives the multipliers at twice the
+        steps with the change as their error estimate
+        (:attr:`~flapping.hover.stability.HoverStability.multiplier_error`).
     """
 
     problem: HoverProblem | None
@@ -534,7 +536,7 @@ def _adaptive_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, n_
 
 #: Options of the fixed-step path (``fixed_step_options``) and its default start step count.
 _FIXED_STEP_OPTIONS = ("n_steps", "error_tol", "multiplier_tol", "max_nfev")
-_FIXED_STEP_START = 64
+FIXED_STEP_START = 64
 
 
 def _fixed_step_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, n_samples: int,
@@ -548,7 +550,7 @@ def _fixed_step_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, 
     rtol, atol = _validation.tolerances(rtol, atol)
     funs, switches = problem.graded_fields()
     extra = problem.n_conditions
-    settings = {"n_steps": _FIXED_STEP_START, **options}
+    settings = {"n_steps": FIXED_STEP_START, **options}
     result = find_periodic_orbit_fixed_step(
         funs, np.concatenate([x0, np.zeros(extra)]), 2.0, free_params=list(guess),
         fixed=tuple(range(4, 4 + extra)), breakpoints=(0.5,), switches=switches, tol=tol,

@@ -50,6 +50,7 @@ __all__ = [
     "STATUS",
     "FixedStepOrbit",
     "find_periodic_orbit_fixed_step",
+    "fixed_step_monodromy",
 ]
 
 #: Steps per segment to start with (the error estimate adds more if needed).
@@ -554,3 +555,70 @@ def _probe(pmap: PeriodMap, x: np.ndarray, p: np.ndarray | None) -> None:
                 raise ValueError(f"`{name}` must return an array of shape {shapes[name]}, got "
                                  f"shape {out.shape}")
             check.finite_output(name, out, t, x)
+
+
+def fixed_step_monodromy(
+    fun: Callable[..., Any] | Sequence[Callable[..., Any]],
+    x0: Any,
+    period: float,
+    *,
+    n_steps: int,
+    free_params: Any = None,
+    jac: Callable[..., Any] | Sequence[Callable[..., Any]] | None = None,
+    param_jac: Callable[..., Any] | Sequence[Callable[..., Any]] | None = None,
+    breakpoints: Sequence[float] = (),
+    switches: Sequence[Any] = (),
+    args: tuple[Any, ...] = (),
+    max_nfev: int | None = None,
+) -> np.ndarray:
+    """d x(T) / d x(0) of the fixed-step DOP853 period map at ``n_steps`` steps per segment.
+
+    The derivative :func:`find_periodic_orbit_fixed_step` takes of its last pass
+    (:attr:`FixedStepOrbit.monodromy`), at any step count: from the variational equations with
+    ``jac`` (and ``param_jac`` with parameters) and no switches, else central differences of the
+    discrete map. Evaluated at two step counts it gives an error estimate of the monodromy and
+    its multipliers (their change), with no solve.
+
+    Parameters
+    ----------
+    fun, jac, param_jac, free_params, breakpoints, switches, args, max_nfev
+        As for :func:`find_periodic_orbit_fixed_step` (``free_params``: the parameters' values).
+    x0 : array_like, shape (n,)
+        The initial state (a point of the orbit, for a monodromy matrix).
+    period : float
+        The period T > 0.
+    n_steps : int
+        Steps per segment, in [2, :data:`MAX_STEPS`].
+
+    Returns
+    -------
+    ndarray, shape (n, n)
+        Read-only.
+
+    Raises
+    ------
+    ValueError
+        For bad arguments, or a callable returning the wrong shape or a non-finite value at x0.
+    ConvergenceError
+        If the integration produces a non-finite value or exceeds ``max_nfev``.
+    """
+    x = check.vector("x0", x0)
+    T = check.positive("period", period)
+    b = seg.check_breakpoints(breakpoints)
+    params = (None if free_params is None
+              else check.vector("free_params", np.atleast_1d(free_params)))
+    funs, jacs, pjacs = _callables(fun, jac, param_jac, len(b) + 1, params is not None)
+    n = check.integer("n_steps", n_steps, low=2, high=MAX_STEPS)
+    cap = MAX_NFEV if max_nfev is None else check.integer("max_nfev", max_nfev, low=1,
+                                                          high=MAX_NFEV_CAP)
+    pmap = PeriodMap(funs, jacs, pjacs, tuple(args), T, b, params is not None, cap,
+                     _switches(switches, len(b) + 1))
+    _probe(pmap, x, params)
+    try:
+        _, D = pmap.derivative(x, params, n, range(x.size))
+    except (NonFinite, OutOfWork) as exc:
+        raise ConvergenceError(f"the fixed-step monodromy at {n} steps per segment failed: "
+                               f"{exc}", x=x) from None
+    matrix = np.array(D, dtype=float)
+    matrix.flags.writeable = False
+    return matrix

@@ -144,7 +144,7 @@ def _snake(shape: tuple[int, ...]) -> list[int]:
 
 # =========================================================================== one point
 def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
-         backend: str) -> dict[str, Any]:
+         backend: str, mu_error: float = math.nan) -> dict[str, Any]:
     """The result columns of one point (NaN where there is no answer).
 
     ``converged`` is true only for a hover orbit: a periodic orbit that drifts (a hinge off the
@@ -171,19 +171,23 @@ def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
     elif orbit.fixed_step is not None:
         fs = orbit.fixed_step
         row.update(amplitude_error_deg=math.degrees(float(fs.unknowns_error[4])),
-                   multiplier_error=fs.multiplier_error, n_steps=fs.n_steps)
+                   multiplier_error=mu_error, n_steps=fs.n_steps)
     row.update(zip(("u0", "w0", "q0", "theta0"), map(float, orbit.x0), strict=True))
     for i in range(4):
         row[f"mu{i + 1}_real"], row[f"mu{i + 1}_imag"] = float(mu[i].real), float(mu[i].imag)
     return row
 
 
-def _multipliers(orbit: HoverOrbit, solver: SolverSettings | None = None) -> np.ndarray:
-    """The orbit's Floquet multipliers: the kernel's (its last Newton integration), or those of
-    :func:`~flapping.hover.stability.hover_stability` (a sweep needs no averaged system)."""
+def _multipliers(orbit: HoverOrbit, solver: SolverSettings | None = None
+                 ) -> tuple[np.ndarray, float]:
+    """The orbit's Floquet multipliers and their error estimate: the kernel's (its last Newton
+    integration), or those of :func:`~flapping.hover.stability.hover_stability`, on the
+    fixed-step path for an orbit found there (its estimate: the change from n to 2n steps)."""
     if orbit.kernel is not None:
-        return np.asarray(orbit.kernel.multipliers)
-    return hover_stability(orbit, settings=solver).multipliers
+        return np.asarray(orbit.kernel.multipliers), orbit.kernel.multiplier_error
+    backend = "fixed-step" if orbit.backend == "fixed-step" else "auto"
+    stability = hover_stability(orbit, backend=backend, settings=solver)
+    return stability.multipliers, stability.multiplier_error
 
 
 class _Point:
@@ -202,8 +206,8 @@ class _Point:
         return self.base.with_(**self.point)
 
 
-def _solve_point(point: _Point, guess: Guess[tuple[HoverOrbit, np.ndarray]] | None,
-                 settings: _Settings) -> tuple[HoverOrbit, np.ndarray]:
+def _solve_point(point: _Point, guess: Guess[tuple[HoverOrbit, np.ndarray, float]] | None,
+                 settings: _Settings) -> tuple[HoverOrbit, np.ndarray, float]:
     """One point: from the previous orbit's x0, Phi and step count, or cold without a guess."""
     problem = HoverProblem(point.insect, settings.aerodynamics)
     kernel_options = {"amplitude_tol_deg": settings.amplitude_tol_deg,
@@ -222,7 +226,7 @@ def _solve_point(point: _Point, guess: Guess[tuple[HoverOrbit, np.ndarray]] | No
                                  backend=settings.backend, kernel_options=kernel_options,
                                  fixed_step_options=fixed_step_options,
                                  settings=settings.solver)
-    return orbit, _multipliers(orbit, settings.solver)
+    return (orbit, *_multipliers(orbit, settings.solver))
 
 
 def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insect],
@@ -241,11 +245,12 @@ def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insec
     return [_row_of(step, settings.backend) for step in steps]
 
 
-def _row_of(step: Step[tuple[HoverOrbit, np.ndarray]], backend: str) -> dict[str, Any]:
+def _row_of(step: Step[tuple[HoverOrbit, np.ndarray, float]], backend: str) -> dict[str, Any]:
     """The row of a solved or failed point."""
     if step.result is None:
         return _row(None, None, f"{type(step.error).__name__}: {step.error}", backend)
-    return _row(*step.result, "", backend)
+    orbit, mu, mu_error = step.result
+    return _row(orbit, mu, "", backend, mu_error)
 
 
 # =========================================================================== the sweep
@@ -355,7 +360,10 @@ def sweep_hover(
         ``stable``; ``converged`` (a hover orbit was found: false for one that drifts);
         ``status`` (:class:`~flapping.hover.HoverStatus`, -1 for a failed point);
         ``forward_speed`` and ``climb_speed`` (cycle means of the inertial velocities [m/s]);
-        the error estimates; ``nit``; ``n_steps`` (per half-stroke);
+        the error estimates ``amplitude_error_deg`` and ``multiplier_error`` (largest absolute
+        error of a multiplier: the kernel's estimate, or on the fixed-step path
+        :attr:`~flapping.hover.stability.HoverStability.multiplier_error`, the multipliers being
+        that analysis's; NaN on the adaptive path); ``nit``; ``n_steps`` (per half-stroke);
         ``backend``; ``message`` (why a point failed; empty otherwise).
 
     Raises
