@@ -42,10 +42,11 @@ _CACHE = 8
 class HoverFields:
     """The hover problem's right-hand sides and Jacobians as functions of one insect field.
 
-    ``funs[k](t, y, p, q)`` and ``jacs[k](t, y, p, q)`` on half-stroke k, y = (u, w, q, theta, z),
-    p the field's value, ``q = [Phi]``; :meth:`period` gives the flapping period at p. Each value
-    of p is a :class:`~flapping.hover.HoverProblem` (a few are kept), whose fields are the ones
-    :func:`~flapping.hover.find_hover_orbit` solves.
+    ``funs[k](t, y, p, params)`` and ``jacs[k](t, y, p, params)`` on half-stroke k,
+    y = (u, w, q, theta, z), p the field's value (the continuation parameter), ``params = [Phi]``
+    (the free parameter solved with the orbit); :meth:`period` gives the flapping period at p.
+    Each value of p is a :class:`~flapping.hover.HoverProblem` (a few are kept), whose fields are
+    the ones :func:`~flapping.hover.find_hover_orbit` solves.
 
     Parameters
     ----------
@@ -94,8 +95,8 @@ class HoverFields:
         return self.problem(float(p)).period
 
     def _field(self, which: int, k: int) -> Any:
-        def f(t: float, y: np.ndarray, p: float, q: np.ndarray) -> np.ndarray:
-            return self._at(p)[1][which][k](t, y, q)
+        def f(t: float, y: np.ndarray, p: float, params: np.ndarray) -> np.ndarray:
+            return self._at(p)[1][which][k](t, y, params)
         return f
 
 

@@ -743,8 +743,8 @@ def paper_hover_problem(
     def field(k):
         s = segment_stroke_sign(k)
 
-        def f(t, y, p):
-            dx = model.rhs(t, y[:4], s, p[0])
+        def f(t, y, params):
+            dx = model.rhs(t, y[:4], s, params[0])
             u, w, q, th = y[:4]
             dh = (dx[1] * math.sin(th) + w * math.cos(th) * q
                   - dx[0] * math.cos(th) + u * math.sin(th) * q)

@@ -11,7 +11,7 @@ never rebuild it.
 The augmented state: (u, w, q, theta) and the descent z (z' = -u sin theta + w cos theta, z(0) = 0
 held fixed, so that periodicity of z is zero mean vertical speed); with the mean stroke angle as a
 second trim, the forward distance x_e too (zero mean horizontal speed). The trims are the free
-parameters: p = [Phi] or p = [Phi, phi_bar].
+parameters: params = [Phi] or params = [Phi, phi_bar].
 """
 
 from __future__ import annotations
@@ -172,9 +172,10 @@ class HoverProblem:
         return _kernel.KernelProblem.of(self.insect, self.alpha_m)
 
     def fields(self) -> tuple[list[Any], list[Any], list[Any]]:
-        """Per half-stroke ``f(t, y, p)``, ``J(t, y, p)``, ``P(t, y, p) = df/dp``.
+        """Per half-stroke ``f(t, y, params)``, ``J(t, y, params)`` and
+        ``P(t, y, params) = df/dparams``.
 
-        y is the augmented state (u, w, q, theta, z[, x_e]) and p the trims [Phi[, phi_bar]].
+        y is the augmented state (u, w, q, theta, z[, x_e]) and params the trims [Phi[, phi_bar]].
         """
         return _Fields(self).lists()
 
@@ -183,14 +184,15 @@ class HoverProblem:
 
         Per half-stroke k the time is t = T (k + g(s - k)) / 2 with s in [k, k + 1] and g the
         grading of :data:`GRADING_POWER` (g(0) = 0, g(1) = 1, g'(0) = g'(1) = 0); the field in s
-        is ``dt/ds f(t(s), y, p)``. The period in s is 2, the breakpoint at s = 1 (fraction 0.5).
+        is ``dt/ds f(t(s), y, params)``. The period in s is 2, the breakpoint at s = 1 (fraction
+        0.5).
 
         Returns
         -------
         funs : list of callables
-            ``F(s, y, p)`` per half-stroke.
+            ``F(s, y, params)`` per half-stroke.
         switches : list of tuples of callables
-            Per half-stroke, ``g(s, y, p)`` whose sign changes mark the loads' kinks (a jump of
+            Per half-stroke, ``g(s, y, params)`` whose sign changes mark the loads' kinks (a jump of
             a derivative of the right-hand side at a state-dependent time): the section airspeed
             U = 0 at the wing root (u - q h_w = 0) and at the tip
             ((u - q h_w) cos(phi) + phi_dot R = 0), and q = 0 (the rotational damping's
@@ -289,15 +291,15 @@ class _Fields:
 
     def lists(self) -> tuple[list[Any], list[Any], list[Any]]:
         signs = [segment_stroke_sign(k) for k in range(len(self.problem.model.breakpoints) + 1)]
-        return ([lambda t, y, p, _s=s: self.rhs(t, y, p, _s) for s in signs],
-                [lambda t, y, p, _s=s: self.jac(t, y, p, _s) for s in signs],
-                [lambda t, y, p, _s=s: self.param_jac(t, y, p, _s) for s in signs])
+        return ([lambda t, y, params, _s=s: self.rhs(t, y, params, _s) for s in signs],
+                [lambda t, y, params, _s=s: self.jac(t, y, params, _s) for s in signs],
+                [lambda t, y, params, _s=s: self.param_jac(t, y, params, _s) for s in signs])
 
-    def at(self, p: np.ndarray) -> LongitudinalDynamics:
+    def at(self, params: np.ndarray) -> LongitudinalDynamics:
         """The model at the iterate's mean stroke angle (the problem's own with one trim)."""
         if self.size == 5:
             return self.problem.model
-        stroke_mean = float(p[1])
+        stroke_mean = float(params[1])
         found = self.models.get(stroke_mean)
         if found is None:
             if not -math.pi / 2 < stroke_mean < math.pi / 2:
@@ -310,31 +312,31 @@ class _Fields:
             self.models[stroke_mean] = found
         return found
 
-    def rhs(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
-        check_iterate_amplitude(p[0])
+    def rhs(self, t: float, y: np.ndarray, params: np.ndarray, s: float) -> np.ndarray:
+        check_iterate_amplitude(params[0])
         out = np.empty(self.size)
-        out[:4] = self.at(p).rhs(t, y, s, p[0])
+        out[:4] = self.at(params).rhs(t, y, s, params[0])
         forward, down = inertial_velocity(y[0], y[1], y[3])
         out[4] = down
         if self.size == 6:
             out[5] = forward
         return out
 
-    def jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
+    def jac(self, t: float, y: np.ndarray, params: np.ndarray, s: float) -> np.ndarray:
         out = np.zeros((self.size, self.size))
-        out[:4, :4] = self.at(p).jac(t, y, s, p[0])
+        out[:4, :4] = self.at(params).jac(t, y, s, params[0])
         forward, down = inertial_velocity_jac(y[0], y[1], y[3])
         out[4, :4] = down
         if self.size == 6:
             out[5, :4] = forward
         return out
 
-    def param_jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
+    def param_jac(self, t: float, y: np.ndarray, params: np.ndarray, s: float) -> np.ndarray:
         out = np.zeros((self.size, self.size - 4))
-        model = self.at(p)
-        out[:4, :1] = model.amplitude_jac(t, y, s, p[0])
+        model = self.at(params)
+        out[:4, :1] = model.amplitude_jac(t, y, s, params[0])
         if self.size == 6:
-            out[:4, 1:] = model.stroke_mean_jac(t, y, s, p[0])
+            out[:4, 1:] = model.stroke_mean_jac(t, y, s, params[0])
         return out
 
 
@@ -353,10 +355,10 @@ def grading_derivative(s: float) -> float:
 
 
 def _graded(f: Any, k: int, half: float) -> Any:
-    """F(s, y, p) = dt/ds f(t(s), y, p) on half-stroke k."""
-    def field(s: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """F(s, y, params) = dt/ds f(t(s), y, params) on half-stroke k."""
+    def field(s: float, y: np.ndarray, params: np.ndarray) -> np.ndarray:
         local = s - k
-        return (half * grading_derivative(local)) * f(half * (k + grading(local)), y, p)
+        return (half * grading_derivative(local)) * f(half * (k + grading(local)), y, params)
     return field
 
 
@@ -367,17 +369,17 @@ def _switches(problem: HoverProblem, k: int) -> tuple[Any, ...]:
     omega, half = 2.0 * math.pi * insect.frequency, 0.5 * problem.period
     two_trims = problem.n_conditions == 2
 
-    def root(s: float, y: np.ndarray, p: np.ndarray) -> float:
+    def root(s: float, y: np.ndarray, params: np.ndarray) -> float:
         return float(y[0] - y[2] * h_w)
 
-    def tip(s: float, y: np.ndarray, p: np.ndarray) -> float:
+    def tip(s: float, y: np.ndarray, params: np.ndarray) -> float:
         t = half * (k + grading(s - k))
-        phi_bar = float(p[1]) if two_trims else insect.stroke_mean
-        phi = phi_bar + p[0] * math.cos(omega * t)
+        phi_bar = float(params[1]) if two_trims else insect.stroke_mean
+        phi = phi_bar + params[0] * math.cos(omega * t)
         return float((y[0] - y[2] * h_w) * math.cos(phi)
-                     - omega * p[0] * math.sin(omega * t) * span)
+                     - omega * params[0] * math.sin(omega * t) * span)
 
-    def pitch_rate(s: float, y: np.ndarray, p: np.ndarray) -> float:
+    def pitch_rate(s: float, y: np.ndarray, params: np.ndarray) -> float:
         return float(y[2])
 
     return (root, tip, pitch_rate)

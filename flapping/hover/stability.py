@@ -607,7 +607,7 @@ class SpeedPitchCubic:
     With the vertical speed decoupled (its averaged couplings vanish by symmetry at x_h = 0):
     u' = Xu u + Xq q - g theta, q' = Mu u + Mq q, theta' = q, whose characteristic polynomial is
 
-        p(lambda) = lambda (lambda - Xu)(lambda - Mq) - Xq Mu lambda + g Mu.
+        c(lambda) = lambda (lambda - Xu)(lambda - Mq) - Xq Mu lambda + g Mu.
 
     Attributes
     ----------
@@ -615,14 +615,14 @@ class SpeedPitchCubic:
         The entries of the averaged Jacobian used (g is the -J[0, 3] entry, g cos(theta) on the
         orbit's mean).
     coefficients : ndarray
-        Of p, highest power first.
+        Of c, highest power first.
     roots : ndarray
-        Roots of p, sorted by real part (descending).
+        Roots of c, sorted by real part (descending).
     quasi_static_root : float
         Positive root of lambda^2 - Xu lambda - g Mu / Mq = 0, the approximation in which the
         pitch rate follows the speed at once (large ``|Mq|``): a negative pitch stiffness.
     routh_hurwitz : tuple of float
-        (a2 a1, a0) of p = lambda^3 + a2 lambda^2 + a1 lambda + a0; all roots in the left
+        (a2 a1, a0) of c = lambda^3 + a2 lambda^2 + a1 lambda + a0; all roots in the left
         half-plane iff a2, a1, a0 > 0 and a2 a1 > a0.
     """
 

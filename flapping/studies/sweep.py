@@ -414,7 +414,7 @@ def _points(insect: Insect | Sequence[Insect], grid: Mapping[str, Sequence[float
     base = insect
     axes = _axes(grid)
     points: list[Any] = grid_points(axes)
-    columns: dict[str, list[Any]] = {name: [p[name] for p in points] for name in axes}
+    columns: dict[str, list[Any]] = {name: [point[name] for point in points] for name in axes}
     return base, points, columns, tuple(len(v) for v in axes.values())
 
 
