@@ -17,7 +17,7 @@ from flapping.studies.sweep import sweep_hover  # noqa: E402
 GRID = {"hinge_height": [0.0, 1e-3]}
 
 
-@pytest.mark.slow  # ~40 s: three blade-element orbits on the fixed-step path in Python
+@pytest.mark.slow  # 1-2 min: three blade-element orbits and their fixed-step analyses, in Python
 def test_a_blade_element_sweep_runs_the_fixed_step_path():
     table = sweep_hover(flapping.hawkmoth(), GRID, progress=False, aerodynamics="small-angle",
                         backend="fixed-step")
