@@ -11,14 +11,14 @@ never rebuild it.
 The augmented state: (u, w, q, theta) and the descent z (z' = -u sin theta + w cos theta, z(0) = 0
 held fixed, so that periodicity of z is zero mean vertical speed); with the mean stroke angle as a
 second trim, the forward distance x_e too (zero mean horizontal speed). The trims are the free
-parameters: p = [Phi] or p = [Phi, phi_bar].
+parameters: params = [Phi] or params = [Phi, phi_bar].
 """
 
 from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
 
@@ -94,17 +94,24 @@ class HoverProblem:
         the trim of eq. (40) at the insect's nominal amplitude, as in the paper.
     trims : ("amplitude",) or ("amplitude", "stroke_mean")
         The trim unknowns (:data:`TRIMS`).
+    trim_check : bool, keyword-only
+        Refuse at once an insect that cannot hover even at rest (eq. 40 needs Phi > 90 deg;
+        the default). False skips that check only: the problem of a model at a prescribed
+        amplitude (:meth:`of_model`, for :func:`~flapping.hover.forced_orbit`, which solves no
+        trim) exists whether or not the insect can hover.
 
     Raises
     ------
     ValueError
-        For a bad argument, or an insect too heavy to trim (eq. 40 needs Phi > 90 deg).
+        For a bad argument, or (with ``trim_check``) an insect too heavy to trim (eq. 40 needs
+        Phi > 90 deg).
     """
 
     insect: Insect
     aerodynamics: str = "linear"
     alpha_m: float | None = None
     trims: tuple[str, ...] = ("amplitude",)
+    trim_check: bool = field(default=True, kw_only=True, repr=False)
 
     def __post_init__(self) -> None:
         insect = _validation.instance("insect", self.insect, Insect)
@@ -113,10 +120,34 @@ class HoverProblem:
                    else self.alpha_m)
         alpha_m = check_alpha_m(alpha_m)
         trims = check_trims(self.trims)
-        check_trim(insect, alpha_m)
+        if _validation.boolean("trim_check", self.trim_check):
+            check_trim(insect, alpha_m)
         object.__setattr__(self, "aerodynamics", aerodynamics)
         object.__setattr__(self, "alpha_m", alpha_m)
         object.__setattr__(self, "trims", trims)
+
+    @classmethod
+    def of_model(cls, model: LongitudinalDynamics) -> HoverProblem:
+        """The hover problem a model belongs to: its insect, loads and alpha_m, one trim.
+
+        Built without the trim check (``trim_check=False``): the model may be at any amplitude
+        (:func:`~flapping.hover.forced_orbit`'s), and its problem only hands out right-hand sides
+        and decides the backend. The problem's :attr:`model` is ``model`` itself (its right-hand
+        side takes the amplitude as an argument, so a model at any amplitude serves).
+
+        Parameters
+        ----------
+        model : LongitudinalDynamics
+
+        Returns
+        -------
+        HoverProblem
+        """
+        model = _validation.instance("model", model, LongitudinalDynamics)
+        problem = cls(model.insect, model.aerodynamics, model.alpha_m, TRIMS[0],
+                      trim_check=False)
+        problem.__dict__["model"] = model  # the cached_property's slot: no second model built
+        return problem
 
     # ---------------------------------------------------------------- what the solvers ask
     @property
@@ -141,9 +172,10 @@ class HoverProblem:
         return _kernel.KernelProblem.of(self.insect, self.alpha_m)
 
     def fields(self) -> tuple[list[Any], list[Any], list[Any]]:
-        """Per half-stroke ``f(t, y, p)``, ``J(t, y, p)``, ``P(t, y, p) = df/dp``.
+        """Per half-stroke ``f(t, y, params)``, ``J(t, y, params)`` and
+        ``P(t, y, params) = df/dparams``.
 
-        y is the augmented state (u, w, q, theta, z[, x_e]) and p the trims [Phi[, phi_bar]].
+        y is the augmented state (u, w, q, theta, z[, x_e]) and params the trims [Phi[, phi_bar]].
         """
         return _Fields(self).lists()
 
@@ -152,14 +184,15 @@ class HoverProblem:
 
         Per half-stroke k the time is t = T (k + g(s - k)) / 2 with s in [k, k + 1] and g the
         grading of :data:`GRADING_POWER` (g(0) = 0, g(1) = 1, g'(0) = g'(1) = 0); the field in s
-        is ``dt/ds f(t(s), y, p)``. The period in s is 2, the breakpoint at s = 1 (fraction 0.5).
+        is ``dt/ds f(t(s), y, params)``. The period in s is 2, the breakpoint at s = 1 (fraction
+        0.5).
 
         Returns
         -------
         funs : list of callables
-            ``F(s, y, p)`` per half-stroke.
+            ``F(s, y, params)`` per half-stroke.
         switches : list of tuples of callables
-            Per half-stroke, ``g(s, y, p)`` whose sign changes mark the loads' kinks (a jump of
+            Per half-stroke, ``g(s, y, params)`` whose sign changes mark the loads' kinks (a jump of
             a derivative of the right-hand side at a state-dependent time): the section airspeed
             U = 0 at the wing root (u - q h_w = 0) and at the tip
             ((u - q h_w) cos(phi) + phi_dot R = 0), and q = 0 (the rotational damping's
@@ -258,15 +291,15 @@ class _Fields:
 
     def lists(self) -> tuple[list[Any], list[Any], list[Any]]:
         signs = [segment_stroke_sign(k) for k in range(len(self.problem.model.breakpoints) + 1)]
-        return ([lambda t, y, p, _s=s: self.rhs(t, y, p, _s) for s in signs],
-                [lambda t, y, p, _s=s: self.jac(t, y, p, _s) for s in signs],
-                [lambda t, y, p, _s=s: self.param_jac(t, y, p, _s) for s in signs])
+        return ([lambda t, y, params, _s=s: self.rhs(t, y, params, _s) for s in signs],
+                [lambda t, y, params, _s=s: self.jac(t, y, params, _s) for s in signs],
+                [lambda t, y, params, _s=s: self.param_jac(t, y, params, _s) for s in signs])
 
-    def at(self, p: np.ndarray) -> LongitudinalDynamics:
+    def at(self, params: np.ndarray) -> LongitudinalDynamics:
         """The model at the iterate's mean stroke angle (the problem's own with one trim)."""
         if self.size == 5:
             return self.problem.model
-        stroke_mean = float(p[1])
+        stroke_mean = float(params[1])
         found = self.models.get(stroke_mean)
         if found is None:
             if not -math.pi / 2 < stroke_mean < math.pi / 2:
@@ -279,31 +312,31 @@ class _Fields:
             self.models[stroke_mean] = found
         return found
 
-    def rhs(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
-        check_iterate_amplitude(p[0])
+    def rhs(self, t: float, y: np.ndarray, params: np.ndarray, s: float) -> np.ndarray:
+        check_iterate_amplitude(params[0])
         out = np.empty(self.size)
-        out[:4] = self.at(p).rhs(t, y, s, p[0])
+        out[:4] = self.at(params).rhs(t, y, s, params[0])
         forward, down = inertial_velocity(y[0], y[1], y[3])
         out[4] = down
         if self.size == 6:
             out[5] = forward
         return out
 
-    def jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
+    def jac(self, t: float, y: np.ndarray, params: np.ndarray, s: float) -> np.ndarray:
         out = np.zeros((self.size, self.size))
-        out[:4, :4] = self.at(p).jac(t, y, s, p[0])
+        out[:4, :4] = self.at(params).jac(t, y, s, params[0])
         forward, down = inertial_velocity_jac(y[0], y[1], y[3])
         out[4, :4] = down
         if self.size == 6:
             out[5, :4] = forward
         return out
 
-    def param_jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
+    def param_jac(self, t: float, y: np.ndarray, params: np.ndarray, s: float) -> np.ndarray:
         out = np.zeros((self.size, self.size - 4))
-        model = self.at(p)
-        out[:4, :1] = model.amplitude_jac(t, y, s, p[0])
+        model = self.at(params)
+        out[:4, :1] = model.amplitude_jac(t, y, s, params[0])
         if self.size == 6:
-            out[:4, 1:] = model.stroke_mean_jac(t, y, s, p[0])
+            out[:4, 1:] = model.stroke_mean_jac(t, y, s, params[0])
         return out
 
 
@@ -322,10 +355,10 @@ def grading_derivative(s: float) -> float:
 
 
 def _graded(f: Any, k: int, half: float) -> Any:
-    """F(s, y, p) = dt/ds f(t(s), y, p) on half-stroke k."""
-    def field(s: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """F(s, y, params) = dt/ds f(t(s), y, params) on half-stroke k."""
+    def field(s: float, y: np.ndarray, params: np.ndarray) -> np.ndarray:
         local = s - k
-        return (half * grading_derivative(local)) * f(half * (k + grading(local)), y, p)
+        return (half * grading_derivative(local)) * f(half * (k + grading(local)), y, params)
     return field
 
 
@@ -336,17 +369,17 @@ def _switches(problem: HoverProblem, k: int) -> tuple[Any, ...]:
     omega, half = 2.0 * math.pi * insect.frequency, 0.5 * problem.period
     two_trims = problem.n_conditions == 2
 
-    def root(s: float, y: np.ndarray, p: np.ndarray) -> float:
+    def root(s: float, y: np.ndarray, params: np.ndarray) -> float:
         return float(y[0] - y[2] * h_w)
 
-    def tip(s: float, y: np.ndarray, p: np.ndarray) -> float:
+    def tip(s: float, y: np.ndarray, params: np.ndarray) -> float:
         t = half * (k + grading(s - k))
-        phi_bar = float(p[1]) if two_trims else insect.stroke_mean
-        phi = phi_bar + p[0] * math.cos(omega * t)
+        phi_bar = float(params[1]) if two_trims else insect.stroke_mean
+        phi = phi_bar + params[0] * math.cos(omega * t)
         return float((y[0] - y[2] * h_w) * math.cos(phi)
-                     - omega * p[0] * math.sin(omega * t) * span)
+                     - omega * params[0] * math.sin(omega * t) * span)
 
-    def pitch_rate(s: float, y: np.ndarray, p: np.ndarray) -> float:
+    def pitch_rate(s: float, y: np.ndarray, params: np.ndarray) -> float:
         return float(y[2])
 
     return (root, tip, pitch_rate)
