@@ -48,8 +48,9 @@ __all__ = ["BACKENDS", "DEFAULT_BACKEND", "GRADING_POWER", "TRIMS", "HoverProble
 #: scipy path (adaptive DOP853, the reference and the cross-check, ~0.3 s); ``"fixed-step"``,
 #: Newton on a fixed-step 8th-order period map on a time mesh graded towards the stroke
 #: reversals, with the loads' kinks as switching functions and a Richardson error estimate
-#: (:meth:`HoverProblem.graded_fields`; any loads model, made for the blade-element ones: 5-30 s in
-#: Python, the loads' evaluations most of it); ``"auto"``, the kernel where it applies (linear
+#: (:meth:`HoverProblem.graded_fields`; any loads model, made for the blade-element ones: 1.5-2.5 s
+#: per hawkmoth or monarch solve with the compiled loads of :mod:`flapping.fast.blade`, 15-25 s
+#: with the Python ones); ``"auto"``, the kernel where it applies (linear
 #: loads, one trim, the default ``method`` and ``jacobian``, numba installed), the fixed-step
 #: path for the blade-element models (with the default ``method`` and ``jacobian``), else
 #: adaptive.
