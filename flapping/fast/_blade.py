@@ -5,7 +5,8 @@ checks and the choice of when to run it are in :mod:`flapping.fast.blade`.
 
 The arithmetic is :meth:`flapping.model.aerodynamics.BladeElementModel._loads` (with
 ``_sign_split``, ``_lev_coefficients`` and ``_add_sign_correction``), eq. (2) of
-:meth:`flapping.model.dynamics.LongitudinalDynamics.rhs` for massless wings, the inertial
+:meth:`flapping.model.dynamics.LongitudinalDynamics.rhs` (for wings of mass, the generated
+inertial loads of :mod:`flapping.model._inertia_generated`, compiled as they are), the inertial
 velocity of :func:`flapping.model.dynamics.inertial_velocity` and the time grading of
 :func:`flapping.hover.problem.grading`, written out as scalar loops over the span stations in
 the same order of operations. Those Python functions stay the single source of truth:
@@ -26,6 +27,8 @@ import math
 
 import numba
 import numpy as np
+
+from flapping.model import _inertia_generated
 
 #: Whether numba found a writable place for its on-disk cache (see :func:`_jit`).
 CACHED = True
@@ -50,9 +53,12 @@ def _jit(fn):
 # g [m/s^2], m [kg], I_y [kg m^2], the half period T/2 [s], the variant (0 small-angle, 1 exact),
 # the number of span stations, the number of hover conditions (1: z; 2: z and x_e) ...
 (I_R, I_H_W, I_PHI_BAR, I_G, I_MASS, I_IY, I_HALF, I_VARIANT, I_N_R, I_N_COND) = range(13, 23)
+# ... whether the wings have mass (1.0) or not (0.0), the 8 constants of the wings' inertia
+# (flapping.model.inertia_derivation.CONSTANT_NAMES, WingInertia.constants) ...
+I_INERTIA, I_K = 23, 24
 # ... and from OFFSET: the stations r (n_r), the weight matrix W (n_r x 6, row-major), its column
 # sums S0 (6) and r-moments S1 (6), and the incomplete-moment parameters a, b and totals (7 each).
-OFFSET = 24
+OFFSET = 32
 N_PARTIAL = 7
 
 _FPMIN = 1e-300
@@ -257,6 +263,58 @@ def loads(t, u, w, q, s, amplitude, phi_bar, data):  # pragma: no cover - compil
     return x_force, z_force, moment
 
 
+# The wings' inertial loads: the generated code of flapping.model.inertia (the SymPy derivation),
+# compiled here as the hover kernel compiles its generated derivatives.
+mass_matrix = _jit(_inertia_generated.mass_matrix)
+forcing = _jit(_inertia_generated.forcing)
+
+
+@_jit
+def solve3(m):  # pragma: no cover - compiled
+    """x of a x = b from the augmented 3 x 4 matrix m = [a | b] (overwritten): Gaussian
+    elimination with partial pivoting (the LU factorisation np.linalg.solve asks LAPACK for)."""
+    for col in range(3):
+        pivot = col
+        for i in range(col + 1, 3):
+            if abs(m[i, col]) > abs(m[pivot, col]):
+                pivot = i
+        if pivot != col:
+            for j in range(4):
+                m[col, j], m[pivot, j] = m[pivot, j], m[col, j]
+        for i in range(col + 1, 3):
+            factor = m[i, col] / m[col, col]
+            for j in range(col + 1, 4):
+                m[i, j] -= factor * m[col, j]
+    x = np.empty(3)
+    for i in range(2, -1, -1):
+        acc = m[i, 3]
+        for j in range(i + 1, 3):
+            acc -= m[i, j] * x[j]
+        x[i] = acc / m[i, i]
+    return x
+
+
+@_jit
+def wing_accelerations(t, amplitude, phi_bar, u, w, q, theta, X, Z, M,
+                       data):  # pragma: no cover - compiled
+    """(u', w', q') with wings of mass: WingInertia.accelerations, A^-1 (loads + F), at the
+    stroke of flapping.model.inertia.stroke_phase."""
+    omega = data[I_OMEGA]
+    c, s = math.cos(omega * t), math.sin(omega * t)
+    phi = phi_bar + amplitude * c
+    phi_dot = -omega * amplitude * s
+    phi_ddot = -omega * omega * amplitude * c
+    i = I_K
+    k = (data[i], data[i + 1], data[i + 2], data[i + 3], data[i + 4], data[i + 5], data[i + 6],
+         data[i + 7])
+    f0, f1, f2 = forcing(phi, phi_dot, phi_ddot, u, w, q, theta, k)
+    # The generated matrix is a tuple of mixed ints and floats: unpacked statically.
+    a0, a1, a2, a3, a4, a5, a6, a7, a8 = mass_matrix(phi, k)
+    m = np.array([[a0, a1, a2, X + f0], [a3, a4, a5, Z + f1], [a6, a7, a8, M + f2]],
+                 dtype=np.float64)
+    return solve3(m)
+
+
 @_jit
 def grading(s):  # pragma: no cover - compiled
     """g(s) of the graded mesh (flapping.hover.problem.grading)."""
@@ -282,9 +340,13 @@ def rhs(t, y, p, sign, data):  # pragma: no cover - compiled
     g, m = data[I_G], data[I_MASS]
     out = np.empty(4 + n_cond)
     st, ct = math.sin(theta), math.cos(theta)
-    out[0] = -q * w - g * st + X / m
-    out[1] = q * u + g * ct + Z / m
-    out[2] = M / data[I_IY]
+    if data[I_INERTIA] != 0.0:
+        acc = wing_accelerations(t, amplitude, phi_bar, u, w, q, theta, X, Z, M, data)
+        out[0], out[1], out[2] = acc[0], acc[1], acc[2]
+    else:
+        out[0] = -q * w - g * st + X / m
+        out[1] = q * u + g * ct + Z / m
+        out[2] = M / data[I_IY]
     out[3] = q
     out[4] = -u * st + w * ct
     if n_cond == 2:

@@ -10,11 +10,12 @@ Python path's to rounding.
 
 One source of truth: the quadrature rules and the constants are the Python model's own arrays
 (packed by :func:`pack`), and the compiled arithmetic is checked against the Python loads and
-field at random states, phases and insects (``tests/fast/test_blade.py``). The compiled field
-models what the Python one does for massless wings: :data:`SUPPORTED_FIELDS` lists the
-:class:`~flapping.model.morphology.Insect` fields it follows, and :meth:`BladeField.of` refuses
-(returns None for) an insect with another field off its default (today the wing mass), so that
-the Python path runs then.
+field at random states, phases and insects (``tests/fast/test_blade.py``); the wings' inertial
+loads are the generated code of :mod:`flapping.model.inertia`, compiled as it is.
+:data:`SUPPORTED_FIELDS` lists the :class:`~flapping.model.morphology.Insect` fields the compiled
+field follows, and :meth:`BladeField.of` refuses (returns None for) an insect with another field
+off its default (a field added to ``Insect`` and not yet modelled here), so that the Python path
+runs then.
 
 Importing this module does not import numba: :func:`load` compiles the numba code (or loads it
 from numba's on-disk cache) the first time a field is built, said once by a
@@ -25,6 +26,7 @@ from numba's on-disk cache) the first time a field is built, said once by a
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import logging
 import time
 import warnings
@@ -67,6 +69,9 @@ SUPPORTED_FIELDS: Mapping[str, str] = MappingProxyType({
     "mu2": "the rotational damping torque (mu2 |Omega|)",
     "hinge_height": "h_w of the section's forward speed and of the moment",
     "stroke_mean": "phi_bar of eq. (39) (or the trim p[1])",
+    "wing_mass": "the wings' inertial loads (flapping.model.inertia, generated code)",
+    "wing_mass_r1": "the wings' first mass moment A1",
+    "wing_mass_r2": "the wings' second mass moment A2",
 })
 
 _LOG = logging.getLogger("flapping")
@@ -109,6 +114,8 @@ def load() -> ModuleType:
         from flapping.fast import _blade
 
         entry = _blade.graded_rhs
+        if _blade.CACHED and entry.stats.cache_path:
+            _drop_stale_cache(Path(entry.stats.cache_path))
         fresh = not _blade.CACHED or not _cached(entry)
         if fresh:
             warnings.warn("compiling flapping's blade-element loads with numba (first use in "
@@ -128,16 +135,41 @@ def _cached(dispatcher: Any) -> bool:
     return bool(path) and any(Path(path).glob(f"{name}.graded_rhs-*.nbi"))
 
 
+def _drop_stale_cache(cache: Path) -> None:
+    """Remove numba's cached :mod:`flapping.fast._blade` if the generated inertia code changed.
+
+    numba keys a cached function on its own file only, so the functions that inline
+    :mod:`flapping.model._inertia_generated` would keep its old arithmetic after a regeneration
+    that changed that file alone (as :func:`flapping.fast.kernel._drop_stale_cache` guards the
+    kernel): a stamp of the generated source in the cache directory detects it.
+    """
+    from flapping.model import _inertia_generated
+
+    source = Path(_inertia_generated.__file__).read_bytes()
+    digest = hashlib.sha256(source).hexdigest()
+    stamp = cache / "_blade.generated-sha256"
+    try:
+        if stamp.is_file() and stamp.read_text() == digest:
+            return
+        for old in list(cache.glob("_blade.*.nbi")) + list(cache.glob("_blade.*.nbc")):
+            old.unlink()
+        cache.mkdir(parents=True, exist_ok=True)
+        stamp.write_text(digest)
+    except OSError:  # numba checked the directory is writable; a race with another process
+        pass
+
+
 def _touch(compiled: ModuleType) -> None:
     """Run the entry points once on the hawkmoth with the argument types of use."""
     from flapping.model.morphology import hawkmoth
 
     for variant in ("small-angle", "exact"):
-        model = LongitudinalDynamics(hawkmoth(), aerodynamics=variant)
-        data = pack(model, 1)
-        y, p = np.zeros(5), np.array([model.amplitude])
-        compiled.graded_rhs(0.25, y, p, 0, -1.0, data)
-        compiled.loads(0.001, 0.1, 0.0, 1.0, 1.0, model.amplitude, 0.0, data)
+        for insect in (hawkmoth(), hawkmoth(wing_mass=1e-5)):
+            model = LongitudinalDynamics(insect, aerodynamics=variant)
+            data = pack(model, 1)
+            y, p = np.zeros(5), np.array([model.amplitude])
+            compiled.graded_rhs(0.25, y, p, 0, -1.0, data)
+            compiled.loads(0.001, 0.1, 0.0, 1.0, 1.0, model.amplitude, 0.0, data)
 
 
 def pack(model: LongitudinalDynamics, n_conditions: int) -> np.ndarray:
@@ -172,6 +204,9 @@ def pack(model: LongitudinalDynamics, n_conditions: int) -> np.ndarray:
     head[_blade.I_VARIANT] = 0.0 if blade.variant == "small-angle" else 1.0
     head[_blade.I_N_R] = blade._r.size
     head[_blade.I_N_COND] = n_conditions
+    if model._inertia is not None:
+        head[_blade.I_INERTIA] = 1.0
+        head[_blade.I_K:_blade.I_K + 8] = model._inertia.constants
     # Writable on purpose: numba types a read-only array as another type, and dispatching a
     # call on one costs ~2 microseconds more (as much as the loads); nothing writes to it.
     return np.concatenate([head, blade._r, np.ascontiguousarray(blade._weights).ravel(),
