@@ -156,6 +156,13 @@ class HoverProblem:
         grading of :data:`GRADING_POWER` (g(0) = 0, g(1) = 1, g'(0) = g'(1) = 0); the field in s
         is ``dt/ds f(t(s), y, p)``. The period in s is 2, the breakpoint at s = 1 (fraction 0.5).
 
+        Parameters
+        ----------
+        compiled : bool
+            For the blade-element models, evaluate the field with the compiled loads of
+            :mod:`flapping.fast.blade` where they apply (numba installed, an insect they model):
+            the same field to rounding, ~10 times faster per solve. False: the Python loads.
+
         Returns
         -------
         funs : list of callables
@@ -168,13 +175,6 @@ class HoverProblem:
             ``|omega| omega``, omega = q cos(phi): a kink of the Jacobian; unmarked, the
             monodromy's multipliers at 64 steps were 3.5e-8 off on the hawkmoth, marked 1.2e-9).
             Empty for the linear loads (smooth within a half-stroke).
-
-        Parameters
-        ----------
-        compiled : bool
-            For the blade-element models, evaluate the field with the compiled loads of
-            :mod:`flapping.fast.blade` where they apply (numba installed, an insect they model):
-            the same field to rounding, ~10 times faster per solve. False: the Python loads.
         """
         fast = _blade.BladeField.of(self.model, self.n_conditions) if compiled else None
         if fast is None:
