@@ -119,7 +119,7 @@ def load() -> ModuleType:
         fresh = not _blade.CACHED or not _cached(entry)
         if fresh:
             warnings.warn("compiling flapping's blade-element loads with numba (first use in "
-                          "this environment: ~10-20 s of CPU, once)", KernelCompileWarning,
+                          "this environment: 5-20 s of CPU, once)", KernelCompileWarning,
                           stacklevel=3)
         _touch(_blade)
         seconds = time.perf_counter() - start
