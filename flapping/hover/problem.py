@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike
 
 from flapping import _validation
 from flapping.errors import ConvergenceError
+from flapping.fast import blade as _blade
 from flapping.fast import kernel as _kernel
 from flapping.model.aerodynamics import trim_angle_of_attack
 from flapping.model.dynamics import (
@@ -47,8 +48,9 @@ __all__ = ["BACKENDS", "DEFAULT_BACKEND", "GRADING_POWER", "TRIMS", "HoverProble
 #: scipy path (adaptive DOP853, the reference and the cross-check, ~0.3 s); ``"fixed-step"``,
 #: Newton on a fixed-step 8th-order period map on a time mesh graded towards the stroke
 #: reversals, with the loads' kinks as switching functions and a Richardson error estimate
-#: (:meth:`HoverProblem.graded_fields`; any loads model, made for the blade-element ones: 5-30 s in
-#: Python, the loads' evaluations most of it); ``"auto"``, the kernel where it applies (linear
+#: (:meth:`HoverProblem.graded_fields`; any loads model, made for the blade-element ones: 1.5-2.5 s
+#: per hawkmoth or monarch solve with the compiled loads of :mod:`flapping.fast.blade`, 15-25 s
+#: with the Python ones); ``"auto"``, the kernel where it applies (linear
 #: loads, one trim, the default ``method`` and ``jacobian``, numba installed), the fixed-step
 #: path for the blade-element models (with the default ``method`` and ``jacobian``), else
 #: adaptive.
@@ -179,13 +181,20 @@ class HoverProblem:
         """
         return _Fields(self).lists()
 
-    def graded_fields(self) -> tuple[list[Any], list[Any]]:
+    def graded_fields(self, compiled: bool = True) -> tuple[list[Any], list[Any]]:
         """The fields of :meth:`fields` on the graded time mesh, and their switching functions.
 
         Per half-stroke k the time is t = T (k + g(s - k)) / 2 with s in [k, k + 1] and g the
         grading of :data:`GRADING_POWER` (g(0) = 0, g(1) = 1, g'(0) = g'(1) = 0); the field in s
         is ``dt/ds f(t(s), y, params)``. The period in s is 2, the breakpoint at s = 1 (fraction
         0.5).
+
+        Parameters
+        ----------
+        compiled : bool
+            For the blade-element models, evaluate the field with the compiled loads of
+            :mod:`flapping.fast.blade` where they apply (numba installed, an insect they model):
+            the same field to rounding, ~10 times faster per solve. False: the Python loads.
 
         Returns
         -------
@@ -200,12 +209,15 @@ class HoverProblem:
             monodromy's multipliers at 64 steps were 3.5e-8 off on the hawkmoth, marked 1.2e-9).
             Empty for the linear loads (smooth within a half-stroke).
         """
-        funs = self.fields()[0]
-        half = 0.5 * self.period
-        out = [_graded(f, k, half) for k, f in enumerate(funs)]
+        fast = _blade.BladeField.of(self.model, self.n_conditions) if compiled else None
+        if fast is None:
+            half = 0.5 * self.period
+            out = [_graded(f, k, half) for k, f in enumerate(self.fields()[0])]
+        else:
+            out = [_compiled_graded(fast, k, self.n_conditions) for k in range(len(fast.signs))]
         if self.aerodynamics == "linear":
-            return out, [() for _ in funs]
-        return out, [_switches(self, k) for k in range(len(funs))]
+            return out, [() for _ in out]
+        return out, [_switches(self, k) for k in range(len(out))]
 
     def guess(self, amplitude: float | None = None) -> np.ndarray:
         """The trims' starting values: [Phi] or [Phi, phi_bar] (default the insect's own)."""
@@ -302,10 +314,7 @@ class _Fields:
         stroke_mean = float(params[1])
         found = self.models.get(stroke_mean)
         if found is None:
-            if not -math.pi / 2 < stroke_mean < math.pi / 2:
-                raise ConvergenceError(
-                    f"the shooting iteration stepped the mean stroke angle to "
-                    f"{math.degrees(stroke_mean):.4g} deg, outside (-90, 90) deg")
+            check_iterate_stroke_mean(stroke_mean)
             if len(self.models) >= _MODELS_KEPT:
                 del self.models[next(iter(self.models))]
             found = self.problem.model.with_stroke_mean(stroke_mean)
@@ -362,6 +371,25 @@ def _graded(f: Any, k: int, half: float) -> Any:
     return field
 
 
+def _compiled_graded(fast: _blade.BladeField, k: int, n_conditions: int) -> Any:
+    """F(s, y, p) of :func:`_graded` on half-stroke k, by the compiled loads (the trims checked
+    as :class:`_Fields` checks them)."""
+    function, arguments = fast.function, fast.arguments(k)
+    half_pi = 0.5 * math.pi
+    if n_conditions == 1:
+        def field(s: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
+            if not 0.0 < p[0] <= half_pi:
+                check_iterate_amplitude(p[0])
+            return function(s, y, p, *arguments)
+    else:
+        def field(s: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
+            if not (0.0 < p[0] <= half_pi and -half_pi < p[1] < half_pi):
+                check_iterate_amplitude(p[0])
+                check_iterate_stroke_mean(float(p[1]))
+            return function(s, y, p, *arguments)
+    return field
+
+
 def _switches(problem: HoverProblem, k: int) -> tuple[Any, ...]:
     """The blade-element loads' switching functions on half-stroke k, in the graded time."""
     insect = problem.insect
@@ -393,6 +421,14 @@ def check_iterate_amplitude(amplitude: float) -> None:
             f"the shooting iteration stepped the stroke amplitude to {math.degrees(amplitude):.4g} "
             "deg, outside (0, 90] deg: no hover orbit with wings that do not cross was found "
             "from this guess")
+
+
+def check_iterate_stroke_mean(stroke_mean: float) -> None:
+    """Stop the shooting when an iterate's mean stroke angle leaves (-pi/2, pi/2)."""
+    if not -math.pi / 2 < stroke_mean < math.pi / 2:
+        raise ConvergenceError(
+            f"the shooting iteration stepped the mean stroke angle to "
+            f"{math.degrees(stroke_mean):.4g} deg, outside (-90, 90) deg")
 
 
 def check_trims(trims: object) -> tuple[str, ...]:
