@@ -250,6 +250,33 @@ def newton(z, n_steps, k, p, max_iter, xtol):  # pragma: no cover - compiled
 
 
 @_jit
+def newton_and_estimate(z, n_steps, k, p, max_iter, xtol, factor):  # pragma: no cover
+    """:func:`newton` at ``n_steps``, then the coarse integration of the Richardson estimate.
+
+    Returns (status, iterations, residual norm, y, r, z_err, pair): ``y`` the variational state
+    of the last Newton integration and ``r`` its residual at z; ``z_err`` (5) the absolute
+    Richardson estimate of z's error, ``factor`` times the Newton correction that the
+    ``n_steps / 2`` integration at z asks for; ``pair`` (2, 4, 4) the monodromy M and M + dM,
+    dM = ``factor`` (M - M_coarse) (whose eigenvalues' shift estimates the multipliers' error).
+    On a failed Newton solve only the status, iterations and norm are meaningful.
+    """
+    status, nit, norm, y = newton(z, n_steps, k, p, max_iter, xtol)
+    pair = np.zeros((2, 4, 4))
+    if status != CONVERGED:
+        return status, nit, norm, y, np.zeros(5), np.zeros(5), pair
+    r, _ = residual_and_jacobian(y, z)
+    coarse = variational_period(z, n_steps // 2, k, p)
+    r_c, J_c = residual_and_jacobian(coarse, z)
+    z_err = np.abs(np.linalg.solve(J_c, -(r_c - r)) * factor)
+    for i in range(4):
+        for j in range(4):
+            m = y[5 + 4 * i + j]
+            pair[0, i, j] = m
+            pair[1, i, j] = m + (m - coarse[5 + 4 * i + j]) * factor
+    return status, nit, norm, y, r, z_err, pair
+
+
+@_jit
 def sample_period(x0, amp, n_steps, k, p):  # pragma: no cover - compiled
     """The plain state (u, w, q, theta, z) after each of 2 n_steps steps over one period."""
     y = np.zeros(N_PLAIN)

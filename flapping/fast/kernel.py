@@ -256,6 +256,7 @@ def _touch(compiled: ModuleType) -> None:
     problem = KernelProblem.of(hawkmoth())
     z = np.append(np.zeros(4), problem.insect.stroke_amplitude)
     compiled.newton(z.copy(), _MIN_STEPS, problem.k, problem.p, 2, _XTOL)
+    compiled.newton_and_estimate(z.copy(), _MIN_STEPS, problem.k, problem.p, 2, _XTOL, _FACTOR)
     compiled.residual_and_jacobian(compiled.variational_period(z, _MIN_STEPS, problem.k,
                                                                problem.p), z)
     compiled.states_at(z[:4], z[4], _MIN_STEPS, problem.k, problem.p, np.array([0.001]))
@@ -571,34 +572,29 @@ _AMPLITUDE_TOL_RAD = math.radians(AMPLITUDE_TOL_DEG)
 
 
 # =========================================================================== solving
-def _newton(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int
-            ) -> tuple[np.ndarray, int, np.ndarray]:
-    """Newton at n steps per half-stroke; (variational state, iterations, residual)."""
-    status, nit, norm, y = kc.newton(z, n, problem.k, problem.p, _MAX_ITER, _XTOL)
+#: Richardson's factor: the n/2-step correction over 2^8 - 1, with the safety factor.
+_FACTOR = _SAFETY / (_COARSE**_ORDER - 1.0)
+
+
+def _newton_and_estimate(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int
+                         ) -> tuple[np.ndarray, int, np.ndarray, np.ndarray, float, np.ndarray]:
+    """Newton at n steps per half-stroke from z (in place), and the Richardson estimates.
+
+    One compiled call (Newton's integrations, then the n/2-step integration at the answer) and
+    one eigenvalue call (of M and of M moved by its Richardson correction, stacked). Returns the
+    variational state, the iterations, the residual, the estimated error of z (5,), the largest
+    multiplier error and the eigenvalues of the monodromy.
+    """
+    status, nit, norm, y, r, z_err, pair = kc.newton_and_estimate(
+        z, n, problem.k, problem.p, _MAX_ITER, _XTOL, _FACTOR)
     if status != kc.CONVERGED:
         raise ConvergenceError(
             f"no hover orbit for {problem.insect.name} with the compiled kernel "
             f"({n} steps per half-stroke): {_STATUS[status]} (Phi = "
             f"{math.degrees(z[4]):.6g} deg)", x=z, residual=float(norm), iterations=int(nit))
-    r, _ = kc.residual_and_jacobian(y, z)
-    return y, int(nit), r
-
-
-#: Richardson's factor: the n/2-step correction over 2^8 - 1, with the safety factor.
-_FACTOR = _SAFETY / (_COARSE**_ORDER - 1.0)
-
-
-def _estimate(kc: ModuleType, problem: KernelProblem, z: np.ndarray, y: np.ndarray,
-              r: np.ndarray, n: int) -> tuple[np.ndarray, float, np.ndarray]:
-    """Richardson estimates at n steps: the error of z (5,), the largest multiplier error, and
-    the eigenvalues of the monodromy of ``y`` (whose residual at ``z`` is ``r``)."""
-    coarse = kc.variational_period(z, n // _COARSE, problem.k, problem.p)
-    r_c, J_c = kc.residual_and_jacobian(coarse, z)
-    dz = np.linalg.solve(J_c, -(r_c - r)) * _FACTOR
-    M = _monodromy(y)
-    eigenvalues = np.linalg.eigvals(M)
-    dM = (M - _monodromy(coarse)) * _FACTOR
-    return np.abs(dz), _eigenvalue_shift(eigenvalues, M, dM), eigenvalues
+    eigenvalues, moved = np.linalg.eigvals(pair)
+    shift = float(np.max(np.min(np.abs(moved[None, :] - eigenvalues[:, None]), axis=1)))
+    return y, int(nit), r, z_err, shift, eigenvalues
 
 
 def _monodromy(y: np.ndarray) -> np.ndarray:
@@ -669,10 +665,9 @@ def _solve(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int, tol_am
     """:func:`solve_hover` on checked arguments, from z = (x0, Phi) (modified in place)."""
     total_nit = nfev = 0
     for _ in range(_MAX_REFINEMENTS + 1):
-        y, nit, r = _newton(kc, problem, z, n)
+        y, nit, r, z_err, mu_err, eigenvalues = _newton_and_estimate(kc, problem, z, n)
         total_nit += nit
         nfev += nit * 2 * n * kc.N_STAGES + n * kc.N_STAGES
-        z_err, mu_err, eigenvalues = _estimate(kc, problem, z, y, r, n)
         ratio = max(z_err[4] / tol_amp, mu_err / tol_mu)
         if ratio <= 1.0 or n >= _MAX_STEPS:
             break
