@@ -28,6 +28,12 @@ import math
 import numba
 import numpy as np
 
+# numba's own bindings of LAPACK's dgeev, those behind its np.linalg.eigvals (numba 0.60-0.68),
+# which refuses a real matrix with complex eigenvalues (an oscillatory mode's pair): called here
+# directly for the real and imaginary parts. Internal names: if a numba release moves them, the
+# import fails loudly here rather than the multipliers changing.
+from numba.np.linalg import _LAPACK, _dummy_liveness_func
+
 from flapping.fast import _dop853, _generated
 
 #: Whether numba found a writable place for its on-disk cache (see :func:`_jit`).
@@ -69,6 +75,15 @@ MAX_ITERATIONS = 1
 AMPLITUDE_OUT_OF_RANGE = 2
 NOT_FINITE = 3
 SINGULAR = 4
+
+# The eigenvalue problems' outcomes (np.linalg.eigvals raises LinAlgError for both failures).
+EIGEN_OK = 0
+EIGEN_NOT_FINITE = 1
+EIGEN_NOT_CONVERGED = 2
+
+_DGEEV = _LAPACK().numba_ez_rgeev(numba.float64)
+_DGEEV_KIND = ord("d")
+_DGEEV_NO_VECTORS = ord("N")
 
 
 @_jit
@@ -250,30 +265,91 @@ def newton(z, n_steps, k, p, max_iter, xtol):  # pragma: no cover - compiled
 
 
 @_jit
-def newton_and_estimate(z, n_steps, k, p, max_iter, xtol, factor):  # pragma: no cover
-    """:func:`newton` at ``n_steps``, then the coarse integration of the Richardson estimate.
+def eigenvalues(m, out):  # pragma: no cover - compiled
+    """Eigenvalues of the real square matrix ``m`` into the complex ``out``: LAPACK's dgeev, as
+    ``np.linalg.eigvals``. Returns :data:`EIGEN_OK`, or the failure (non-finite entries, or
+    dgeev did not converge)."""
+    n = m.shape[0]
+    a = np.empty((n, n))  # m transposed in C order: m in the Fortran order dgeev reads
+    for i in range(n):
+        for j in range(n):
+            if not math.isfinite(m[i, j]):
+                return EIGEN_NOT_FINITE
+            a[j, i] = m[i, j]
+    wr = np.empty(n)
+    wi = np.empty(n)
+    vl = np.empty(1)  # not referenced (no eigenvectors), but some LAPACKs check the pointers
+    vr = np.empty(1)
+    info = _DGEEV(_DGEEV_KIND, _DGEEV_NO_VECTORS, _DGEEV_NO_VECTORS, n, a.ctypes, n, wr.ctypes,
+                  wi.ctypes, vl.ctypes, 1, vr.ctypes, 1)
+    _dummy_liveness_func([a.size, wr.size, wi.size, vl.size, vr.size])  # alive through the call
+    if info != 0:
+        return EIGEN_NOT_CONVERGED
+    for i in range(n):
+        out[i] = complex(wr[i], wi[i])
+    return EIGEN_OK
 
-    Returns (status, iterations, residual norm, y, r, z_err, pair): ``y`` the variational state
-    of the last Newton integration and ``r`` its residual at z; ``z_err`` (5) the absolute
-    Richardson estimate of z's error, ``factor`` times the Newton correction that the
-    ``n_steps / 2`` integration at z asks for; ``pair`` (2, 4, 4) the monodromy M and M + dM,
-    dM = ``factor`` (M - M_coarse) (whose eigenvalues' shift estimates the multipliers' error).
-    On a failed Newton solve only the status, iterations and norm are meaningful.
+
+@_jit
+def sort_multipliers(w):  # pragma: no cover - compiled
+    """In place: by descending modulus (a stable sort), in a complex-conjugate pair the positive
+    imaginary part first (the order of :func:`flapping.fast.kernel._sorted`)."""
+    n = w.size
+    for i in range(1, n):
+        v = w[i]
+        modulus = abs(v)
+        j = i - 1
+        while j >= 0 and abs(w[j]) < modulus:
+            w[j + 1] = w[j]
+            j -= 1
+        w[j + 1] = v
+    for i in range(n - 1):
+        a, b = w[i], w[i + 1]
+        if a.imag < 0.0 and abs(a - b.conjugate()) <= 1e-12 * max(1.0, abs(a)):
+            w[i], w[i + 1] = b, a
+
+
+@_jit
+def newton_and_estimate(z, n_steps, k, p, max_iter, xtol, factor):  # pragma: no cover
+    """:func:`newton` at ``n_steps``, then the Richardson estimates, in one call.
+
+    Returns (status, iterations, residual norm, y, r, z_err, multipliers, multiplier_err,
+    eigen_status): ``y`` the variational state of the last Newton integration and ``r`` its
+    residual at z; ``z_err`` (5) the absolute Richardson estimate of z's error, ``factor`` times
+    the Newton correction that the ``n_steps / 2`` integration at z asks for; ``multipliers``
+    the eigenvalues of the monodromy M (sorted by :func:`sort_multipliers`) and
+    ``multiplier_err`` the largest distance from one of them to the nearest eigenvalue of
+    M + dM, dM = ``factor`` (M - M_coarse). On a failed Newton solve only the status, iterations
+    and norm are meaningful; ``eigen_status`` is :data:`EIGEN_OK` unless an eigenvalue problem
+    failed.
     """
     status, nit, norm, y = newton(z, n_steps, k, p, max_iter, xtol)
-    pair = np.zeros((2, 4, 4))
+    multipliers = np.zeros(4, dtype=np.complex128)
     if status != CONVERGED:
-        return status, nit, norm, y, np.zeros(5), np.zeros(5), pair
+        return status, nit, norm, y, np.zeros(5), np.zeros(5), multipliers, 0.0, EIGEN_OK
     r, _ = residual_and_jacobian(y, z)
     coarse = variational_period(z, n_steps // 2, k, p)
     r_c, J_c = residual_and_jacobian(coarse, z)
     z_err = np.abs(np.linalg.solve(J_c, -(r_c - r)) * factor)
+    M = np.empty((4, 4))
+    moved = np.empty((4, 4))
     for i in range(4):
         for j in range(4):
             m = y[5 + 4 * i + j]
-            pair[0, i, j] = m
-            pair[1, i, j] = m + (m - coarse[5 + 4 * i + j]) * factor
-    return status, nit, norm, y, r, z_err, pair
+            M[i, j] = m
+            moved[i, j] = m + (m - coarse[5 + 4 * i + j]) * factor
+    moved_values = np.empty(4, dtype=np.complex128)
+    eigen = eigenvalues(M, multipliers)
+    if eigen == EIGEN_OK:
+        eigen = eigenvalues(moved, moved_values)
+    shift = 0.0
+    for i in range(4):
+        nearest = math.inf
+        for j in range(4):
+            nearest = min(nearest, abs(moved_values[j] - multipliers[i]))
+        shift = max(shift, nearest)
+    sort_multipliers(multipliers)
+    return status, nit, norm, y, r, z_err, multipliers, shift, eigen
 
 
 @_jit

@@ -612,20 +612,23 @@ def _newton_and_estimate(kc: ModuleType, problem: KernelProblem, z: np.ndarray, 
                          ) -> tuple[np.ndarray, int, np.ndarray, np.ndarray, float, np.ndarray]:
     """Newton at n steps per half-stroke from z (in place), and the Richardson estimates.
 
-    One compiled call (Newton's integrations, then the n/2-step integration at the answer) and
-    one eigenvalue call (of M and of M moved by its Richardson correction, stacked). Returns the
-    variational state, the iterations, the residual, the estimated error of z (5,), the largest
-    multiplier error and the eigenvalues of the monodromy.
+    One compiled call: Newton's integrations, the n/2-step integration at the answer, and the
+    eigenvalues of the monodromy and of its Richardson-moved copy. Returns the variational
+    state, the iterations, the residual, the estimated error of z (5,), the largest multiplier
+    error and the multipliers (sorted as :func:`_sorted`).
     """
-    status, nit, norm, y, r, z_err, pair = kc.newton_and_estimate(
+    status, nit, norm, y, r, z_err, multipliers, shift, eigen = kc.newton_and_estimate(
         z, n, problem.k, problem.p, _MAX_ITER, _XTOL, _FACTOR)
     if status != kc.CONVERGED:
         raise ConvergenceError(
             f"no hover orbit for {problem.insect.name} with the compiled kernel "
             f"({n} steps per half-stroke): {_STATUS[status]} (Phi = "
             f"{math.degrees(z[4]):.6g} deg)", x=z, residual=float(norm), iterations=int(nit))
-    eigenvalues, moved = _eigenvalues(pair)
-    return y, int(nit), r, z_err, _shift(eigenvalues, moved), eigenvalues
+    if eigen != kc.EIGEN_OK:  # the messages of np.linalg.eigvals
+        raise np.linalg.LinAlgError("Array must not contain infs or NaNs"
+                                    if eigen == kc.EIGEN_NOT_FINITE else
+                                    "Eigenvalues did not converge")
+    return y, int(nit), r, z_err, float(shift), multipliers
 
 
 def _monodromy(y: np.ndarray) -> np.ndarray:
@@ -711,7 +714,7 @@ def _solve(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int, tol_am
     return HoverSolution(
         x0=_read_only(z[:4].copy()), amplitude=float(z[4]), alpha_m=problem.alpha_m,
         period=problem.period, monodromy=_read_only(_monodromy(y)),
-        multipliers=_read_only(_sorted(eigenvalues)), trace_integral=float(y[30]),
+        multipliers=_read_only(eigenvalues), trace_integral=float(y[30]),
         residual=_read_only(r), nit=total_nit, nfev=nfev, n_steps=n,
         amplitude_error=float(z_err[4]), x0_error=float(z_err[:4].max()), multiplier_error=mu_err,
         mean_velocity=_read_only(np.array([y[31], -y[4]]) / problem.period))
