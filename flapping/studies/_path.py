@@ -34,6 +34,9 @@ Errors = tuple[type[BaseException], ...]
 #: A point's coordinate on its path: a number, or a point of a grid (one number per axis).
 Coordinate = float | tuple[float, ...]
 
+#: The coordinate type of one path (a path's steps all have the same kind).
+S = TypeVar("S", float, tuple[float, ...])
+
 #: Relative distance from the line through the last two solved points below which a coordinate
 #: counts as on it (grid values are exact, or rounded once by ``linspace``).
 _ON_LINE_RTOL = 1e-9
@@ -57,7 +60,7 @@ class Guess(Generic[R]):
 
 
 @dataclass(frozen=True)
-class Step(Generic[R]):
+class Step(Generic[S, R]):
     """One point of a path: its coordinate, and its result or why it failed.
 
     Attributes
@@ -70,7 +73,7 @@ class Step(Generic[R]):
         The recorded failure (None if the point was solved).
     """
 
-    s: Coordinate
+    s: S
     result: R | None
     error: BaseException | None = None
 
@@ -134,9 +137,10 @@ class WarmStart(Generic[P, R]):
             assert u0 is not None
             return Guess(previous, u1 + target * (u1 - u0))
         used = self.solved[len(self.solved) - len(known):]
-        weights = _lagrange_weights(known, target)
-        predicted = sum(w * u for w, (_, _, u) in zip(weights, used, strict=True))
-        assert isinstance(predicted, np.ndarray)
+        predicted = np.zeros_like(u1)
+        for w, (_, _, u) in zip(_lagrange_weights(known, target), used, strict=True):
+            assert u is not None
+            predicted += w * u
         return Guess(previous, predicted)
 
     def attempt(self, s: Coordinate, point: P) -> R:
@@ -206,8 +210,8 @@ def _lagrange_weights(nodes: Sequence[float], x: float) -> list[float]:
     return weights
 
 
-def follow(path: Iterable[tuple[Coordinate, P]], warm: WarmStart[P, R], *,
-           record: Errors = ()) -> list[Step[R]]:
+def follow(path: Iterable[tuple[S, P]], warm: WarmStart[P, R], *,
+           record: Errors = ()) -> list[Step[S, R]]:
     """Solve the points of a path in order, each warm-started from the ones before.
 
     Parameters
@@ -225,7 +229,7 @@ def follow(path: Iterable[tuple[Coordinate, P]], warm: WarmStart[P, R], *,
     list of Step
         One per point, in order.
     """
-    steps: list[Step[R]] = []
+    steps: list[Step[S, R]] = []
     for s, point in path:
         try:
             result = warm.attempt(s, point)
@@ -240,7 +244,7 @@ def follow(path: Iterable[tuple[Coordinate, P]], warm: WarmStart[P, R], *,
 def follow_halving(member: Callable[[float], P], warm: WarmStart[P, R], *, n_steps: int,
                    max_failures: int, retry: Errors,
                    stalled: Callable[[float, int, BaseException], BaseException]
-                   ) -> tuple[list[Step[R]], int]:
+                   ) -> tuple[list[Step[float, R]], int]:
     """Walk s from 0 to 1 in ``n_steps`` equal steps, halving the step where a point fails.
 
     The steps do not grow again. ``warm`` must already hold the point at s = 0.
@@ -269,7 +273,7 @@ def follow_halving(member: Callable[[float], P], warm: WarmStart[P, R], *, n_ste
         The halvings made.
     """
     s, step, failures = 0.0, 1.0 / n_steps, 0
-    steps: list[Step[R]] = []
+    steps: list[Step[float, R]] = []
     while s < 1.0:
         s_next = 1.0 if s + step > 1.0 - 1e-9 else s + step
         point = member(s_next)

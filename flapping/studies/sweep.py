@@ -11,8 +11,10 @@ How it runs:
   else with the adaptive scipy path (:func:`~flapping.hover.find_hover_orbit` and
   :func:`~flapping.hover.stability.hover_stability`; a warning says so: it is ~1000 times slower);
 - the points are visited in a boustrophedon ("snake") order through the grid, split into chunks
-  of consecutive points; within a chunk each solve starts from its neighbour's answer (x0, Phi
-  and the step count), so most take three Newton iterations instead of five;
+  of consecutive points; within a chunk each solve starts from its neighbour's step count and
+  from (x0, Phi) predicted by the parabola through the last three answers on its grid line (the
+  last answer at a corner of the snake), so most take two or three Newton iterations instead of
+  five;
 - the chunks run in this process by default, or on any :class:`concurrent.futures.Executor`:
   a ``ProcessPoolExecutor`` for local cores, or ``dask.distributed.Client.get_executor()`` for a
   cluster. The chunks are the same whichever runs them, so the table is identical.
@@ -40,7 +42,7 @@ from flapping.hover import HoverOrbit, HoverProblem, HoverStatus, find_hover_orb
 from flapping.hover.stability import hover_stability
 from flapping.model.morphology import Insect
 from flapping.model.presets import preset_names
-from flapping.studies._path import Coordinate, Guess, Step, WarmStart, follow
+from flapping.studies._path import Guess, Step, WarmStart, follow
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas
@@ -231,7 +233,7 @@ _PREDICTION_ORDER = 2
 
 def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insect],
                  settings: _Settings) -> list[dict[str, Any]]:
-    """Solve consecutive points, each warm-started from the previous answer; one row each.
+    """Solve consecutive points, each warm-started from the previous answers; one row each.
 
     A warm start that fails (a neighbour across a fold) is retried cold. Module-level
     (picklable) so that executors can run it. A point's failure (bad parameters, no
@@ -239,7 +241,7 @@ def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insec
     """
     if base is None:  # a list of insects: no line to predict along
         warm = WarmStart(partial(_solve_point, settings=settings), restart=(ConvergenceError,))
-        path: Iterator[tuple[Coordinate, _Point]] = (
+        path: Iterator[tuple[Any, _Point]] = (
             (float(i), _Point(base, point)) for i, point in enumerate(points))
     else:  # grid points: (x0, Phi) predicted along the grid line through the last solved ones
         warm = WarmStart(partial(_solve_point, settings=settings), _unknowns, secant=True,
@@ -252,7 +254,7 @@ def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insec
     return [_row_of(step, settings.backend) for step in steps]
 
 
-def _row_of(step: Step[tuple[HoverOrbit, np.ndarray]], backend: str) -> dict[str, Any]:
+def _row_of(step: Step[Any, tuple[HoverOrbit, np.ndarray]], backend: str) -> dict[str, Any]:
     """The row of a solved or failed point."""
     if step.result is None:
         return _row(None, None, f"{type(step.error).__name__}: {step.error}", backend)
