@@ -386,15 +386,20 @@ def _packed(insect: Insect, alpha_m: float | None) -> KernelProblem:
 def unsupported_field(insect: Insect) -> str:
     """Why the kernel cannot model this insect: its first field outside :data:`SUPPORTED_FIELDS`
     that is not at its default, in words ('' if there is none)."""
-    for f in dataclasses.fields(insect):
-        if not f.init or f.name in SUPPORTED_FIELDS:
-            continue
-        value = getattr(insect, f.name)
-        if f.default is dataclasses.MISSING or value != f.default:
-            default = "" if f.default is dataclasses.MISSING else f" (its default {f.default!r})"
-            return (f"the compiled kernel does not model the insect field `{f.name}` = "
-                    f"{value!r}: it supports the default only{default}")
+    for name, default in _UNSUPPORTED:
+        value = getattr(insect, name)
+        if default is dataclasses.MISSING or value != default:
+            shown = "" if default is dataclasses.MISSING else f" (its default {default!r})"
+            return (f"the compiled kernel does not model the insect field `{name}` = "
+                    f"{value!r}: it supports the default only{shown}")
     return ""
+
+
+#: The ``Insect`` fields outside :data:`SUPPORTED_FIELDS` and their defaults, in field order
+#: (listed once: a sweep asks at every point).
+_UNSUPPORTED: tuple[tuple[str, object], ...] = tuple(
+    (f.name, f.default) for f in dataclasses.fields(Insect)
+    if f.init and f.name not in SUPPORTED_FIELDS)
 
 
 def _check_supported(insect: Insect) -> None:
@@ -411,15 +416,27 @@ def _read_only(a: np.ndarray) -> np.ndarray:
 
 def _pack(c: AeroConstants, alpha_m: float) -> np.ndarray:
     """The constants array of the generated derivatives (layout :data:`_generated.CONSTANTS`)."""
-    values = {"FREQUENCY": c.f, "MASS": c.m, "PITCH_INERTIA": c.Iy, "K_NU": c.Knu,
-              "MU1": c.mu1, "X_H": c.x_h, "H_W": c.h_w, "X_HAT": c.x_hat,
-              "SIN_ALPHA_M": math.sin(alpha_m),
-              "COS_ALPHA_M": math.cos(alpha_m), "SIN_2ALPHA_M": math.sin(2.0 * alpha_m)}
-    for name in _generated.CONSTANTS:
-        if name.startswith(("K_", "KROT_")) and name != "K_NU":
-            table = c.Krot if name.startswith("KROT_") else c.K
-            values[name] = table[(int(name[-2]), int(name[-1]))]
-    return np.array([values[name] for name in _generated.CONSTANTS], dtype=float)
+    trig = {"SIN_ALPHA_M": math.sin(alpha_m), "COS_ALPHA_M": math.cos(alpha_m),
+            "SIN_2ALPHA_M": math.sin(2.0 * alpha_m)}
+    return np.array([trig[name] if attr is None else
+                     getattr(c, attr) if key is None else getattr(c, attr)[key]
+                     for name, attr, key in _LAYOUT], dtype=float)
+
+
+def _source(name: str) -> tuple[str, str | None, tuple[int, int] | None]:
+    """Where constant ``name`` of the layout comes from: (name, AeroConstants attribute or None
+    for a function of alpha_m, key of the K or Krot table or None)."""
+    plain = {"FREQUENCY": "f", "MASS": "m", "PITCH_INERTIA": "Iy", "K_NU": "Knu", "MU1": "mu1",
+             "X_H": "x_h", "H_W": "h_w", "X_HAT": "x_hat"}
+    if name in plain:
+        return name, plain[name], None
+    if name.startswith(("K_", "KROT_")):
+        return name, "Krot" if name.startswith("KROT_") else "K", (int(name[-2]), int(name[-1]))
+    return name, None, None
+
+
+#: The layout of :data:`_generated.CONSTANTS`, resolved once (a sweep packs every point).
+_LAYOUT = tuple(_source(name) for name in _generated.CONSTANTS)
 
 
 # =========================================================================== results
@@ -537,29 +554,8 @@ def _shift(eigenvalues: np.ndarray, moved: np.ndarray) -> float:
 
 def _eigenvalue_shift(eigenvalues: np.ndarray, M: np.ndarray, dM: np.ndarray) -> float:
     """max over the eigenvalues of M of the distance to the nearest eigenvalue of M + dM."""
-    return _shift(np.asarray(eigenvalues, dtype=complex), _eigenvalues(M + dM))
-
-
-try:  # the generalized ufunc behind np.linalg.eigvals, without the wrapper's Python checks
-    from numpy.linalg._umath_linalg import eigvals as _eigvals_ufunc
-except ImportError:  # pragma: no cover - a NumPy that moved it: the public function serves
-    _eigvals_ufunc = None
-
-
-def _eigenvalues(a: np.ndarray) -> np.ndarray:
-    """Complex eigenvalues of a real square matrix or stack of them (the last two axes).
-
-    The values of ``np.linalg.eigvals(a)`` bit for bit (the same ufunc, LAPACK's dgeev) at a
-    tenth of its cost on 4 x 4 matrices, whose input checks are the cost: a matrix with a
-    non-finite entry or a decomposition that does not converge goes to ``np.linalg.eigvals``,
-    which raises its LinAlgError.
-    """
-    if _eigvals_ufunc is not None and np.isfinite(a).all():
-        with np.errstate(invalid="ignore"):  # non-convergence: NaN, sent on below
-            w = _eigvals_ufunc(a, signature="d->D")
-        if np.isfinite(w).all():
-            return w
-    return np.asarray(np.linalg.eigvals(a), dtype=complex)
+    return _shift(np.asarray(eigenvalues, dtype=complex),
+                  np.asarray(np.linalg.eigvals(M + dM), dtype=complex))
 
 
 def _read_only_array(a: np.ndarray) -> np.ndarray:
@@ -770,7 +766,7 @@ def monodromy_at(
         y = kc.variational_period(z, n, problem.k, problem.p)
         coarse = kc.variational_period(z, n // _COARSE, problem.k, problem.p)
         M = _monodromy(y)
-        err = _eigenvalue_shift(_eigenvalues(M), M, (M - _monodromy(coarse)) * _FACTOR)
+        err = _eigenvalue_shift(np.linalg.eigvals(M), M, (M - _monodromy(coarse)) * _FACTOR)
         if err <= tol:
             return _read_only(M), float(y[30]), err, n
         if n >= _MAX_STEPS:
