@@ -96,8 +96,8 @@ class WarmStart(Generic[P, R]):
         Failures of a warm-started solve that are retried once from a cold start.
     order : int
         Degree of the prediction with ``secant``: the polynomial through the last ``order + 1``
-        solved points (1: the secant; 2: the parabola, whose error is third order in the step,
-        which on a smooth path saves a Newton iteration the secant's second-order error costs).
+        solved points (1: the secant; its error is O(step^2), that of degree d O(step^(d+1)), so
+        on a smooth path a higher degree can save the Newton iteration the secant's error costs).
         Only the trailing points on one line with the new coordinate take part (a 2-D grid's
         snake turns a corner: there the guess is the last answer).
     """
@@ -115,7 +115,7 @@ class WarmStart(Generic[P, R]):
     def add(self, s: Coordinate, point: P, result: R) -> None:
         """Remember a solved point (only the last ``order + 1`` are kept)."""
         u = None if self.unknowns is None else self.unknowns(point, result)
-        self.solved = [*self.solved[len(self.solved) - self.order:], (s, result, u)]
+        self.solved = [*self.solved[max(0, len(self.solved) - self.order):], (s, result, u)]
 
     def forget(self) -> None:
         """Start the next point cold (after a failure, its neighbour is no guide)."""
