@@ -386,7 +386,7 @@ def _packed(insect: Insect, alpha_m: float | None) -> KernelProblem:
 def unsupported_field(insect: Insect) -> str:
     """Why the kernel cannot model this insect: its first field outside :data:`SUPPORTED_FIELDS`
     that is not at its default, in words ('' if there is none)."""
-    for name, default in _UNSUPPORTED:
+    for name, default in _unsupported_fields(type(insect), tuple(SUPPORTED_FIELDS)):
         value = getattr(insect, name)
         if default is dataclasses.MISSING or value != default:
             shown = "" if default is dataclasses.MISSING else f" (its default {default!r})"
@@ -395,11 +395,12 @@ def unsupported_field(insect: Insect) -> str:
     return ""
 
 
-#: The ``Insect`` fields outside :data:`SUPPORTED_FIELDS` and their defaults, in field order
-#: (listed once: a sweep asks at every point).
-_UNSUPPORTED: tuple[tuple[str, object], ...] = tuple(
-    (f.name, f.default) for f in dataclasses.fields(Insect)
-    if f.init and f.name not in SUPPORTED_FIELDS)
+@functools.lru_cache(maxsize=16)
+def _unsupported_fields(cls: type, supported: tuple[str, ...]) -> tuple[tuple[str, object], ...]:
+    """The init fields of an ``Insect`` class outside ``supported`` and their defaults, in field
+    order (listed once per class: a sweep asks at every point)."""
+    return tuple((f.name, f.default) for f in dataclasses.fields(cls)
+                 if f.init and f.name not in supported)
 
 
 def _check_supported(insect: Insect) -> None:
