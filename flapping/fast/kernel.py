@@ -54,6 +54,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType, ModuleType
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -386,7 +387,8 @@ def _packed(insect: Insect, alpha_m: float | None) -> KernelProblem:
 def unsupported_field(insect: Insect) -> str:
     """Why the kernel cannot model this insect: its first field outside :data:`SUPPORTED_FIELDS`
     that is not at its default, in words ('' if there is none)."""
-    for name, default in _unsupported_fields(type(insect), tuple(SUPPORTED_FIELDS)):
+    cls: Any = type(insect)  # a dataclass type is hashable (mypy reads Insect.__hash__)
+    for name, default in _unsupported_fields(cls, tuple(SUPPORTED_FIELDS)):
         value = getattr(insect, name)
         if default is dataclasses.MISSING or value != default:
             shown = "" if default is dataclasses.MISSING else f" (its default {default!r})"

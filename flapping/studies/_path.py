@@ -136,12 +136,13 @@ class WarmStart(Generic[P, R]):
             u0 = self.solved[-2][2]
             assert u0 is not None
             return Guess(previous, u1 + target * (u1 - u0))
-        used = self.solved[len(self.solved) - len(known):]
-        predicted = np.zeros_like(u1)
-        for w, (_, _, u) in zip(_lagrange_weights(known, target), used, strict=True):
-            assert u is not None
-            predicted += w * u
-        return Guess(previous, predicted)
+        used = [u.tolist() for _, _, u in self.solved[len(self.solved) - len(known):]
+                if u is not None]
+        weights = _lagrange_weights(known, target)
+        # On Python floats (a few unknowns: NumPy's per-call cost would exceed the arithmetic).
+        predicted = [math.fsum(w * u[j] for w, u in zip(weights, used, strict=True))
+                     for j in range(u1.size)]
+        return Guess(previous, np.array(predicted).reshape(u1.shape))
 
     def attempt(self, s: Coordinate, point: P) -> R:
         """Solve ``point`` at s from the guess (then cold, on a ``restart`` failure); remember it.
@@ -172,25 +173,33 @@ def _line_positions(solved: Sequence[Coordinate], s: Coordinate) -> list[float] 
 
     The unit is the last step: the last solved point is at 0, the one before at -1.
     """
-    last = _as_tuple(solved[-1])
-    step = [a - b for a, b in zip(last, _as_tuple(solved[-2]), strict=True)]
-    step2 = math.fsum(d * d for d in step)
-    if step2 == 0.0:
+    points = [_as_tuple(c) for c in (*solved, s)]
+    last, before = points[-2], points[-3]
+    moved = [i for i, (a, b) in enumerate(zip(last, before, strict=True)) if a != b]
+    if not moved:
         return None
+    if len(moved) == 1:  # along one axis (a number line, a grid line): exact comparisons
+        k = moved[0]
+        fixed = last[:k] + last[k + 1:]
+        step = last[k] - before[k]
 
-    def position(c: Coordinate) -> float | None:
-        v = [a - b for a, b in zip(_as_tuple(c), last, strict=True)]
-        if len(v) == 1:  # a number line: every coordinate is on it
-            return v[0] / step[0]
-        t = math.fsum(a * d for a, d in zip(v, step, strict=True)) / step2
-        off = math.fsum((a - t * d) ** 2 for a, d in zip(v, step, strict=True))
-        return t if off <= _ON_LINE_RTOL**2 * max(step2, math.fsum(a * a for a in v)) else None
+        def position(c: tuple[float, ...]) -> float | None:
+            return (c[k] - last[k]) / step if c[:k] + c[k + 1:] == fixed else None
+    else:
+        vector = [a - b for a, b in zip(last, before, strict=True)]
+        step2 = math.fsum(d * d for d in vector)
 
-    target = position(s)
+        def position(c: tuple[float, ...]) -> float | None:
+            v = [a - b for a, b in zip(c, last, strict=True)]
+            t = math.fsum(a * d for a, d in zip(v, vector, strict=True)) / step2
+            off = math.fsum((a - t * d) ** 2 for a, d in zip(v, vector, strict=True))
+            return t if off <= _ON_LINE_RTOL**2 * max(step2, math.fsum(a * a for a in v)) else None
+
+    target = position(points[-1])
     if target is None:
         return None
     known = [-1.0, 0.0]  # oldest first, as ``solved``
-    for c in reversed(solved[:-2]):
+    for c in reversed(points[:-3]):
         t = position(c)
         if t is None:
             break
