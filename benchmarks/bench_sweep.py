@@ -28,9 +28,9 @@ import numpy as np
 from _timing import best_of  # benchmarks/ is on sys.path when a script runs
 
 import flapping
+from flapping import find_hover_orbit, hover_stability
 from flapping.errors import HoverDriftWarning
 from flapping.fast import kernel
-from flapping.hover import find_hover_orbit, hover_stability
 from flapping.studies.sweep import sweep_hover
 
 #: Points of the adaptive baseline (each ~0.3 s).
