@@ -136,13 +136,9 @@ class WarmStart(Generic[P, R]):
             u0 = self.solved[-2][2]
             assert u0 is not None
             return Guess(previous, u1 + target * (u1 - u0))
-        used = [u.tolist() for _, _, u in self.solved[len(self.solved) - len(known):]
-                if u is not None]
-        weights = _lagrange_weights(known, target)
-        # On Python floats (a few unknowns: NumPy's per-call cost would exceed the arithmetic).
-        predicted = [math.fsum(w * u[j] for w, u in zip(weights, used, strict=True))
-                     for j in range(u1.size)]
-        return Guess(previous, np.array(predicted).reshape(u1.shape))
+        used = [u for _, _, u in self.solved[len(self.solved) - len(known):] if u is not None]
+        weights = np.array(_lagrange_weights(known, target))
+        return Guess(previous, weights @ np.array(used))
 
     def attempt(self, s: Coordinate, point: P) -> R:
         """Solve ``point`` at s from the guess (then cold, on a ``restart`` failure); remember it.
