@@ -95,7 +95,7 @@ def main(n: int = 1000, repeat: int = 5) -> dict:
           f"({per['compiled'] / per['sweep']:.0%}), Python {per['sweep'] - per['compiled']:.3f} ms")
     print(f"  converged rows: {int(table.converged.sum())} of {n}; Newton iterations per "
           f"point: {table.nit.mean():.2f}; steps per half-stroke: "
-          f"{dict(table.n_steps.value_counts().sort_index())}")
+          f"{ {int(k): int(v) for k, v in table.n_steps.value_counts().sort_index().items()} }")
     return per
 
 
