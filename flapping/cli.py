@@ -50,7 +50,8 @@ from flapping.studies.sweep import SWEEPABLE, sweep_hover
 __all__ = ["PRESETS", "UNITS", "NonFiniteResultError", "hover_report", "main"]
 
 #: Preset insects selectable with ``--insect`` by name (:mod:`flapping.model.presets`).
-PRESETS: dict[str, Callable[[], Insect]] = {name: p.insect for name, p in species.PRESETS.items()}
+PRESETS: dict[str, Callable[[], Insect]] = {name: entry.insect
+                                           for name, entry in species.PRESETS.items()}
 
 _STATE_UNITS = {"u": "m/s", "w": "m/s", "q": "rad/s", "theta": "rad"}
 _COUNT = "1"  # a dimensionless number (a count, a ratio, a multiplier)
@@ -260,9 +261,10 @@ def _non_finite(value: Any, path: str = "") -> list[str]:
     if isinstance(value, float) and not math.isfinite(value):
         return [f"{path} = {value}"]
     if isinstance(value, dict):
-        return [p for k, v in value.items() for p in _non_finite(v, f"{path}.{k}" if path else k)]
+        return [bad for k, v in value.items()
+                for bad in _non_finite(v, f"{path}.{k}" if path else k)]
     if isinstance(value, list):
-        return [p for i, v in enumerate(value) for p in _non_finite(v, f"{path}[{i}]")]
+        return [bad for i, v in enumerate(value) for bad in _non_finite(v, f"{path}[{i}]")]
     return []
 
 

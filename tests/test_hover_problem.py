@@ -20,6 +20,7 @@ from flapping.hover import (
 )
 from flapping.hover.branch import HoverFields
 from flapping.hover.stability import hover_stability
+from flapping.model.dynamics import LongitudinalDynamics
 
 needs_numba = pytest.mark.skipif(not kernel.numba_available(), reason="needs numba")
 
@@ -65,6 +66,25 @@ def test_compiled_says_why_it_does_not_apply(moth, options):
 def test_a_problem_refuses_an_insect_that_cannot_trim(moth):
     with pytest.raises(ValueError, match="cannot hover"):
         HoverProblem(moth, alpha_m=math.radians(1.0))
+
+
+def test_a_model_has_a_problem_without_the_trim_check(moth):
+    # alpha_m = 0.02 rad needs a stroke beyond 90 deg (eq. 40): no hover problem, but a model at
+    # a prescribed amplitude still has one (forced_orbit's), built by the one constructor.
+    with pytest.raises(ValueError, match="cannot hover"):
+        HoverProblem(moth, alpha_m=0.02)
+    unchecked = HoverProblem(moth, alpha_m=0.02, trim_check=False)
+    model = LongitudinalDynamics(moth, amplitude=1.0, alpha_m=0.02)
+    problem = HoverProblem.of_model(model)
+    assert problem.model is model and problem.trims == ("amplitude",)
+    assert (problem.insect, problem.aerodynamics, problem.alpha_m) == (
+        unchecked.insect, unchecked.aerodynamics, unchecked.alpha_m)
+    y, trims = np.array([0.1, -0.2, 3.0, 0.05, 0.0]), np.array([1.0])
+    for f, g in zip(problem.fields()[0], unchecked.fields()[0], strict=True):
+        np.testing.assert_array_equal(f(1e-3, y, trims), g(1e-3, y, trims))
+    assert problem.backend("auto") in ("compiled", "adaptive")
+    with pytest.raises(ValueError, match="trim_check"):
+        HoverProblem(moth, trim_check=0)
 
 
 def test_a_problem_given_to_find_hover_orbit_keeps_its_own_options(moth):

@@ -5,8 +5,8 @@ that the glued *value* stays the number itself (``.ci/glue_dump.py`` diffs the v
 ``e`` format then prints ``1.2e-13``. :func:`scientific` turns such a string into the typeset form,
 and the Sphinx extension (``setup``; listed in ``_config.yml``) applies it at build time to every
 glued number (myst-nb's ``span.pasted-text``) and to every table cell that holds only such a
-number, so the text of the chapters never needs to change for it. Code, math and literals are
-left alone.
+number (a plain negative number there gets a true minus sign, :func:`minus_sign`), so the text of
+the chapters never needs to change for it. Code, math and literals are left alone.
 
 Sphinx and docutils are imported by the build only.
 """
@@ -18,11 +18,14 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["E_NUMBER", "scientific", "split_scientific", "latex_scientific", "roundoff_bound",
-           "term_latex", "setup"]
+__all__ = ["E_NUMBER", "PLAIN_NUMBER", "minus_sign", "scientific", "split_scientific",
+           "latex_scientific", "roundoff_bound", "term_latex", "setup"]
 
 #: A number in Python's ``e`` notation, alone in its text: ``1.2e-13``, ``-3e+05``, ``4.0E2``.
 E_NUMBER = re.compile(r"^(?P<sign>[-+−]?)(?P<mantissa>\d+(?:\.\d+)?)[eE](?P<exponent>[-+]?\d+)$")
+
+#: A plain decimal number alone in its text, with its sign: ``-0.10``, ``+3``, ``12.5``.
+PLAIN_NUMBER = re.compile(r"^[-+]?\d+(?:\.\d+)?$")
 
 _SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
 
@@ -75,6 +78,14 @@ def scientific(text: str) -> str:
     return base + power.replace("−", "-").translate(_SUPERSCRIPT)
 
 
+def minus_sign(text: str) -> str:
+    """``"-0.10"`` -> ``"−0.10"``: a lone plain number's hyphen becomes the minus sign (U+2212)."""
+    stripped = text.strip()
+    if stripped.startswith("-") and PLAIN_NUMBER.match(stripped):
+        return text.replace("-", "\u2212", 1)
+    return text
+
+
 def latex_scientific(value: float, digits: int = 2) -> str:
     r"""A float as LaTeX: ``1.2 \times 10^{-13}`` (``digits`` significant digits).
 
@@ -99,12 +110,17 @@ def roundoff_bound(value: float, scale: float) -> float:
 
 # ------------------------------------------------------------------------------ Sphinx extension
 def _typeset(node, nodes) -> bool:
-    """Replace the text of ``node`` (its only child) with base + superscript; True if done."""
+    """Typeset the lone number that is ``node``'s only child: base + superscript, or a true minus
+    sign; True if done."""
     if len(node.children) != 1 or not isinstance(node.children[0], nodes.Text):
         return False
     parts = split_scientific(node.astext())
     if parts is None:
-        return False
+        typeset = minus_sign(node.astext())
+        if typeset == node.astext():
+            return False
+        node.children = [nodes.Text(typeset)]
+        return True
     base, power = parts
     node.children = []
     node += nodes.Text(base)

@@ -14,6 +14,10 @@ Rössler system (a = b = 0.2, c = 5.7) in two places, to different precision:
 * its web page ``extras/simon/Roessler.html`` prints the period to 12 digits and the expanding
   multiplier to 10 (:data:`ROSSLER_T_WEB`, :data:`ROSSLER_MU_WEB`). That page's period differs
   from the course code's in its 11th digit.
+
+Dednam and Botha (2015), who introduced the optimized shooting method, report their own Rössler
+case (a = 0.15, b = 0.2, c = 3.5) in their Table 1: its period and the modulus of its largest
+non-trivial multiplier (:data:`DEDNAM_BOTHA_T`, :data:`DEDNAM_BOTHA_MU`).
 """
 
 from __future__ import annotations
@@ -29,6 +33,8 @@ __all__ = [
     "ROSSLER_T_CODE",
     "ROSSLER_T_WEB",
     "ROSSLER_MU_WEB",
+    "DEDNAM_BOTHA_T",
+    "DEDNAM_BOTHA_MU",
 ]
 
 #: The most digits a comparison of doubles can show: beyond about 16 significant digits the
@@ -96,3 +102,10 @@ ROSSLER_T_CODE = PrintedValue("5.881088455554846384", _CODE)
 ROSSLER_T_WEB = PrintedValue("5.88108845586", _WEB)
 #: The expanding Floquet multiplier of that orbit, as ChaosBook's web page prints it.
 ROSSLER_MU_WEB = PrintedValue("-2.403953527", _WEB)
+
+_DB = "Dednam and Botha (2015), Table 1"
+
+#: Period of Dednam and Botha's Rössler orbit (a = 0.15, b = 0.2, c = 3.5), as printed.
+DEDNAM_BOTHA_T = PrintedValue("5.920340248194", _DB)
+#: Modulus of the largest non-trivial Floquet multiplier of that orbit, as printed.
+DEDNAM_BOTHA_MU = PrintedValue("0.812252", _DB)

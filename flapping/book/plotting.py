@@ -21,6 +21,7 @@ import numpy as np
 
 from flapping.book.style import (
     DERIVATIVE_LABELS,
+    GUIDE_COLOR,
     LOAD_COLORS,
     LOAD_LABELS,
     MODEL_LABELS,
@@ -318,8 +319,8 @@ def plot_derivatives(t, values: Mapping[str, np.ndarray], names: Sequence[str] |
     label : str, optional
         Legend entry (shown on the first panel).
     show_mean : bool
-        Draw the mean of the samples as a thin dashed line (the cycle average when ``t`` is a
-        uniform grid over whole periods).
+        Draw the mean of the samples as a thin dashed grey guide line (the cycle average when
+        ``t`` is a uniform grid over whole periods).
     **line_kw
         Passed to ``Axes.plot``; ``color`` overrides the derivative colours.
 
@@ -343,7 +344,7 @@ def plot_derivatives(t, values: Mapping[str, np.ndarray], names: Sequence[str] |
         series = np.broadcast_to(values[name], tt.shape)
         ax.plot(tt, series, label=label, **kw)
         if show_mean:
-            ax.axhline(float(np.mean(series)), color=kw["color"], lw=0.9, ls="--", zorder=1)
+            ax.axhline(float(np.mean(series)), color=GUIDE_COLOR, lw=0.9, ls="--", zorder=1)
         ax.axhline(0.0, color="0.7", lw=0.6, zorder=0)
         ax.set_ylabel(DERIVATIVE_LABELS[name])
         if new and shade and period is not None:

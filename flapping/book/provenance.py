@@ -127,7 +127,7 @@ def chapter_statistics(path: str | Path) -> ChapterStatistics:
                 counts["code_cells"] += 1
             elif name in ("glue:figure", "figure"):
                 counts["figures"] += 1
-            elif name == "table":
+            elif name in ("table", "captioned-exec-table"):  # the latter: book/status.md
                 counts["tables"] += 1
             elif name in ("exercise", "exercise-start"):
                 counts["exercises"] += 1

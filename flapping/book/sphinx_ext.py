@@ -16,6 +16,13 @@ installed (the book is read offline). :func:`exec_status_text` maps them; the ha
 them in every table of the resolved doctree and tags the cell ``exec-status-succeeded`` or
 ``exec-status-failed`` for CSS.
 
+And it numbers and captions that table like every other table of the book: myst-nb's
+``nb-exec-table`` is a placeholder that a post-transform replaces with the table at write time,
+after Sphinx has numbered the tables, so a ``{table}`` directive cannot wrap it. The directive
+``{captioned-exec-table} caption`` (with ``:name:``) writes a table node with the caption and the
+placeholder inside, which Sphinx numbers; :func:`merge_captioned_exec_tables` then moves the rows
+myst-nb wrote into that numbered table (``doctree-resolved``).
+
 Sphinx is imported by the build only: nothing in :mod:`flapping` imports this module.
 """
 
@@ -23,7 +30,11 @@ from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["unique_scripts", "exec_status_text", "EXEC_STATUS_TEXT", "setup"]
+__all__ = ["unique_scripts", "exec_status_text", "EXEC_STATUS_TEXT", "CAPTIONED_EXEC_TABLE",
+           "merge_captioned_exec_tables", "setup"]
+
+#: Class of the numbered table that :func:`merge_captioned_exec_tables` fills.
+CAPTIONED_EXEC_TABLE = "captioned-exec-table"
 
 #: myst-nb's execution-table status symbols (myst_nb.ext.execution_tables) and the book's words.
 EXEC_STATUS_TEXT: dict[str, str] = {"\u2705": "succeeded", "\u274c": "failed"}
@@ -87,8 +98,79 @@ def _exec_status_as_words(app, doctree, docname) -> None:
                     entry["classes"].append(f"exec-status-{word}")
 
 
+def merge_captioned_exec_tables(doctree) -> int:
+    """Move the rows of each execution table into the numbered, captioned table around it.
+
+    The directive leaves ``table(title, placeholder)``; myst-nb's post-transform replaces the
+    placeholder by its own table, giving ``table(title, table(tgroup))``. This makes it
+    ``table(title, tgroup)`` with the inner table's classes, keeping the outer ids (the number).
+
+    Parameters
+    ----------
+    doctree : docutils.nodes.document
+        A resolved doctree (after the post-transforms).
+
+    Returns
+    -------
+    int
+        How many tables were merged.
+    """
+    from docutils import nodes
+
+    merged = 0
+    for outer in list(doctree.findall(nodes.table)):
+        if CAPTIONED_EXEC_TABLE not in outer["classes"]:
+            continue
+        for inner in [child for child in outer.children if isinstance(child, nodes.table)]:
+            outer["classes"] += [c for c in inner["classes"] if c not in outer["classes"]]
+            index = outer.index(inner)
+            outer.remove(inner)
+            for offset, child in enumerate(list(inner.children)):
+                if not isinstance(child, nodes.title):
+                    inner.remove(child)
+                    outer.insert(index + offset, child)
+            merged += 1
+    return merged
+
+
+def _merge_exec_tables(app, doctree, docname) -> None:
+    """``doctree-resolved``: :func:`merge_captioned_exec_tables`."""
+    merge_captioned_exec_tables(doctree)
+
+
+def _captioned_exec_table_directive():
+    """The ``{captioned-exec-table}`` directive class (built lazily: Sphinx and myst-nb are
+    imported by the build only)."""
+    from docutils import nodes
+    from docutils.parsers.rst import directives
+    from myst_nb.ext.execution_tables import METADATA_KEY, ExecutionStatsNode
+    from myst_nb.sphinx_ import NbMetadataCollector
+    from sphinx.util.docutils import SphinxDirective
+
+    class CaptionedExecTable(SphinxDirective):
+        """myst-nb's ``nb-exec-table``, inside a numbered table with a caption."""
+
+        required_arguments = 1
+        final_argument_whitespace = True
+        option_spec = {"name": directives.unchanged}
+
+        def run(self):
+            NbMetadataCollector.set_doc_data(self.env, self.env.docname, METADATA_KEY, True)
+            table = nodes.table(classes=[CAPTIONED_EXEC_TABLE])
+            inline, messages = self.state.inline_text(self.arguments[0], self.lineno)
+            table += nodes.title(self.arguments[0], "", *inline)
+            self.add_name(table)
+            table += ExecutionStatsNode()
+            return [table, *messages]
+
+    return CaptionedExecTable
+
+
 def setup(app) -> dict[str, Any]:
     """Register the handlers (the scripts' late, after extensions that add per-page scripts)."""
     app.connect("html-page-context", _drop_repeated_scripts, priority=900)
+    app.add_directive("captioned-exec-table", _captioned_exec_table_directive())
+    # the rows first, then their status symbols as words
+    app.connect("doctree-resolved", _merge_exec_tables, priority=400)
     app.connect("doctree-resolved", _exec_status_as_words)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}

@@ -9,7 +9,10 @@ way the figures are coloured.
   multiplies (X_w, Z_w, M_w are all "w"-coloured) and the constant terms X0, Z0, M0 the colour of
   their load (:func:`derivative_color`).
 * **Line style = model.** The aerodynamic models of :mod:`flapping.model.dynamics` are told apart
-  by line style (:data:`MODEL_LINESTYLES`), never by colour.
+  by line style (:data:`MODEL_LINESTYLES`), never by colour. A curve in a quantity's or a
+  source's colour is solid unless it is one of these models. Guide lines (zero, the unit circle,
+  cycle means, envelopes, reference slopes, nominal values) are thin and grey
+  (:data:`GUIDE_COLOR`, :func:`is_grey`), in any line style; the caption names them.
 * **Colour = source** where ours and others' numbers share a figure (:data:`SOURCE_COLORS`).
 * Display units: theta in degrees (:data:`STATE_SCALES`); everything else SI.
 """
@@ -30,7 +33,9 @@ __all__ = [
     "MODEL_LINESTYLES",
     "MODEL_LABELS",
     "DERIVATIVE_LABELS",
+    "GUIDE_COLOR",
     "derivative_color",
+    "is_grey",
 ]
 
 #: State components, in the order of the state vector x = (u, w, q, theta).
@@ -80,6 +85,10 @@ MODEL_LINESTYLES: dict[str, Literal["-", "--", ":", "-."]] = {
     "linear": ":", "small-angle": "-", "exact": "--",
 }
 
+#: Colour of guide lines (cycle means, envelopes, reference slopes): a mid grey, drawn thin, in any
+#: line style. Line style tells models apart only for curves in a quantity's or source's colour.
+GUIDE_COLOR: str = "0.55"
+
 #: Legend text of each aerodynamic model.
 MODEL_LABELS: dict[str, str] = {
     "linear": "linear, eq. (29)",
@@ -118,3 +127,39 @@ def derivative_color(name: str) -> str:
         raise ValueError(f"name must be one of {tuple(DERIVATIVE_LABELS)}; got {name!r}")
     suffix = name[1:]
     return STATE_COLORS[suffix] if suffix in _STATE_OF_SUFFIX else LOAD_COLORS[name[0]]
+
+
+_GREY_NAMES = frozenset({"k", "black", "w", "white", "grey", "gray", "lightgrey", "lightgray",
+                         "darkgrey", "darkgray", "dimgrey", "dimgray", "silver"})
+
+
+def is_grey(color: str) -> bool:
+    """Whether a Matplotlib colour string is a grey (black and white included): a grey level
+    ("0.55"), a grey name ("k", "grey", ...) or "#rrggbb" with three equal components.
+
+    Guide lines must be grey (:data:`GUIDE_COLOR`); the book's test of its figures' line styles
+    asks this of every line drawn dashed or dotted outside :data:`MODEL_LINESTYLES`.
+
+    Raises
+    ------
+    ValueError
+        If ``color`` is not a string.
+    """
+    if not isinstance(color, str):
+        raise ValueError(f"color must be a Matplotlib colour string; got {color!r}")
+    text = color.strip().lower()
+    if text in _GREY_NAMES:
+        return True
+    try:
+        level = float(text)
+    except ValueError:
+        pass
+    else:
+        return 0.0 <= level <= 1.0
+    if len(text) in (7, 9) and text.startswith("#"):
+        try:
+            r, g, b = (int(text[k:k + 2], 16) for k in (1, 3, 5))
+        except ValueError:
+            return False
+        return r == g == b
+    return False

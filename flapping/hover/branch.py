@@ -31,6 +31,7 @@ from flapping.hover.problem import HoverProblem
 from flapping.model.dynamics import LongitudinalDynamics
 from flapping.model.morphology import Insect
 from flapping.periodic.continuation import Branch, continue_orbit
+from flapping.periodic.settings import SolverSettings
 
 __all__ = ["continue_hover", "HoverFields"]
 
@@ -41,10 +42,11 @@ _CACHE = 8
 class HoverFields:
     """The hover problem's right-hand sides and Jacobians as functions of one insect field.
 
-    ``funs[k](t, y, p, q)`` and ``jacs[k](t, y, p, q)`` on half-stroke k, y = (u, w, q, theta, z),
-    p the field's value, ``q = [Phi]``; :meth:`period` gives the flapping period at p. Each value
-    of p is a :class:`~flapping.hover.HoverProblem` (a few are kept), whose fields are the ones
-    :func:`~flapping.hover.find_hover_orbit` solves.
+    ``funs[k](t, y, p, params)`` and ``jacs[k](t, y, p, params)`` on half-stroke k,
+    y = (u, w, q, theta, z), p the field's value (the continuation parameter), ``params = [Phi]``
+    (the free parameter solved with the orbit); :meth:`period` gives the flapping period at p.
+    Each value of p is a :class:`~flapping.hover.HoverProblem` (a few are kept), whose fields are
+    the ones :func:`~flapping.hover.find_hover_orbit` solves.
 
     Parameters
     ----------
@@ -93,13 +95,14 @@ class HoverFields:
         return self.problem(float(p)).period
 
     def _field(self, which: int, k: int) -> Any:
-        def f(t: float, y: np.ndarray, p: float, q: np.ndarray) -> np.ndarray:
-            return self._at(p)[1][which][k](t, y, q)
+        def f(t: float, y: np.ndarray, p: float, params: np.ndarray) -> np.ndarray:
+            return self._at(p)[1][which][k](t, y, params)
         return f
 
 
 def continue_hover(insect: Insect, parameter_name: str, end: float, *,
-                   aerodynamics: str = "linear", **options: Any) -> Branch:
+                   aerodynamics: str = "linear", settings: SolverSettings | None = None,
+                   **options: Any) -> Branch:
     """Continue the hover orbit and its stroke amplitude in one insect field.
 
     Parameters
@@ -115,7 +118,15 @@ def continue_hover(insect: Insect, parameter_name: str, end: float, *,
         Loads model (``"linear"``: eq. 29).
     **options
         Passed to :func:`~flapping.periodic.continuation.continue_orbit` (``ds``, ``ds_max``,
-        ``max_points``, tolerances, ...).
+        ``max_points``, tolerances, ...). Defaults here: ``rtol`` 1e-10, ``atol`` 1e-12,
+        ``tol`` 1e-9.
+    settings : SolverSettings, optional
+        The continuation's ``method``, ``rtol``, ``atol``, ``max_steps``, ``tol`` and
+        ``max_newton`` as one object (:class:`~flapping.periodic.SolverSettings`, as
+        :func:`~flapping.periodic.continuation.continue_orbit` reads it); a field set there
+        replaces the default above, and an option given as a keyword overrides the field. The
+        hover orbit at the start is found with :func:`~flapping.hover.find_hover_orbit`'s own
+        defaults.
 
     Returns
     -------
@@ -134,8 +145,18 @@ def continue_hover(insect: Insect, parameter_name: str, end: float, *,
     problem = HoverFields(insect, parameter_name, aerodynamics)
     p0 = float(getattr(insect, parameter_name))
     start = find_hover_orbit(problem.problem(p0))
-    defaults: dict[str, Any] = {"rtol": 1e-10, "atol": 1e-12, "tol": 1e-9}
+    # The defaults are passed as keywords (which win over settings): only those settings
+    # leaves unset.
+    defaults = {k: v for k, v in DEFAULTS.items()
+                if settings is None or getattr(settings, k) is None}
     return continue_orbit(
         problem.funs, np.append(start.x0, 0.0), problem.period, p0, end, autonomous=False,
         jac=problem.jacs, breakpoints=problem.breakpoints, fixed=(4,),
-        free_params=(start.amplitude,), floquet_states=(0, 1, 2, 3), **{**defaults, **options})
+        free_params=(start.amplitude,), floquet_states=(0, 1, 2, 3), settings=settings,
+        **{**defaults, **options})
+
+
+#: What :func:`continue_hover` passes to :func:`~flapping.periodic.continuation.continue_orbit`
+#: for each of these :class:`~flapping.periodic.SolverSettings` fields when neither a keyword
+#: nor ``settings`` gives it (continue_orbit's own defaults otherwise).
+DEFAULTS: dict[str, Any] = {"rtol": 1e-10, "atol": 1e-12, "tol": 1e-9}

@@ -58,6 +58,7 @@ from flapping.model.morphology import Insect
 from flapping.periodic._readonly import freeze, readonly
 from flapping.periodic.fixedstep import FixedStepOrbit, find_periodic_orbit_fixed_step
 from flapping.periodic.integrate import flow, variational_flow
+from flapping.periodic.settings import SolverSettings, default, given, resolve
 from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
 
 __all__ = [
@@ -190,7 +191,9 @@ class HoverOrbit:
         error's Richardson estimate and can understate it where the convergence in the step
         count is not yet regular (measured on the hawkmoth, small-angle, 64 steps: 1.9e-10 from
         the adaptive analysis against an estimate of 5.8e-11).
-        :func:`~flapping.hover.stability.hover_stability` is the reference for the multipliers.
+        ``hover_stability(orbit, backend="fixed-step")`` gives the multipliers at twice the
+        steps with the change as their error estimate
+        (:attr:`~flapping.hover.stability.HoverStability.multiplier_error`).
     """
 
     problem: HoverProblem | None
@@ -345,7 +348,7 @@ class HoverOrbit:
 
 def _sample(model: LongitudinalDynamics, x0: np.ndarray, n_samples: int, method: str, **tol):
     """One period from x0 with the descent z alongside: (t, x (4 rows), z(T) - z(0))."""
-    rhs = _problem_of(model).fields()[0]
+    rhs = HoverProblem.of_model(model).fields()[0]
     t = np.linspace(0.0, model.period, n_samples + 1)
     res = require_success(
         flow(rhs, (0.0, model.period), np.append(x0, 0.0), breakpoints=model.breakpoints,
@@ -363,16 +366,17 @@ def find_hover_orbit(
     alpha_m: float | None = None,
     amplitude_guess: float | None = None,
     x0_guess: ArrayLike | None = None,
-    method: str = "DOP853",
+    method: str = default("DOP853"),
     jacobian: str | None = None,
-    rtol: float = 1e-11,
-    atol: float = 1e-12,
-    tol: float = 1e-10,
+    rtol: float = default(1e-11),
+    atol: float = default(1e-12),
+    tol: float = default(1e-10),
     n_samples: int = 512,
     backend: str = DEFAULT_BACKEND,
     trims: Sequence[str] = ("amplitude",),
     kernel_options: Mapping[str, Any] | None = None,
     fixed_step_options: Mapping[str, Any] | None = None,
+    settings: SolverSettings | None = None,
 ) -> HoverOrbit:
     """Find the hovering periodic orbit: initial state and stroke amplitude (and phi_bar).
 
@@ -428,6 +432,14 @@ def find_hover_orbit(
         per half-stroke to start with, default 64), ``error_tol`` (every unknown's Richardson
         error estimate relative to max(1, abs(value)), default 1e-10), ``multiplier_tol``
         (default None: estimated, not enforced) and ``max_nfev``; ``tol`` is the residual's.
+    settings : SolverSettings, optional
+        ``method``, ``rtol``, ``atol`` and ``tol`` as one object
+        (:class:`~flapping.periodic.SolverSettings`), with the same meaning as the keywords; the
+        adaptive path also takes its ``max_steps``, ``rk4_steps`` and ``max_nfev`` (passed to
+        :func:`~flapping.periodic.shooting.find_periodic_orbit`). A keyword given explicitly
+        overrides the same field; a field left at None keeps the default shown here. A
+        ``method`` other than ``"DOP853"`` selects the adaptive path under ``"auto"``, as the
+        keyword does.
 
     Returns
     -------
@@ -450,6 +462,9 @@ def find_hover_orbit(
         wingtip speed (the orbit holds its altitude but is not hover; see
         :attr:`HoverOrbit.is_hover`).
     """
+    o = resolve(settings, DEFAULTS, method=given(method), rtol=given(rtol), atol=given(atol),
+                tol=given(tol))
+    method, rtol, atol, tol = o["method"], o["rtol"], o["atol"], o["tol"]
     problem = _problem(insect, aerodynamics, alpha_m, trims)
     guess = problem.guess(amplitude_guess)
     x0 = state_guess(x0_guess)
@@ -481,9 +496,15 @@ def find_hover_orbit(
         if jacobian is None:
             jacobian = "variational" if problem.aerodynamics == "linear" else "finite-difference"
         orbit = _adaptive_orbit(problem, guess, x0, n_samples, method=method,
-                                jacobian=jacobian, rtol=rtol, atol=atol, tol=tol)
+                                jacobian=jacobian, rtol=rtol, atol=atol, tol=tol,
+                                settings=settings)
     _warn_if_drifting(orbit)
     return orbit
+
+
+#: What :func:`find_hover_orbit` uses for each :class:`~flapping.periodic.SolverSettings` field
+#: it reads when neither the keyword nor ``settings`` gives it (the signature's defaults).
+DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": 1e-11, "atol": 1e-12, "tol": 1e-10}
 
 
 def _problem(insect: Insect | HoverProblem, aerodynamics: str, alpha_m: float | None,
@@ -515,7 +536,7 @@ def _adaptive_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, n_
 
 #: Options of the fixed-step path (``fixed_step_options``) and its default start step count.
 _FIXED_STEP_OPTIONS = ("n_steps", "error_tol", "multiplier_tol", "max_nfev")
-_FIXED_STEP_START = 64
+FIXED_STEP_START = 64
 
 
 def _fixed_step_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, n_samples: int,
@@ -529,7 +550,7 @@ def _fixed_step_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, 
     rtol, atol = _validation.tolerances(rtol, atol)
     funs, switches = problem.graded_fields()
     extra = problem.n_conditions
-    settings = {"n_steps": _FIXED_STEP_START, **options}
+    settings = {"n_steps": FIXED_STEP_START, **options}
     result = find_periodic_orbit_fixed_step(
         funs, np.concatenate([x0, np.zeros(extra)]), 2.0, free_params=list(guess),
         fixed=tuple(range(4, 4 + extra)), breakpoints=(0.5,), switches=switches, tol=tol,
@@ -602,19 +623,8 @@ def use_kernel(backend: str, model: LongitudinalDynamics, default_settings: bool
     ValueError, ImportError
         As :meth:`HoverProblem.backend`.
     """
-    problem = _problem_of(model)
+    problem = HoverProblem.of_model(model)
     return problem.backend(backend, adaptive_options=not default_settings) == "compiled"
-
-
-def _problem_of(model: LongitudinalDynamics) -> HoverProblem:
-    """The hover problem a model belongs to (its insect, loads and alpha_m; one trim)."""
-    problem = HoverProblem.__new__(HoverProblem)
-    # No trim check: a model at any amplitude (forced_orbit's) has a problem to ask about.
-    for name, value in (("insect", model.insect), ("aerodynamics", model.aerodynamics),
-                        ("alpha_m", model.alpha_m), ("trims", TRIMS[0])):
-        object.__setattr__(problem, name, value)
-    problem.__dict__["model"] = model  # its rhs takes the amplitude: any amplitude's model serves
-    return problem
 
 
 def _kernel_orbit(problem: HoverProblem, amplitude: float, x0: np.ndarray, n_samples: int,
@@ -733,8 +743,8 @@ def paper_hover_problem(
     def field(k):
         s = segment_stroke_sign(k)
 
-        def f(t, y, p):
-            dx = model.rhs(t, y[:4], s, p[0])
+        def f(t, y, params):
+            dx = model.rhs(t, y[:4], s, params[0])
             u, w, q, th = y[:4]
             dh = (dx[1] * math.sin(th) + w * math.cos(th) * q
                   - dx[0] * math.cos(th) + u * math.sin(th) * q)

@@ -11,14 +11,14 @@ never rebuild it.
 The augmented state: (u, w, q, theta) and the descent z (z' = -u sin theta + w cos theta, z(0) = 0
 held fixed, so that periodicity of z is zero mean vertical speed); with the mean stroke angle as a
 second trim, the forward distance x_e too (zero mean horizontal speed). The trims are the free
-parameters: p = [Phi] or p = [Phi, phi_bar].
+parameters: params = [Phi] or params = [Phi, phi_bar].
 """
 
 from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
 
@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike
 
 from flapping import _validation
 from flapping.errors import ConvergenceError
+from flapping.fast import blade as _blade
 from flapping.fast import kernel as _kernel
 from flapping.model.aerodynamics import trim_angle_of_attack
 from flapping.model.dynamics import (
@@ -47,8 +48,9 @@ __all__ = ["BACKENDS", "DEFAULT_BACKEND", "GRADING_POWER", "TRIMS", "HoverProble
 #: scipy path (adaptive DOP853, the reference and the cross-check, ~0.3 s); ``"fixed-step"``,
 #: Newton on a fixed-step 8th-order period map on a time mesh graded towards the stroke
 #: reversals, with the loads' kinks as switching functions and a Richardson error estimate
-#: (:meth:`HoverProblem.graded_fields`; any loads model, made for the blade-element ones: 5-30 s in
-#: Python, the loads' evaluations most of it); ``"auto"``, the kernel where it applies (linear
+#: (:meth:`HoverProblem.graded_fields`; any loads model, made for the blade-element ones: 1.5-2.5 s
+#: per hawkmoth or monarch solve with the compiled loads of :mod:`flapping.fast.blade`, 15-25 s
+#: with the Python ones); ``"auto"``, the kernel where it applies (linear
 #: loads, one trim, the default ``method`` and ``jacobian``, numba installed), the fixed-step
 #: path for the blade-element models (with the default ``method`` and ``jacobian``), else
 #: adaptive.
@@ -94,17 +96,24 @@ class HoverProblem:
         the trim of eq. (40) at the insect's nominal amplitude, as in the paper.
     trims : ("amplitude",) or ("amplitude", "stroke_mean")
         The trim unknowns (:data:`TRIMS`).
+    trim_check : bool, keyword-only
+        Refuse at once an insect that cannot hover even at rest (eq. 40 needs Phi > 90 deg;
+        the default). False skips that check only: the problem of a model at a prescribed
+        amplitude (:meth:`of_model`, for :func:`~flapping.hover.forced_orbit`, which solves no
+        trim) exists whether or not the insect can hover.
 
     Raises
     ------
     ValueError
-        For a bad argument, or an insect too heavy to trim (eq. 40 needs Phi > 90 deg).
+        For a bad argument, or (with ``trim_check``) an insect too heavy to trim (eq. 40 needs
+        Phi > 90 deg).
     """
 
     insect: Insect
     aerodynamics: str = "linear"
     alpha_m: float | None = None
     trims: tuple[str, ...] = ("amplitude",)
+    trim_check: bool = field(default=True, kw_only=True, repr=False)
 
     def __post_init__(self) -> None:
         insect = _validation.instance("insect", self.insect, Insect)
@@ -113,10 +122,34 @@ class HoverProblem:
                    else self.alpha_m)
         alpha_m = check_alpha_m(alpha_m)
         trims = check_trims(self.trims)
-        check_trim(insect, alpha_m)
+        if _validation.boolean("trim_check", self.trim_check):
+            check_trim(insect, alpha_m)
         object.__setattr__(self, "aerodynamics", aerodynamics)
         object.__setattr__(self, "alpha_m", alpha_m)
         object.__setattr__(self, "trims", trims)
+
+    @classmethod
+    def of_model(cls, model: LongitudinalDynamics) -> HoverProblem:
+        """The hover problem a model belongs to: its insect, loads and alpha_m, one trim.
+
+        Built without the trim check (``trim_check=False``): the model may be at any amplitude
+        (:func:`~flapping.hover.forced_orbit`'s), and its problem only hands out right-hand sides
+        and decides the backend. The problem's :attr:`model` is ``model`` itself (its right-hand
+        side takes the amplitude as an argument, so a model at any amplitude serves).
+
+        Parameters
+        ----------
+        model : LongitudinalDynamics
+
+        Returns
+        -------
+        HoverProblem
+        """
+        model = _validation.instance("model", model, LongitudinalDynamics)
+        problem = cls(model.insect, model.aerodynamics, model.alpha_m, TRIMS[0],
+                      trim_check=False)
+        problem.__dict__["model"] = model  # the cached_property's slot: no second model built
+        return problem
 
     # ---------------------------------------------------------------- what the solvers ask
     @property
@@ -141,25 +174,34 @@ class HoverProblem:
         return _kernel.KernelProblem.of(self.insect, self.alpha_m)
 
     def fields(self) -> tuple[list[Any], list[Any], list[Any]]:
-        """Per half-stroke ``f(t, y, p)``, ``J(t, y, p)``, ``P(t, y, p) = df/dp``.
+        """Per half-stroke ``f(t, y, params)``, ``J(t, y, params)`` and
+        ``P(t, y, params) = df/dparams``.
 
-        y is the augmented state (u, w, q, theta, z[, x_e]) and p the trims [Phi[, phi_bar]].
+        y is the augmented state (u, w, q, theta, z[, x_e]) and params the trims [Phi[, phi_bar]].
         """
         return _Fields(self).lists()
 
-    def graded_fields(self) -> tuple[list[Any], list[Any]]:
+    def graded_fields(self, compiled: bool = True) -> tuple[list[Any], list[Any]]:
         """The fields of :meth:`fields` on the graded time mesh, and their switching functions.
 
         Per half-stroke k the time is t = T (k + g(s - k)) / 2 with s in [k, k + 1] and g the
         grading of :data:`GRADING_POWER` (g(0) = 0, g(1) = 1, g'(0) = g'(1) = 0); the field in s
-        is ``dt/ds f(t(s), y, p)``. The period in s is 2, the breakpoint at s = 1 (fraction 0.5).
+        is ``dt/ds f(t(s), y, params)``. The period in s is 2, the breakpoint at s = 1 (fraction
+        0.5).
+
+        Parameters
+        ----------
+        compiled : bool
+            For the blade-element models, evaluate the field with the compiled loads of
+            :mod:`flapping.fast.blade` where they apply (numba installed, an insect they model):
+            the same field to rounding, ~10 times faster per solve. False: the Python loads.
 
         Returns
         -------
         funs : list of callables
-            ``F(s, y, p)`` per half-stroke.
+            ``F(s, y, params)`` per half-stroke.
         switches : list of tuples of callables
-            Per half-stroke, ``g(s, y, p)`` whose sign changes mark the loads' kinks (a jump of
+            Per half-stroke, ``g(s, y, params)`` whose sign changes mark the loads' kinks (a jump of
             a derivative of the right-hand side at a state-dependent time): the section airspeed
             U = 0 at the wing root (u - q h_w = 0) and at the tip
             ((u - q h_w) cos(phi) + phi_dot R = 0), and q = 0 (the rotational damping's
@@ -167,12 +209,15 @@ class HoverProblem:
             monodromy's multipliers at 64 steps were 3.5e-8 off on the hawkmoth, marked 1.2e-9).
             Empty for the linear loads (smooth within a half-stroke).
         """
-        funs = self.fields()[0]
-        half = 0.5 * self.period
-        out = [_graded(f, k, half) for k, f in enumerate(funs)]
+        fast = _blade.BladeField.of(self.model, self.n_conditions) if compiled else None
+        if fast is None:
+            half = 0.5 * self.period
+            out = [_graded(f, k, half) for k, f in enumerate(self.fields()[0])]
+        else:
+            out = [_compiled_graded(fast, k, self.n_conditions) for k in range(len(fast.signs))]
         if self.aerodynamics == "linear":
-            return out, [() for _ in funs]
-        return out, [_switches(self, k) for k in range(len(funs))]
+            return out, [() for _ in out]
+        return out, [_switches(self, k) for k in range(len(out))]
 
     def guess(self, amplitude: float | None = None) -> np.ndarray:
         """The trims' starting values: [Phi] or [Phi, phi_bar] (default the insect's own)."""
@@ -258,52 +303,49 @@ class _Fields:
 
     def lists(self) -> tuple[list[Any], list[Any], list[Any]]:
         signs = [segment_stroke_sign(k) for k in range(len(self.problem.model.breakpoints) + 1)]
-        return ([lambda t, y, p, _s=s: self.rhs(t, y, p, _s) for s in signs],
-                [lambda t, y, p, _s=s: self.jac(t, y, p, _s) for s in signs],
-                [lambda t, y, p, _s=s: self.param_jac(t, y, p, _s) for s in signs])
+        return ([lambda t, y, params, _s=s: self.rhs(t, y, params, _s) for s in signs],
+                [lambda t, y, params, _s=s: self.jac(t, y, params, _s) for s in signs],
+                [lambda t, y, params, _s=s: self.param_jac(t, y, params, _s) for s in signs])
 
-    def at(self, p: np.ndarray) -> LongitudinalDynamics:
+    def at(self, params: np.ndarray) -> LongitudinalDynamics:
         """The model at the iterate's mean stroke angle (the problem's own with one trim)."""
         if self.size == 5:
             return self.problem.model
-        stroke_mean = float(p[1])
+        stroke_mean = float(params[1])
         found = self.models.get(stroke_mean)
         if found is None:
-            if not -math.pi / 2 < stroke_mean < math.pi / 2:
-                raise ConvergenceError(
-                    f"the shooting iteration stepped the mean stroke angle to "
-                    f"{math.degrees(stroke_mean):.4g} deg, outside (-90, 90) deg")
+            check_iterate_stroke_mean(stroke_mean)
             if len(self.models) >= _MODELS_KEPT:
                 del self.models[next(iter(self.models))]
             found = self.problem.model.with_stroke_mean(stroke_mean)
             self.models[stroke_mean] = found
         return found
 
-    def rhs(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
-        check_iterate_amplitude(p[0])
+    def rhs(self, t: float, y: np.ndarray, params: np.ndarray, s: float) -> np.ndarray:
+        check_iterate_amplitude(params[0])
         out = np.empty(self.size)
-        out[:4] = self.at(p).rhs(t, y, s, p[0])
+        out[:4] = self.at(params).rhs(t, y, s, params[0])
         forward, down = inertial_velocity(y[0], y[1], y[3])
         out[4] = down
         if self.size == 6:
             out[5] = forward
         return out
 
-    def jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
+    def jac(self, t: float, y: np.ndarray, params: np.ndarray, s: float) -> np.ndarray:
         out = np.zeros((self.size, self.size))
-        out[:4, :4] = self.at(p).jac(t, y, s, p[0])
+        out[:4, :4] = self.at(params).jac(t, y, s, params[0])
         forward, down = inertial_velocity_jac(y[0], y[1], y[3])
         out[4, :4] = down
         if self.size == 6:
             out[5, :4] = forward
         return out
 
-    def param_jac(self, t: float, y: np.ndarray, p: np.ndarray, s: float) -> np.ndarray:
+    def param_jac(self, t: float, y: np.ndarray, params: np.ndarray, s: float) -> np.ndarray:
         out = np.zeros((self.size, self.size - 4))
-        model = self.at(p)
-        out[:4, :1] = model.amplitude_jac(t, y, s, p[0])
+        model = self.at(params)
+        out[:4, :1] = model.amplitude_jac(t, y, s, params[0])
         if self.size == 6:
-            out[:4, 1:] = model.stroke_mean_jac(t, y, s, p[0])
+            out[:4, 1:] = model.stroke_mean_jac(t, y, s, params[0])
         return out
 
 
@@ -322,10 +364,29 @@ def grading_derivative(s: float) -> float:
 
 
 def _graded(f: Any, k: int, half: float) -> Any:
-    """F(s, y, p) = dt/ds f(t(s), y, p) on half-stroke k."""
-    def field(s: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """F(s, y, params) = dt/ds f(t(s), y, params) on half-stroke k."""
+    def field(s: float, y: np.ndarray, params: np.ndarray) -> np.ndarray:
         local = s - k
-        return (half * grading_derivative(local)) * f(half * (k + grading(local)), y, p)
+        return (half * grading_derivative(local)) * f(half * (k + grading(local)), y, params)
+    return field
+
+
+def _compiled_graded(fast: _blade.BladeField, k: int, n_conditions: int) -> Any:
+    """F(s, y, p) of :func:`_graded` on half-stroke k, by the compiled loads (the trims checked
+    as :class:`_Fields` checks them)."""
+    function, arguments = fast.function, fast.arguments(k)
+    half_pi = 0.5 * math.pi
+    if n_conditions == 1:
+        def field(s: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
+            if not 0.0 < p[0] <= half_pi:
+                check_iterate_amplitude(p[0])
+            return function(s, y, p, *arguments)
+    else:
+        def field(s: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
+            if not (0.0 < p[0] <= half_pi and -half_pi < p[1] < half_pi):
+                check_iterate_amplitude(p[0])
+                check_iterate_stroke_mean(float(p[1]))
+            return function(s, y, p, *arguments)
     return field
 
 
@@ -336,17 +397,17 @@ def _switches(problem: HoverProblem, k: int) -> tuple[Any, ...]:
     omega, half = 2.0 * math.pi * insect.frequency, 0.5 * problem.period
     two_trims = problem.n_conditions == 2
 
-    def root(s: float, y: np.ndarray, p: np.ndarray) -> float:
+    def root(s: float, y: np.ndarray, params: np.ndarray) -> float:
         return float(y[0] - y[2] * h_w)
 
-    def tip(s: float, y: np.ndarray, p: np.ndarray) -> float:
+    def tip(s: float, y: np.ndarray, params: np.ndarray) -> float:
         t = half * (k + grading(s - k))
-        phi_bar = float(p[1]) if two_trims else insect.stroke_mean
-        phi = phi_bar + p[0] * math.cos(omega * t)
+        phi_bar = float(params[1]) if two_trims else insect.stroke_mean
+        phi = phi_bar + params[0] * math.cos(omega * t)
         return float((y[0] - y[2] * h_w) * math.cos(phi)
-                     - omega * p[0] * math.sin(omega * t) * span)
+                     - omega * params[0] * math.sin(omega * t) * span)
 
-    def pitch_rate(s: float, y: np.ndarray, p: np.ndarray) -> float:
+    def pitch_rate(s: float, y: np.ndarray, params: np.ndarray) -> float:
         return float(y[2])
 
     return (root, tip, pitch_rate)
@@ -360,6 +421,14 @@ def check_iterate_amplitude(amplitude: float) -> None:
             f"the shooting iteration stepped the stroke amplitude to {math.degrees(amplitude):.4g} "
             "deg, outside (0, 90] deg: no hover orbit with wings that do not cross was found "
             "from this guess")
+
+
+def check_iterate_stroke_mean(stroke_mean: float) -> None:
+    """Stop the shooting when an iterate's mean stroke angle leaves (-pi/2, pi/2)."""
+    if not -math.pi / 2 < stroke_mean < math.pi / 2:
+        raise ConvergenceError(
+            f"the shooting iteration stepped the mean stroke angle to "
+            f"{math.degrees(stroke_mean):.4g} deg, outside (-90, 90) deg")
 
 
 def check_trims(trims: object) -> tuple[str, ...]:

@@ -27,15 +27,18 @@ from flapping.fast import kernel as _kernel
 from flapping.hover.orbit import (
     ANALYSIS_ATOL,
     ANALYSIS_RTOL,
+    FIXED_STEP_START,
     HoverOrbit,
     find_hover_orbit,
     use_kernel,
 )
-from flapping.hover.problem import DEFAULT_BACKEND
+from flapping.hover.problem import DEFAULT_BACKEND, HoverProblem
 from flapping.model.morphology import Insect
 from flapping.periodic._readonly import freeze
+from flapping.periodic.fixedstep import fixed_step_monodromy
 from flapping.periodic.floquet import monodromy
 from flapping.periodic.integrate import flow, variational_flow
+from flapping.periodic.settings import SolverSettings, default, given, resolve
 
 __all__ = [
     "HoverStability",
@@ -86,6 +89,18 @@ class HoverStability:
     trace_integral : float
         int_0^T trace J dt along the orbit, the logarithm of ``liouville_det`` (finite when
         that is not).
+    multiplier_error : float
+        Estimated largest absolute error of a multiplier, as the compiled kernel and
+        :class:`~flapping.periodic.fixedstep.FixedStepOrbit` name it. On the compiled path the
+        kernel's Richardson estimate. On the fixed-step path (``backend="fixed-step"``) twice
+        the largest change of a multiplier between the monodromy at n and at 2n steps per
+        half-stroke (the multipliers are the 2n ones; 2 is the safety factor of the fixed-step
+        solve's own estimates). That change holds the truncation error and the rounding floor
+        of the monodromy's central differences of the period map (~3e-10 on the hawkmoth,
+        growing slowly with n), which dominates beyond ~32 steps on the linear loads: measured
+        on the hawkmoth against an adaptive analysis at rtol 1e-13, 2.4e-10 off for an estimate
+        of 1.1e-9 (linear loads), 4.7e-10 for 3.0e-9 (small-angle). NaN on the adaptive path,
+        which has no estimate (``rtol`` bounds each step's local error, not the multipliers').
     """
 
     orbit: HoverOrbit
@@ -98,6 +113,7 @@ class HoverStability:
     averaged_jacobian: np.ndarray
     averaged_eigenvalues: np.ndarray
     trace_integral: float = math.nan
+    multiplier_error: float = math.nan
 
     def __post_init__(self) -> None:
         freeze(self)  # an analysis of a result must be an analysis of what was solved
@@ -167,12 +183,13 @@ class PerturbationGrowth:
 def hover_stability(
     orbit: HoverOrbit,
     *,
-    method: str = "DOP853",
-    rtol: float = ANALYSIS_RTOL,
-    atol: float = ANALYSIS_ATOL,
-    rk4_steps: int = 1024,
+    method: str = default("DOP853"),
+    rtol: float = default(ANALYSIS_RTOL),
+    atol: float = default(ANALYSIS_ATOL),
+    rk4_steps: int = default(1024),
     n_average: int = 64,
     backend: str = DEFAULT_BACKEND,
+    settings: SolverSettings | None = None,
 ) -> HoverStability:
     """Monodromy matrix, Floquet multipliers and the averaged system of a periodic orbit.
 
@@ -194,13 +211,21 @@ def hover_stability(
         Gauss-Legendre nodes per half-stroke for the cycle-averaged Jacobian (the integrand is
         smooth within a half-stroke, so the rule converges spectrally).
     backend : {"auto", "compiled", "adaptive", "fixed-step"}
-        The integration path (:data:`flapping.hover.BACKENDS`; ``"fixed-step"`` analyses on the
-        adaptive path: the fixed-step orbit's own monodromy and multipliers, with their error
-        estimate, are in :attr:`HoverOrbit.fixed_step`): the compiled kernel gives the
-        monodromy to 1e-8 in every multiplier (reusing the one of the orbit's last Newton
-        integration when the kernel found the orbit); ``method``, ``rtol``, ``atol`` and
-        ``rk4_steps`` belong to the adaptive path. ``"auto"`` (the default) analyses the orbit
-        on the path that solved it (:attr:`HoverOrbit.backend`).
+        The integration path of the monodromy (:data:`flapping.hover.BACKENDS`): the compiled
+        kernel gives it to 1e-8 in every multiplier (reusing the one of the orbit's last Newton
+        integration when the kernel found the orbit); ``"fixed-step"`` integrates the
+        fixed-step period map on the graded mesh (any loads model) at n and 2n steps per
+        half-stroke, n the step count the orbit was solved with (64 for an orbit not found on
+        that path), and reports the 2n multipliers with their change as
+        :attr:`HoverStability.multiplier_error`; ``method``, ``rtol``, ``atol`` and
+        ``rk4_steps`` belong to the adaptive path. ``"auto"`` (the default) analyses an
+        orbit of the compiled path there and every other orbit on the adaptive path (the
+        reference, also for a fixed-step orbit).
+    settings : SolverSettings, optional
+        ``method``, ``rtol``, ``atol``, ``rk4_steps`` and ``max_steps`` of the adaptive path's
+        monodromy as one object (:class:`~flapping.periodic.SolverSettings`; ``rtol`` and
+        ``atol`` also integrate the orbit for the averaged Jacobian). A keyword given
+        explicitly overrides the same field; a field left at None keeps the default shown here.
 
     Returns
     -------
@@ -215,40 +240,114 @@ def hover_stability(
     """
     orbit = _validation.instance("orbit", orbit, HoverOrbit)
     n_average = _validation.integer("n_average", n_average, low=1, high=1 << 16)
-    rtol, atol = _validation.tolerances(rtol, atol)
-    compiled = _use_kernel(orbit, backend, method)
+    o = resolve(settings, DEFAULTS, method=given(method), rtol=given(rtol), atol=given(atol),
+                rk4_steps=given(rk4_steps))
+    method, rk4_steps = o["method"], o["rk4_steps"]
+    rtol, atol = _validation.tolerances(o["rtol"], o["atol"])
+    path = _analysis_path(orbit, backend, method)
+    if path == "fixed-step":
+        return _fixed_step_stability(orbit, n_average, rtol, atol)
+    compiled, error = path == "compiled", math.nan
     if compiled:
-        matrix, values, det, liouville, trace = _kernel_monodromy(orbit)
+        matrix, values, det, liouville, trace, error = _kernel_monodromy(orbit)
     else:
         model = orbit.model
         rhs, jac = model.segment_functions()
         mon = monodromy(rhs, orbit.x0, orbit.period, jac=jac, breakpoints=model.breakpoints,
-                        method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps)
+                        method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps,
+                        max_steps=o["max_steps"])
         # Multipliers from the monodromy's product-QR iteration (accurate even when small).
         matrix, values = mon.matrix, np.asarray(mon.multipliers, dtype=complex)
         det, liouville, trace = mon.det, mon.liouville_det, mon.trace_integral
+    averaged = _averaged_jacobian(orbit, n_average, rtol, atol, compiled)
+    return _stability(orbit, matrix, values, det, liouville, averaged, trace, error)
+
+
+def _stability(orbit: HoverOrbit, matrix: np.ndarray, values: np.ndarray, det: float,
+               liouville: float, averaged: np.ndarray, trace: float,
+               error: float) -> HoverStability:
+    """The HoverStability of a monodromy, its multipliers and the averaged Jacobian."""
     # The eigenvectors from eig(M), matched to the multipliers by nearest eigenvalue.
     eig_values, eig_vectors = np.linalg.eig(matrix)
     match = [int(np.argmin(np.abs(eig_values - mu))) for mu in values]
     vectors = eig_vectors[:, match].astype(complex)
-    averaged = _averaged_jacobian(orbit, n_average, rtol, atol, compiled)
     avg_eig = np.linalg.eigvals(averaged).astype(complex)  # always complex: one dtype for all
     avg_eig = avg_eig[np.argsort(-avg_eig.real, kind="stable")]
     return HoverStability(orbit, np.array(matrix, dtype=float), values,
                           _exponents(values, orbit.period), vectors, float(det),
                           float(liouville), np.array(averaged, dtype=float), avg_eig,
-                          float(trace))
+                          float(trace), float(error))
 
 
-def _use_kernel(orbit: HoverOrbit, backend: str, method: str) -> bool:
-    """Whether the analysis runs on the compiled kernel (the orbit's problem decides)."""
+#: What :func:`hover_stability` uses for each :class:`~flapping.periodic.SolverSettings` field
+#: it reads when neither the keyword nor ``settings`` gives it (the signature's defaults;
+#: ``max_steps`` None: the monodromy's own budget).
+DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": ANALYSIS_RTOL, "atol": ANALYSIS_ATOL,
+                            "rk4_steps": 1024, "max_steps": None}
+
+
+def _analysis_path(orbit: HoverOrbit, backend: str, method: str) -> str:
+    """Where the monodromy is integrated: "compiled", "adaptive" or "fixed-step"."""
     # "auto" analyses an orbit on the path that solved it (an adaptive orbit keeps the adaptive
-    # path's accuracy and diagnostics); the kernel where it applies otherwise.
+    # path's accuracy and diagnostics); the kernel where it applies otherwise. A fixed-step
+    # orbit is analysed on the adaptive path under "auto": the reference. "fixed-step" only
+    # when asked for by name.
     if backend == "auto" and orbit.backend == "adaptive":
-        return False
+        return "adaptive"
+    if backend == "fixed-step":
+        return "fixed-step"
     if orbit.problem is None:
-        return use_kernel(backend, orbit.model, method == "DOP853")
-    return orbit.problem.backend(backend, adaptive_options=method != "DOP853") == "compiled"
+        return "compiled" if use_kernel(backend, orbit.model, method == "DOP853") else "adaptive"
+    path = orbit.problem.backend(backend, adaptive_options=method != "DOP853")
+    return "compiled" if path == "compiled" else "adaptive"
+
+
+def _fixed_step_stability(orbit: HoverOrbit, n_average: int, rtol: float,
+                          atol: float) -> HoverStability:
+    """The analysis on the fixed-step path: the monodromy at n and 2n steps per half-stroke."""
+    problem = orbit.problem if orbit.problem is not None else HoverProblem.of_model(orbit.model)
+    params = np.array([orbit.amplitude, orbit.stroke_mean][: problem.n_conditions])
+    y0 = np.concatenate([orbit.x0, np.zeros(problem.n_conditions)])
+    funs, switches = problem.graded_fields()
+    solved = orbit.fixed_step
+    n = FIXED_STEP_START if solved is None else solved.n_steps
+
+    def physical(n_steps: int) -> np.ndarray:
+        # The augmented state's monodromy is block-triangular (z and x_e do not feed back):
+        # the (u, w, q, theta) block holds the multipliers.
+        if (solved is not None and n_steps == solved.n_steps
+                and solved.params is not None and np.array_equal(solved.x0, y0)
+                and np.array_equal(solved.params, params)):
+            full = solved.monodromy  # the solve's last pass, at these unknowns
+        else:
+            full = fixed_step_monodromy(funs, y0, 2.0, n_steps=n_steps, free_params=params,
+                                        breakpoints=(0.5,), switches=switches)
+        return np.array(full[:4, :4])
+
+    coarse, matrix = physical(n), physical(2 * n)
+    values = _sorted_eigenvalues(matrix)
+    change = np.abs(_sorted_eigenvalues(coarse)[:, None] - values[None, :])
+    # each fine multiplier's nearest coarse one; the fixed-step solve's safety factor
+    error = _FIXED_STEP_SAFETY * float(np.max(np.min(change, axis=0)))
+    averaged = _averaged_jacobian(orbit, n_average, rtol, atol)
+    # int_0^T trace J dt by the averaged Jacobian's Gauss rule (the loads' kinks limit it:
+    # Liouville's check measured 4e-7 on the small-angle hawkmoth, 5e-10 on the linear loads)
+    trace = float(np.trace(averaged)) * orbit.period
+    det = float(np.linalg.det(matrix))
+    liouville = math.exp(trace) if trace < 700 else math.inf
+    return _stability(orbit, matrix, values, det, liouville, averaged, trace, error)
+
+
+#: Safety factor of the fixed-step analysis's multiplier error estimate (as the fixed-step
+#: solve's Richardson estimates, :mod:`flapping.periodic.fixedstep`): the change from n to 2n
+#: steps is one sample of the monodromy's rounding noise, which may happen to be small.
+_FIXED_STEP_SAFETY = 2.0
+
+
+def _sorted_eigenvalues(matrix: np.ndarray) -> np.ndarray:
+    """Eigenvalues as complex, by descending modulus."""
+    values = np.linalg.eigvals(matrix).astype(complex)
+    return values[np.argsort(-np.abs(values), kind="stable")]
 
 
 def _kernel_problem(orbit: HoverOrbit) -> _kernel.KernelProblem:
@@ -258,22 +357,25 @@ def _kernel_problem(orbit: HoverOrbit) -> _kernel.KernelProblem:
     return _kernel.KernelProblem.of(orbit.model.insect, orbit.model.alpha_m)
 
 
-def _kernel_monodromy(orbit: HoverOrbit) -> tuple[np.ndarray, np.ndarray, float, float, float]:
-    """(M, multipliers, det M, exp(int trace J), int trace J) from the compiled kernel."""
+def _kernel_monodromy(orbit: HoverOrbit
+                      ) -> tuple[np.ndarray, np.ndarray, float, float, float, float]:
+    """(M, multipliers, det M, exp(int trace J), int trace J, multiplier error) from the
+    compiled kernel."""
     sol = orbit.kernel
     if (isinstance(sol, _kernel.HoverSolution) and np.array_equal(sol.x0, orbit.x0)
             and sol.amplitude == orbit.amplitude):
-        matrix, trace = sol.monodromy, sol.trace_integral  # the last Newton integration's
+        # the last Newton integration's
+        matrix, trace, error = sol.monodromy, sol.trace_integral, sol.multiplier_error
     else:
-        matrix, trace, _, _ = _kernel.monodromy_at(_kernel_problem(orbit), orbit.x0,
-                                                   orbit.amplitude)
+        matrix, trace, error, _ = _kernel.monodromy_at(_kernel_problem(orbit), orbit.x0,
+                                                       orbit.amplitude)
     values = np.linalg.eigvals(matrix).astype(complex)
     values = values[np.argsort(-np.abs(values), kind="stable")]
     log_det = float(np.sum(np.log(np.abs(values))))
     det = float(np.linalg.det(matrix)) if abs(log_det) < 700 else math.copysign(
         math.inf if log_det > 0 else 0.0, float(np.prod(np.sign(values.real))))
     liouville = math.exp(trace) if trace < 700 else math.inf
-    return matrix, values, det, liouville, trace
+    return matrix, values, det, liouville, trace, float(error)
 
 
 def _exponents(multipliers: np.ndarray, period: float) -> np.ndarray:
@@ -505,7 +607,7 @@ class SpeedPitchCubic:
     With the vertical speed decoupled (its averaged couplings vanish by symmetry at x_h = 0):
     u' = Xu u + Xq q - g theta, q' = Mu u + Mq q, theta' = q, whose characteristic polynomial is
 
-        p(lambda) = lambda (lambda - Xu)(lambda - Mq) - Xq Mu lambda + g Mu.
+        c(lambda) = lambda (lambda - Xu)(lambda - Mq) - Xq Mu lambda + g Mu.
 
     Attributes
     ----------
@@ -513,14 +615,14 @@ class SpeedPitchCubic:
         The entries of the averaged Jacobian used (g is the -J[0, 3] entry, g cos(theta) on the
         orbit's mean).
     coefficients : ndarray
-        Of p, highest power first.
+        Of c, highest power first.
     roots : ndarray
-        Roots of p, sorted by real part (descending).
+        Roots of c, sorted by real part (descending).
     quasi_static_root : float
         Positive root of lambda^2 - Xu lambda - g Mu / Mq = 0, the approximation in which the
         pitch rate follows the speed at once (large ``|Mq|``): a negative pitch stiffness.
     routh_hurwitz : tuple of float
-        (a2 a1, a0) of p = lambda^3 + a2 lambda^2 + a1 lambda + a0; all roots in the left
+        (a2 a1, a0) of c = lambda^3 + a2 lambda^2 + a1 lambda + a0; all roots in the left
         half-plane iff a2, a1, a0 > 0 and a2 a1 > a0.
     """
 

@@ -17,7 +17,7 @@ monarch        *Danaus plexippus*      307.9      61.0      11.72
 Every number of a preset is a :class:`Sourced` value: SI value, source, and a **status**:
 
 - ``"verified"``: read in the source's data file or abstract (FWUAV's ``.mat``/``.m`` files at the
-  commits named, the abstracts of Sun & Xiong 2005 and Altshuler et al. 2005);
+  commits named, the abstracts of Sun & Xiong 2005a and Altshuler et al. 2005);
 - ``"paper"``: as printed in the seed paper's appendix A (the hawkmoth; :func:`hawkmoth` unchanged);
 - ``"second-hand"``: quoted from a source by an earlier reading note, not re-read here;
 - ``"unverified"``: from memory of the cited paper; check it before relying on it;
@@ -69,6 +69,7 @@ __all__ = [
     "preset_names",
     "species_table",
     "ellipsoid_pitch_inertia",
+    "BODY_SIZES",
     "ellington_r1",
     "hawkmoth",
     "bumblebee",
@@ -319,6 +320,19 @@ R2_HALF_RANGE = 0.03
 AMPLITUDE_RANGE = (0.85, 1.15)
 
 
+#: Body length and diameter [m] behind the pitch-inertia estimates (:func:`ellipsoid_pitch_inertia`),
+#: one pair per species whose body is an ellipsoid here: also the scale of a hinge height (a wing
+#: base lies in the thorax, within a body diameter of the centre of gravity). The hawkmoth's pair
+#: is the check against the paper's inertia (-5 %); the monarch's body is FWUAV's, not an ellipsoid.
+BODY_SIZES: Mapping[str, tuple[float, float]] = MappingProxyType({
+    "hawkmoth": (48e-3, 10e-3),
+    "bumblebee": (18e-3, 7e-3),      # L: Dudley & Ellington (1990), unverified; d estimated
+    "fruit_fly": (2.5e-3, 0.9e-3),   # both estimated
+    "honeybee": (13e-3, 4.5e-3),     # L unverified, d estimated
+    "hoverfly": (1.29 * 11.2e-3, 5e-3),  # L = 1.29 R (second-hand), d estimated
+})
+
+
 def _inertia(mass: float, length: float, diameter: float, what: str) -> Sourced:
     value = ellipsoid_pitch_inertia(mass, length, diameter)
     return _v(value, "estimate: uniform prolate ellipsoid m (L^2 + d^2)/20", "estimate",
@@ -449,17 +463,17 @@ def _bumblebee_preset() -> Preset:
         "semi_span": _v(r, bw, "verified", "berman2007", "fwuav"),
         "wing_area": _v(r * chord, bw + ": S = R c_bar, c_bar = 4.02 mm", "verified",
                         "berman2007", "fwuav"),
-        **_r2_r1(0.55, "Dudley & Ellington (1990) BB01, as used by Sun & Xiong (2005)",
+        **_r2_r1(0.55, "Dudley & Ellington (1990) BB01, as used by Sun & Xiong (2005a)",
                  "unverified", "dudley1990", "sun2005"),
-        "frequency": _v(1.0 / 6.4e-3, "Sun & Xiong (2005), abstract: wingbeat period 6.4 ms",
+        "frequency": _v(1.0 / 6.4e-3, "Sun & Xiong (2005a), abstract: wingbeat period 6.4 ms",
                         "verified", "sun2005",
                         note="chosen over Berman & Wang's 116 Hz: the data set of the CFD "
                              "stability result we compare with (and of Phi and r2)"),
         "stroke_amplitude": _amplitude(58.0, "Dudley & Ellington (1990) BB01: 116 deg "
                                        "peak-to-peak", "unverified", "dudley1990"),
-        "mass": _v(mass, bw + "; Sun & Xiong (2005) also 175 mg", "verified", "berman2007",
+        "mass": _v(mass, bw + "; Sun & Xiong (2005a) also 175 mg", "verified", "berman2007",
                    "fwuav", "sun2005"),
-        "pitch_inertia": _inertia(mass, 18e-3, 7e-3, "L unverified (Dudley & Ellington 1990), "
+        "pitch_inertia": _inertia(mass, *BODY_SIZES["bumblebee"], "L unverified (Dudley & Ellington 1990), "
                                   "d estimated"),
     }
     extras = {
@@ -474,7 +488,7 @@ def _bumblebee_preset() -> Preset:
         "wing_mass": _v(4.6e-7, _FWUAV_PARAMS, "verified", "berman2007", "fwuav"),
     }
     return Preset("bumblebee", "Bombus", "Berman & Wang's bumblebee at Sun & Xiong's 6.4 ms "
-                  "wingbeat", "Berman & Wang 2007; Sun & Xiong 2005", values, extras, measured)
+                  "wingbeat", "Berman & Wang 2007; Sun & Xiong 2005a", values, extras, measured)
 
 
 def _fruit_fly_preset() -> Preset:
@@ -491,7 +505,7 @@ def _fruit_fly_preset() -> Preset:
                                        "peak-to-peak)", "unverified",
                                        note="FWUAV's quasi-steady hover: 66.5 deg at 285 Hz"),
         "mass": _v(mass, bw, "verified", "berman2007", "fwuav"),
-        "pitch_inertia": _inertia(mass, 2.5e-3, 0.9e-3, "L and d estimated"),
+        "pitch_inertia": _inertia(mass, *BODY_SIZES["fruit_fly"], "L and d estimated"),
     }
     measured = {
         **_hinge(_fwuav_body_cg(4.30968e-7, 2.87312e-7, 0.97093e-3, 1.15344e-3), 26.835,
@@ -518,7 +532,7 @@ def _honeybee_preset() -> Preset:
                                note="Vance et al. (2014): 86.7 +- 7.9 deg"),
         "mass": _v(mass, "unloaded forager, 80-110 mg (Ellington 1984)", "unverified",
                    "ellington1984", low=8e-5, high=1.2e-4),
-        "pitch_inertia": _inertia(mass, 13e-3, 4.5e-3, "L unverified, d estimated"),
+        "pitch_inertia": _inertia(mass, *BODY_SIZES["honeybee"], "L unverified, d estimated"),
     }
     measured = {
         **_hinge(0.13 * 13e-3, 90.0, "no measurement found: the hoverfly's 0.13 body lengths "
@@ -546,7 +560,7 @@ def _hoverfly_preset() -> Preset:
         "stroke_amplitude": _amplitude(54.0, "drone flies, ~108 deg peak-to-peak (Liu & Sun "
                                        "2008)", "unverified", "liu2008"),
         "mass": _v(mass, sun, "second-hand", "sun2007"),
-        "pitch_inertia": _inertia(mass, 1.29 * r, 5e-3, "L = 1.29 R second-hand, d estimated"),
+        "pitch_inertia": _inertia(mass, *BODY_SIZES["hoverfly"], "L = 1.29 R second-hand, d estimated"),
     }
     extras = {
         "hinge_to_cg": _v(0.13 * 1.29 * r, sun + ": wing root to CG 0.13 body lengths; free "
@@ -666,7 +680,7 @@ def bumblebee(**overrides: Any) -> Insect:
     """A hovering bumblebee (*Bombus*): Berman & Wang's morphology at Sun & Xiong's wingbeat.
 
     m = 175 mg, R = 13.2 mm, c_bar = 4.02 mm (S = R c_bar = 53.06 mm^2): Berman & Wang (2007),
-    read in FWUAV's ``morp_params.mat`` (verified); Sun & Xiong (2005) use the same 175 mg.
+    read in FWUAV's ``morp_params.mat`` (verified); Sun & Xiong (2005a) use the same 175 mg.
     f = 156.25 Hz = 1 / 6.4 ms: Sun & Xiong's abstract (verified). Berman & Wang give 116 Hz
     (verified); we take Sun & Xiong's because theirs is the stability result we compare with, and
     their bee (Dudley & Ellington's BB01) is also the source of Phi and r2; use

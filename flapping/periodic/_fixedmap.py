@@ -1,6 +1,6 @@
 """Package-internal: the one-period map of a fixed-step DOP853 integration, and its derivative.
 
-:class:`PeriodMap` integrates a piecewise-smooth ``f(t, x[, p])`` over one period with the
+:class:`PeriodMap` integrates a piecewise-smooth ``f(t, x[, params])`` over one period with the
 8th-order Dormand-Prince formula (:mod:`flapping.periodic._tableau`) at ``n`` equal steps per
 segment, restarted at the breakpoints. The step count is fixed, so the end state is a smooth
 function of the initial state and the parameters (no step-size decisions jump as they move): a
@@ -49,16 +49,16 @@ class PeriodMap:
     Parameters
     ----------
     funs, jacs, pjacs : sequence of callables (or None)
-        Per segment: ``f(t, x, *args[, p])``, its ``df/dx`` and ``df/dp``.
+        Per segment: ``f(t, x, *args[, params])``, its ``df/dx`` and ``df/dparams``.
     args : tuple
-        Extra arguments, before ``p``.
+        Extra arguments, before ``params``.
     period : float
     breakpoints : tuple of float
         Fractions of the period where the segments meet.
     has_params : bool
-        Whether ``p`` is passed to the callables.
+        Whether ``params`` is passed to the callables.
     switches : sequence of sequences of callables, optional
-        Per segment, the functions ``g(t, x, *args[, p])`` whose sign changes mark where ``f``
+        Per segment, the functions ``g(t, x, *args[, params])`` whose sign changes mark where ``f``
         is continuous but not smooth (a kink): a step across a sign change is split at the
         root (see :meth:`_split`), so the formula keeps its order.
     max_nfev : int
@@ -187,38 +187,38 @@ class PeriodMap:
         return c
 
     # ------------------------------------------------------------------------------ derivative
-    def derivative(self, x: np.ndarray, p: np.ndarray | None, n: int,
+    def derivative(self, x: np.ndarray, params: np.ndarray | None, n: int,
                    columns: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
-        """x(T) and the columns ``columns`` of d x(T) / d(x0, p), shape (d, len(columns)).
+        """x(T) and the columns ``columns`` of d x(T) / d(x0, params), shape (d, len(columns)).
 
         Column j < d is d x(T)/d x0_j, column d + i is d x(T)/d p_i.
         """
         if self.variational:
-            end, W = self._variational(x, p, n)
+            end, W = self._variational(x, params, n)
             return end, W[:, list(columns)]
-        return self._differenced(x, p, n, columns)
+        return self._differenced(x, params, n, columns)
 
-    def _differenced(self, x: np.ndarray, p: np.ndarray | None, n: int,
+    def _differenced(self, x: np.ndarray, params: np.ndarray | None, n: int,
                      columns: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
         """Central differences of the discrete map (all trajectories in one batch)."""
         d = x.size
-        v = x if p is None else np.concatenate([x, p])
+        v = x if params is None else np.concatenate([x, params])
         h = central_step(v)
         V = np.repeat(v[None, :], 1 + 2 * len(columns), axis=0)
         for i, j in enumerate(columns):
             V[1 + 2 * i, j] += h[j]
             V[2 + 2 * i, j] -= h[j]
-        ends = self.flow(V[:, :d], None if p is None else V[:, d:], n)
+        ends = self.flow(V[:, :d], None if params is None else V[:, d:], n)
         spans = np.array([V[1 + 2 * i, j] - V[2 + 2 * i, j] for i, j in enumerate(columns)])
         D = (ends[1::2] - ends[2::2]).T / spans
         return ends[0], D
 
-    def _variational(self, x: np.ndarray, p: np.ndarray | None, n: int
+    def _variational(self, x: np.ndarray, params: np.ndarray | None, n: int
                      ) -> tuple[np.ndarray, np.ndarray]:
-        """x(T) and d x(T)/d(x0, p), shape (d, d + n_p), from the variational equations."""
-        d, n_p = x.size, 0 if p is None else p.size
+        """x(T) and d x(T)/d(x0, params), shape (d, d + n_p), from the variational equations."""
+        d, n_p = x.size, 0 if params is None else params.size
         W = np.hstack([np.eye(d), np.zeros((d, n_p))])
-        extra = self.args if p is None else (*self.args, p)
+        extra = self.args if params is None else (*self.args, params)
         with np.errstate(over="ignore", invalid="ignore"):  # a non-finite state raises NonFinite
             for k in range(len(self.funs)):
                 t0, t1 = self.nodes[k], self.nodes[k + 1]

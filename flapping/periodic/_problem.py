@@ -3,7 +3,7 @@
 :class:`ShootingProblem` is what :func:`flapping.periodic.shooting.find_periodic_orbit` hands to
 Levenberg-Marquardt. It owns
 
-* the layout of the unknowns ``z = (x0[free], T if autonomous, p)``
+* the layout of the unknowns ``z = (x0[free], T if autonomous, params)``
   (:meth:`~ShootingProblem.unpack`),
 * the residual ``r_k = x(1 + k delta) - x(k delta)``, ``k = 0 .. n_points - 1`` (normalised time
   ``tau = t / T``), followed by the user's extra residual,
@@ -53,7 +53,7 @@ class ShootingSetup:
     funs, jacs, pjacs : tuple
         The user's callables, one per segment of the period (None: finite differences).
     args : tuple
-        Extra arguments of the callables (before ``p``).
+        Extra arguments of the callables (before ``params``).
     x_init : ndarray, shape (n,)
         Initial guess of the state; its ``fixed`` components are kept.
     T_init : float
@@ -71,7 +71,7 @@ class ShootingSetup:
     n_points, delta : int, float
         Residual blocks and their spacing in normalised time (eq. 38).
     extra_residual : callable or None
-        Further conditions ``extra_residual(x0, T, p)``, of length ``n_extra``.
+        Further conditions ``extra_residual(x0, T, params)``, of length ``n_extra``.
     n_extra : int
         Length of the extra residual.
     jacobian : str
@@ -143,7 +143,7 @@ class ShootingProblem:
         self._J_cache: tuple[np.ndarray, np.ndarray] | None = None  # (z, J)
         self._last_jacobian_z: np.ndarray | None = None
 
-    # ---- unknowns <-> (x0, T, p) ---------------------------------------------------------------
+    # ---- unknowns <-> (x0, T, params) ----------------------------------------------------------
 
     @property
     def z0(self) -> np.ndarray:
@@ -153,13 +153,13 @@ class ShootingProblem:
                                s.p_init if self.n_p else []])
 
     def unpack(self, z: np.ndarray) -> tuple[np.ndarray, float, np.ndarray | None]:
-        """``(x0, T, p)`` of the unknowns ``z``."""
+        """``(x0, T, params)`` of the unknowns ``z``."""
         s = self.setup
         x = s.x_init.copy()
         x[self.free] = z[: self.free.size]
         T = float(z[self.free.size]) if s.autonomous else s.T_init
-        p = z[self.free.size + int(s.autonomous):].copy() if self.n_p else None
-        return x, T, p
+        params = z[self.free.size + int(s.autonomous):].copy() if self.n_p else None
+        return x, T, params
 
     def segment_states(self, z: np.ndarray) -> np.ndarray:
         """States at the segment starts, time along the last axis: shape (n, segments)."""
@@ -177,10 +177,10 @@ class ShootingProblem:
         """Evaluations of ``jac`` and ``param_jac`` so far."""
         return self.jcounter.n
 
-    def bind(self, p: np.ndarray | None) -> tuple[seg.Checked, ...]:
-        """The per-segment callables ``g(t, x)`` at the parameters ``p``, counted and checked."""
+    def bind(self, params: np.ndarray | None) -> tuple[seg.Checked, ...]:
+        """The per-segment callables ``g(t, x)`` at ``params``, counted and checked."""
         n = self.setup.x_init.size
-        return tuple(seg.Checked(f, self.setup.args, p, (n,), self.counter)
+        return tuple(seg.Checked(f, self.setup.args, params, (n,), self.counter)
                      for f in self.setup.funs)
 
     # ---- Levenberg-Marquardt's fun and jac ------------------------------------------------------
@@ -244,22 +244,22 @@ class ShootingProblem:
         h = T / self.setup.settings.rk4_steps if self.setup.settings.fixed_step else None
         return float(self.taus_b[-1] * T), tuple(self.tau_out * T), h
 
-    def _integrate(self, x: np.ndarray, T: float, p: np.ndarray | None) -> np.ndarray:
+    def _integrate(self, x: np.ndarray, T: float, params: np.ndarray | None) -> np.ndarray:
         """States at ``tau_out * T`` (time-first), by one integration of the state."""
         s = self.setup
         t1, t_out, h = self._span(T)
-        out = seg.propagate(self.bind(p), 0.0, t1, x, period=T, breakpoints=s.breakpoints,
+        out = seg.propagate(self.bind(params), 0.0, t1, x, period=T, breakpoints=s.breakpoints,
                             settings=s.settings, h=h, t_out=t_out)
         if not out.success:
             raise IntegrationFailed(out.message)
         return np.array(out.y_out)
 
     def _integrate_variational(self, x: np.ndarray, T: float,
-                               p: np.ndarray | None) -> seg.VariationalFlow:
+                               params: np.ndarray | None) -> seg.VariationalFlow:
         """States, matrices and sensitivities at ``tau_out * T`` by one integration."""
         s = self.setup
         t1, t_out, h = self._span(T)
-        var = seg.variational(s.funs, s.jacs, s.pjacs, 0.0, t1, x, args=s.args, params=p,
+        var = seg.variational(s.funs, s.jacs, s.pjacs, 0.0, t1, x, args=s.args, params=params,
                               trace=False, settings=s.settings, h=h, period=T,
                               breakpoints=s.breakpoints, t_out=t_out)
         self.counter.n += var.nfev
@@ -281,24 +281,24 @@ class ShootingProblem:
 
     def _plain_residual(self, z: np.ndarray) -> np.ndarray:
         """Eq. (38) by one integration of the state (states at tau = k delta, 1 + k delta)."""
-        x, T, p = self.unpack(z)
-        ys = self._integrate(x, T, p)
+        x, T, params = self.unpack(z)
+        ys = self._integrate(x, T, params)
         k = self.setup.n_points - 1
         return self._assemble(z, np.vstack([x[None, :], ys[:k]]), ys[k:])
 
     def _variational_residual(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Eq. (38) and its Jacobian from one integration of the variational equations."""
-        x, T, p = self.unpack(z)
-        var = self._integrate_variational(x, T, p)
+        x, T, params = self.unpack(z)
+        var = self._integrate_variational(x, T, params)
         k = self.setup.n_points - 1
         xs = var.x.T  # time-first: one row per output time
         xa, xb = np.vstack([x[None, :], xs[:k]]), xs[k:]
         r = self._assemble(z, xa, xb)
-        return r, self._assemble_jacobian(z, var, xa, xb, p)
+        return r, self._assemble_jacobian(z, var, xa, xb, params)
 
     def _assemble_jacobian(self, z: np.ndarray, var: seg.VariationalFlow, xa: np.ndarray,
-                           xb: np.ndarray, p: np.ndarray | None) -> np.ndarray:
-        """Columns for the free x0 (matrices), T (``tau f(x(tau))``), p (sensitivities)."""
+                           xb: np.ndarray, params: np.ndarray | None) -> np.ndarray:
+        """Columns for the free x0 (matrices), T (``tau f(x(tau))``), params (sensitivities)."""
         n, k = self.setup.x_init.size, self.setup.n_points - 1
         stm = np.moveaxis(var.stm, -1, 0)  # time-first
         stm_a = np.concatenate([np.eye(n)[None], stm[:k]])
@@ -306,7 +306,7 @@ class ShootingProblem:
         if self.setup.autonomous:
             # d x(tau) / dT = tau f(x(tau)) for an autonomous field: the solution of the
             # variational equation forced by f (normalised time, eq. 36) in closed form.
-            g = self.bind(p)[0]
+            g = self.bind(params)[0]
             col = np.array([tb * g(0.0, b) - ta * g(0.0, a)
                             for ta, tb, a, b in zip(self.taus_a, self.taus_b, xa, xb,
                                                     strict=True)])
@@ -330,21 +330,21 @@ class ShootingProblem:
         """The user's extra residual at ``z``, checked."""
         extra = self.setup.extra_residual
         assert extra is not None
-        x, T, p = self.unpack(z)
-        e = np.atleast_1d(np.asarray(extra(x, T, p), dtype=float))
+        x, T, params = self.unpack(z)
+        e = np.atleast_1d(np.asarray(extra(x, T, params), dtype=float))
         if e.shape != (self.setup.n_extra,):
             raise ValueError(f"`extra_residual` must return shape {(self.setup.n_extra,)}, got "
                              f"{e.shape}")
         if not np.all(np.isfinite(e)):
             raise ValueError(f"`extra_residual` returned a non-finite value at x0 = {x!r}, "
-                             f"T = {T!r}, p = {p!r}: {e!r}")
+                             f"T = {T!r}, params = {params!r}: {e!r}")
         return e
 
 
 class MultipleShootingProblem(ShootingProblem):
     """Multiple shooting: M segments of the period, each from its own unknown state.
 
-    Unknowns ``z = (x0[free], s_1, ..., s_{M-1}, T if autonomous, p)``; residual blocks
+    Unknowns ``z = (x0[free], s_1, ..., s_{M-1}, T if autonomous, params)``; residual blocks
     ``x_k(t_{k+1}) - s_{k+1}``, ``t_k = k T / M``, ``s_M = s_0 = x0``. The initial segment states
     are the guess's own trajectory at ``t_k`` (as multiflap starts), or ``x0`` repeated when that
     integration fails.
@@ -383,14 +383,14 @@ class MultipleShootingProblem(ShootingProblem):
                                s.p_init if self.n_p else []])
 
     def unpack(self, z: np.ndarray) -> tuple[np.ndarray, float, np.ndarray | None]:
-        """``(x0, T, p)`` of the unknowns ``z``."""
+        """``(x0, T, params)`` of the unknowns ``z``."""
         s, nf, n = self.setup, self.free.size, self.setup.x_init.size
         x = s.x_init.copy()
         x[self.free] = z[:nf]
         i = nf + (self.M - 1) * n
         T = float(z[i]) if s.autonomous else s.T_init
-        p = z[i + int(s.autonomous):].copy() if self.n_p else None
-        return x, T, p
+        params = z[i + int(s.autonomous):].copy() if self.n_p else None
+        return x, T, params
 
     def segment_states(self, z: np.ndarray) -> np.ndarray:
         """States at the segment starts, time along the last axis: shape (n, M)."""
@@ -400,8 +400,8 @@ class MultipleShootingProblem(ShootingProblem):
 
     def _plain_residual(self, z: np.ndarray) -> np.ndarray:
         """Continuity blocks, one integration of the state per segment."""
-        x, T, p = self.unpack(z)
-        states, t, g = self.segment_states(z).T, self._times(T), self.bind(p)
+        x, T, params = self.unpack(z)
+        states, t, g = self.segment_states(z).T, self._times(T), self.bind(params)
         ends = []
         for k in range(self.M):
             out = seg.propagate(g, float(t[k]), float(t[k + 1]), states[k], period=T,
@@ -415,12 +415,12 @@ class MultipleShootingProblem(ShootingProblem):
     def _variational_residual(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Continuity blocks and their block-bidiagonal Jacobian (per-segment variations)."""
         s = self.setup
-        x, T, p = self.unpack(z)
+        x, T, params = self.unpack(z)
         states, t = self.segment_states(z).T, self._times(T)
         flows = []
         for k in range(self.M):
             var = seg.variational(s.funs, s.jacs, s.pjacs, float(t[k]), float(t[k + 1]),
-                                  states[k], args=s.args, params=p, trace=False,
+                                  states[k], args=s.args, params=params, trace=False,
                                   settings=s.settings, h=self._step(T), period=T,
                                   breakpoints=s.breakpoints, t_out=(float(t[k + 1]),))
             self.counter.n += var.nfev
@@ -430,12 +430,12 @@ class MultipleShootingProblem(ShootingProblem):
             flows.append(var)
         ends = np.array([v.x_end for v in flows])
         r = self._assemble(z, np.roll(states, -1, axis=0), ends)
-        return r, self._block_jacobian(z, flows, states, ends, T, p)
+        return r, self._block_jacobian(z, flows, states, ends, T, params)
 
     def _block_jacobian(self, z: np.ndarray, flows: list[seg.VariationalFlow],
                         states: np.ndarray, ends: np.ndarray, T: float,
-                        p: np.ndarray | None) -> np.ndarray:
-        """``d r_k / d s_k = Phi_k``, ``d r_k / d s_{k+1} = -I``, then the T and p columns."""
+                        params: np.ndarray | None) -> np.ndarray:
+        """``d r_k / d s_k = Phi_k``, ``d r_k / d s_{k+1} = -I``, then the T and params columns."""
         s, n, M, nf = self.setup, self.setup.x_init.size, self.M, self.free.size
         J = np.zeros((n * M, z.size))
         cols = [np.arange(nf)] + [nf + (k - 1) * n + np.arange(n) for k in range(1, M)]
@@ -447,7 +447,7 @@ class MultipleShootingProblem(ShootingProblem):
         i = nf + (M - 1) * n
         if s.autonomous:
             # x_k(end) = phi_{T/M}(s_k): d/dT = f(x_k(end)) / M
-            g = self.bind(p)[0]
+            g = self.bind(params)[0]
             J[:, i] = np.concatenate([g(0.0, e) for e in ends]) / M
         if self.n_p:
             sens = [v.sensitivity_end for v in flows]

@@ -198,22 +198,22 @@ class Diverged(Exception):
 
 
 class Checked:
-    """``fun(t, x, *args[, p])`` seen as ``g(t, x)``: counted, shape- and finiteness-checked.
+    """``fun(t, x, *args[, params])`` seen as ``g(t, x)``: counted, shape- and finiteness-checked.
 
-    ``p`` (the free parameters, or None) is appended to the arguments; :meth:`at` evaluates at
-    another ``p`` (finite differences in the parameters). A wrong shape is a ValueError naming
+    ``params`` (the free parameters, or None) is appended to the arguments; :meth:`at` evaluates at
+    another ``params`` (finite differences in the parameters). A wrong shape is a ValueError naming
     the callable; so is a non-finite value at a finite state (a NaN would make the adaptive
     integrator shrink its step forever); a non-finite *state* raises :class:`Diverged`.
     """
 
-    __slots__ = ("fun", "args", "p", "shape", "counter", "name", "reshape", "extra")
+    __slots__ = ("fun", "args", "params", "shape", "counter", "name", "reshape", "extra")
 
-    def __init__(self, fun: Callable[..., Any], args: tuple[Any, ...], p: np.ndarray | None,
+    def __init__(self, fun: Callable[..., Any], args: tuple[Any, ...], params: np.ndarray | None,
                  shape: tuple[int, ...], counter: Counter, name: str = "fun",
                  reshape: bool = False) -> None:
-        self.fun, self.args, self.p, self.shape = fun, args, p, shape
+        self.fun, self.args, self.params, self.shape = fun, args, params, shape
         self.counter, self.name, self.reshape = counter, name, reshape
-        self.extra = args if p is None else args + (p,)
+        self.extra = args if params is None else args + (params,)
 
     def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
         self.counter.n += 1
@@ -222,10 +222,10 @@ class Checked:
             return out  # the common case, kept short: this runs at every evaluation
         return self._checked(out, t, x)
 
-    def at(self, t: float, x: np.ndarray, p: np.ndarray | None) -> np.ndarray:
-        """Evaluate at the parameters ``p``."""
+    def at(self, t: float, x: np.ndarray, params: np.ndarray | None) -> np.ndarray:
+        """Evaluate at the parameters ``params``."""
         self.counter.n += 1
-        extra = self.args if p is None else self.args + (p,)
+        extra = self.args if params is None else self.args + (params,)
         return self._checked(np.asarray(self.fun(t, x, *extra), dtype=float), t, x)
 
     def _checked(self, out: np.ndarray, t: float, x: np.ndarray) -> np.ndarray:
@@ -561,7 +561,7 @@ class VariationalFlow:
     stm : ndarray, shape (n, n, m)
         State-transition matrices ``Phi(t, t0) = dx(t)/dx(t0)``.
     sensitivity : ndarray, shape (n, n_p, m) or None
-        ``dx(t)/dp`` for the parameters ``params`` (``None`` without parameters).
+        ``dx(t)/dparams`` for the parameters ``params`` (``None`` without parameters).
     trace_integral : ndarray, shape (m,) or None
         ``int_{t0}^{t} trace J(s, x(s)) ds`` (``trace=True`` only).
     nfev : int
@@ -607,7 +607,7 @@ class VariationalRHS:
     """Right-hand side of ``(x, Phi, S, int tr J)``: the variational bookkeeping solve_ivp lacks.
 
     ``f`` is a :class:`Checked` ``g(t, x)``; ``jac`` and ``pjac`` are Checked too, or None for
-    central finite differences (:func:`flapping._numdiff.central_jacobian`) of ``f`` in x or p.
+    central finite differences (:func:`flapping._numdiff.central_jacobian`) of ``f`` in x or params.
     """
 
     def __init__(self, f: Checked, jac: Checked | None, pjac: Checked | None, n: int, n_p: int,
@@ -625,9 +625,9 @@ class VariationalRHS:
         out[:n] = fx
         out[n:i_s] = (J @ y[n:i_s].reshape(n, n)).ravel()
         if n_p:
-            p = f.p
-            assert p is not None
-            dfdp = (central_jacobian(lambda q: f.at(t, x, q), p) if self.pjac is None
+            params = f.params
+            assert params is not None
+            dfdp = (central_jacobian(lambda v: f.at(t, x, v), params) if self.pjac is None
                     else self.pjac(t, x))
             out[i_s:i_tr] = (J @ y[i_s:i_tr].reshape(n, n_p) + dfdp).ravel()
         if self.trace:

@@ -569,8 +569,9 @@ def continue_orbit(
     Parameters
     ----------
     fun : callable or sequence of callables
-        ``fun(t, x, p)`` with the scalar parameter p last (``fun(t, x, p, q)`` with
-        ``free_params``); one callable per segment of the period with ``breakpoints``.
+        ``fun(t, x, p)`` with the scalar parameter p last (``fun(t, x, p, params)`` with
+        ``free_params``: the free parameters solved with each orbit); one callable per segment
+        of the period with ``breakpoints``.
     x0 : array_like, shape (n,)
         A state on (or near) the orbit at ``p0``.
     period : float or callable
@@ -589,12 +590,13 @@ def continue_orbit(
         ``locate_rtol``/``locate_atol`` (1e-12) and ``locate_tol`` (1e-10): the tighter
         settings of bifurcation location, ``detect`` (kinds to detect, default all),
         ``segments`` (M, 1), ``breakpoints`` (forced), ``fixed`` (components of x0 held) with
-        as many ``free_params`` (initial values of extra unknowns q; e.g. an amplitude fixed by
-        an extra periodic state), ``floquet_states`` (the states whose block of the monodromy
-        matrix gives the multipliers, default all), ``switch_amplitude`` (1e-2, relative size
-        of the first step onto a doubled orbit). ``max_points`` is at most 10**5,
-        ``max_newton`` at most 100, ``segments`` at most 1024; an ``rtol`` or ``locate_rtol``
-        below ``100 eps`` is raised to it with a :class:`~flapping.errors.ToleranceWarning`.
+        as many ``free_params`` (initial values of the free parameters ``params``, extra
+        unknowns; e.g. an amplitude fixed by an extra periodic state), ``floquet_states`` (the
+        states whose block of the monodromy matrix gives the multipliers, default all),
+        ``switch_amplitude`` (1e-2, relative size of the first step onto a doubled orbit).
+        ``max_points`` is at most 10**5, ``max_newton`` at most 100, ``segments`` at most 1024;
+        an ``rtol`` or ``locate_rtol`` below ``100 eps`` is raised to it with a
+        :class:`~flapping.errors.ToleranceWarning`.
     settings : SolverSettings, optional
         ``method``, ``rtol``, ``atol``, ``max_steps``, ``tol`` and ``max_newton`` as one object
         (:mod:`flapping.periodic.settings`; ``rk4_steps`` and ``max_nfev`` are not used); an

@@ -24,7 +24,7 @@
 - the monodromy (and the sensitivity to the parameters) is the derivative of the last pass.
 
 This is the approach of the compiled hover kernel (:mod:`flapping.fast.kernel`), for any
-``f(t, x[, p])`` and in plain NumPy. Autonomous systems (unknown period) are refused: use
+``f(t, x[, params])`` and in plain NumPy. Autonomous systems (unknown period) are refused: use
 :func:`~flapping.periodic.shooting.find_periodic_orbit`.
 """
 
@@ -50,6 +50,7 @@ __all__ = [
     "STATUS",
     "FixedStepOrbit",
     "find_periodic_orbit_fixed_step",
+    "fixed_step_monodromy",
 ]
 
 #: Steps per segment to start with (the error estimate adds more if needed).
@@ -126,7 +127,7 @@ class FixedStepOrbit:
     monodromy : ndarray, shape (n, n)
         d x(T) / d x(0) of the last pass.
     sensitivity : ndarray, shape (n, n_p) or None
-        d x(T) / d p of the last pass.
+        d x(T) / d params of the last pass.
     multipliers : ndarray, complex
         Eigenvalues of the monodromy, by descending modulus.
     multiplier_error : float
@@ -180,7 +181,7 @@ class FixedStepOrbit:
 
 # =========================================================================== the problem
 class _Problem:
-    """Unknowns z (free components of x0, then p) <-> (x0, p); residual and its Jacobian."""
+    """Unknowns z (free components of x0, then params) <-> (x0, params); residual, Jacobian."""
 
     def __init__(self, pmap: PeriodMap, x_init: np.ndarray, p_init: np.ndarray | None,
                  fixed: tuple[int, ...]) -> None:
@@ -200,20 +201,20 @@ class _Problem:
 
     def residual(self, z: np.ndarray, n: int) -> np.ndarray:
         """x(T) - x(0) at n steps per segment."""
-        x, p = self.unpack(z)
-        end = self.map.flow(x[None, :], None if p is None else p[None, :], n)[0]
+        x, params = self.unpack(z)
+        end = self.map.flow(x[None, :], None if params is None else params[None, :], n)[0]
         return end - x
 
     def linearised(self, z: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
         """The residual and its Jacobian in z."""
-        x, p = self.unpack(z)
-        end, D = self.map.derivative(x, p, n, self.columns)
+        x, params = self.unpack(z)
+        end, D = self.map.derivative(x, params, n, self.columns)
         return end - x, D - self.E
 
     def full(self, z: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The residual, its Jacobian in z and d x(T)/d(x0, p) (every column)."""
-        x, p = self.unpack(z)
-        end, D = self.map.derivative(x, p, n, range(x.size + self.n_params))
+        """The residual, its Jacobian in z and d x(T)/d(x0, params) (every column)."""
+        x, params = self.unpack(z)
+        end, D = self.map.derivative(x, params, n, range(x.size + self.n_params))
         return end - x, D[:, self.columns] - self.E, D
 
 
@@ -349,26 +350,26 @@ class _Solve:
 
     def result(self, period: float) -> FixedStepOrbit:
         """The :class:`FixedStepOrbit` of the solve (NaN diagnostics where none were reached)."""
-        p = self.problem
-        x, params = p.unpack(self.z)
+        problem = self.problem
+        x, params = problem.unpack(self.z)
         d, est = x.size, self.estimate
-        nan = np.full((d, d + p.n_params), math.nan)
+        nan = np.full((d, d + problem.n_params), math.nan)
         D = nan if est is None else est.D
         residual = np.full(d, math.nan) if est is None else est.residual
         message = STATUS[self.status] + f" ({self.n} steps per segment)"
         return FixedStepOrbit(
             x0=x, period=period, params=params, success=self.status == 0, status=self.status,
             message=message, residual=residual, residual_norm=float(np.linalg.norm(residual)),
-            nit=self.nit, nfev=p.map.nfev, njev=p.map.njev, n_steps=self.n,
-            jacobian="variational" if p.map.variational else "finite-difference",
+            nit=self.nit, nfev=problem.map.nfev, njev=problem.map.njev, n_steps=self.n,
+            jacobian="variational" if problem.map.variational else "finite-difference",
             unknowns=self.z.copy(),
             unknowns_error=(np.full(self.z.size, math.nan) if est is None
                             else est.unknowns_error),
-            monodromy=D[:, :d], sensitivity=D[:, d:] if p.n_params else None,
+            monodromy=D[:, :d], sensitivity=D[:, d:] if problem.n_params else None,
             multipliers=(np.full(d, math.nan, dtype=complex) if est is None
                          else est.multipliers.astype(complex)),
             multiplier_error=math.nan if est is None else est.multiplier_error,
-            newton_step=self.step, fixed=p.fixed)
+            newton_step=self.step, fixed=problem.fixed)
 
 
 # =========================================================================== public
@@ -404,7 +405,7 @@ def find_periodic_orbit_fixed_step(
     Parameters
     ----------
     fun : callable or sequence of callables
-        ``fun(t, x, *args)``, or ``fun(t, x, *args, p)`` with ``free_params``; one callable per
+        ``fun(t, x, *args)``, or ``fun(t, x, *args, params)`` with ``free_params``; one callable per
         segment (``len(breakpoints) + 1``), each smooth on its closed segment.
     x0 : array_like, shape (n,)
         Initial guess; components in ``fixed`` are held.
@@ -413,17 +414,17 @@ def find_periodic_orbit_fixed_step(
     autonomous : bool
         Must be False: an autonomous system (unknown period) is refused (ValueError).
     jac, param_jac : callable or sequence of callables, optional
-        ``df/dx`` (n, n) and ``df/dp`` (n, n_p). With ``jac`` (and ``param_jac`` when there are
+        ``df/dx`` (n, n) and ``df/dparams`` (n, n_p). With ``jac`` (and ``param_jac`` when there are
         parameters) the Jacobian of the residual comes from the variational equations integrated
         with the same stages; otherwise from central differences of the discrete map.
     free_params : array_like, optional
-        Initial guess of the free parameters p.
+        Initial guess of the free parameters params.
     fixed : sequence of int
         Indices of ``x0`` held at their given values.
     breakpoints : sequence of float
         Fractions of the period in (0, 1) where the integration restarts (the segments).
     switches : sequence of callables, or one such sequence per segment
-        Switching functions ``g(t, x, *args[, p]) -> float`` whose sign changes mark where
+        Switching functions ``g(t, x, *args[, params]) -> float`` whose sign changes mark where
         ``fun`` is continuous but not smooth (a kink at a state-dependent time, e.g. an absolute
         value): a step across a sign change is split at the root (located to rounding along the
         step, Illinois method), so the formula keeps its order and the map stays smooth. A kink
@@ -431,7 +432,7 @@ def find_periodic_orbit_fixed_step(
         continuous across every switch (a jump needs a breakpoint). With switches the Jacobian
         is always differenced (``jac`` is one-sided on the switching surface).
     args : tuple
-        Extra arguments of the callables (before ``p``).
+        Extra arguments of the callables (before ``params``).
     n_steps : int, optional
         Steps per segment to start with (even, in [2, :data:`MAX_STEPS`]; default
         :data:`DEFAULT_STEPS`).
@@ -537,11 +538,11 @@ def _switches(switches: Any, n_seg: int) -> tuple[tuple[Callable[..., Any], ...]
     return per_segment
 
 
-def _probe(pmap: PeriodMap, x: np.ndarray, p: np.ndarray | None) -> None:
+def _probe(pmap: PeriodMap, x: np.ndarray, params: np.ndarray | None) -> None:
     """Each callable once at the start of its segment: a wrong shape or a non-finite value is a
     ValueError naming it, here, rather than a failure deep in the iteration."""
-    d, extra = x.size, pmap.args if p is None else (*pmap.args, p)
-    shapes = {"fun": (d,), "jac": (d, d), "param_jac": (d, 0 if p is None else p.size)}
+    d, extra = x.size, pmap.args if params is None else (*pmap.args, params)
+    shapes = {"fun": (d,), "jac": (d, d), "param_jac": (d, 0 if params is None else params.size)}
     for k, t in enumerate(pmap.nodes[:-1]):
         for name, fns in (("fun", pmap.funs), ("jac", pmap.jacs), ("param_jac", pmap.pjacs)):
             fn = fns[k]
@@ -554,3 +555,70 @@ def _probe(pmap: PeriodMap, x: np.ndarray, p: np.ndarray | None) -> None:
                 raise ValueError(f"`{name}` must return an array of shape {shapes[name]}, got "
                                  f"shape {out.shape}")
             check.finite_output(name, out, t, x)
+
+
+def fixed_step_monodromy(
+    fun: Callable[..., Any] | Sequence[Callable[..., Any]],
+    x0: Any,
+    period: float,
+    *,
+    n_steps: int,
+    free_params: Any = None,
+    jac: Callable[..., Any] | Sequence[Callable[..., Any]] | None = None,
+    param_jac: Callable[..., Any] | Sequence[Callable[..., Any]] | None = None,
+    breakpoints: Sequence[float] = (),
+    switches: Sequence[Any] = (),
+    args: tuple[Any, ...] = (),
+    max_nfev: int | None = None,
+) -> np.ndarray:
+    """d x(T) / d x(0) of the fixed-step DOP853 period map at ``n_steps`` steps per segment.
+
+    The derivative :func:`find_periodic_orbit_fixed_step` takes of its last pass
+    (:attr:`FixedStepOrbit.monodromy`), at any step count: from the variational equations with
+    ``jac`` (and ``param_jac`` with parameters) and no switches, else central differences of the
+    discrete map. Evaluated at two step counts it gives an error estimate of the monodromy and
+    its multipliers (their change), with no solve.
+
+    Parameters
+    ----------
+    fun, jac, param_jac, free_params, breakpoints, switches, args, max_nfev
+        As for :func:`find_periodic_orbit_fixed_step` (``free_params``: the parameters' values).
+    x0 : array_like, shape (n,)
+        The initial state (a point of the orbit, for a monodromy matrix).
+    period : float
+        The period T > 0.
+    n_steps : int
+        Steps per segment, in [2, :data:`MAX_STEPS`].
+
+    Returns
+    -------
+    ndarray, shape (n, n)
+        Read-only.
+
+    Raises
+    ------
+    ValueError
+        For bad arguments, or a callable returning the wrong shape or a non-finite value at x0.
+    ConvergenceError
+        If the integration produces a non-finite value or exceeds ``max_nfev``.
+    """
+    x = check.vector("x0", x0)
+    T = check.positive("period", period)
+    b = seg.check_breakpoints(breakpoints)
+    params = (None if free_params is None
+              else check.vector("free_params", np.atleast_1d(free_params)))
+    funs, jacs, pjacs = _callables(fun, jac, param_jac, len(b) + 1, params is not None)
+    n = check.integer("n_steps", n_steps, low=2, high=MAX_STEPS)
+    cap = MAX_NFEV if max_nfev is None else check.integer("max_nfev", max_nfev, low=1,
+                                                          high=MAX_NFEV_CAP)
+    pmap = PeriodMap(funs, jacs, pjacs, tuple(args), T, b, params is not None, cap,
+                     _switches(switches, len(b) + 1))
+    _probe(pmap, x, params)
+    try:
+        _, D = pmap.derivative(x, params, n, range(x.size))
+    except (NonFinite, OutOfWork) as exc:
+        raise ConvergenceError(f"the fixed-step monodromy at {n} steps per segment failed: "
+                               f"{exc}", x=x) from None
+    matrix = np.array(D, dtype=float)
+    matrix.flags.writeable = False
+    return matrix

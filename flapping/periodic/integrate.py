@@ -10,7 +10,7 @@ Two public functions:
   only. Integrating each segment with its own callable, closed at both ends, is exact.
 * :func:`variational_flow` integrates the state together with the variational equations
   ``Phi' = J Phi`` (the state-transition matrix, eqs. 42-49 of the paper) and, optionally,
-  the parameter sensitivities ``S' = J S + df/dp`` and the quadrature ``int trace J dt``
+  the parameter sensitivities ``S' = J S + df/dparams`` and the quadrature ``int trace J dt``
   (Liouville's formula). These feed the Jacobian of the shooting residual (eq. 38) and the
   monodromy matrix of Floquet theory.
 
@@ -194,7 +194,7 @@ def variational_flow(
     """Integrate the state with its variational equations (paper eqs. 42-49).
 
     Integrates ``x' = f``, ``Phi' = J Phi`` (``Phi(t0) = I``), and with parameters
-    ``S' = J S + df/dp`` (``S(t0) = 0``), plus ``int trace J dt`` as an extra quadrature state.
+    ``S' = J S + df/dparams`` (``S(t0) = 0``), plus ``int trace J dt`` as an extra quadrature state.
     The extended system is integrated as one ODE with the same segments and error control
     (``method="RK4"`` then gives the exact derivative of the discrete RK4 map, because RK methods
     commute with linearisation).
@@ -202,7 +202,7 @@ def variational_flow(
     Parameters
     ----------
     fun : callable or sequence of callables
-        ``fun(t, x, *args)`` or, with ``params``, ``fun(t, x, *args, p)``; a sequence gives one
+        ``fun(t, x, *args)`` or, with ``params``, ``fun(t, x, *args, params)``; a sequence gives one
         callable per segment (see :func:`flow`).
     jac : callable, sequence of callables, or None
         Analytic Jacobian ``df/dx``, same signature and segment convention as ``fun``. ``None``:
@@ -223,10 +223,10 @@ def variational_flow(
         Times (within ``t_span``) at which to report; default ``(t1,)``. The integrator restarts
         at each (so RK4 needs them on its grid).
     params : array_like, optional
-        Parameters ``p``, passed as the last argument of ``fun``, ``jac``, ``param_jac``; their
+        Parameters ``params``, passed as the last argument of ``fun``, ``jac``, ``param_jac``; their
         sensitivities are integrated.
     param_jac : callable or sequence of callables, optional
-        ``df/dp``, shape (n, n_p); default central finite differences of ``fun`` in ``p``.
+        ``df/dparams``, shape (n, n_p); default central finite differences of ``fun`` in ``params``.
     trace : bool, optional
         Also integrate ``int trace J dt`` (Liouville's formula).
 
@@ -248,8 +248,8 @@ def variational_flow(
     n_seg = len(breakpoints) + 1
     funs = seg.segment_callables(fun, n_seg, "fun")
     jacs = (None,) * n_seg if jac is None else seg.segment_callables(jac, n_seg, "jac")
-    p = None if params is None else check.vector("params", np.atleast_1d(params))
-    if param_jac is not None and p is None:
+    params = None if params is None else check.vector("params", np.atleast_1d(params))
+    if param_jac is not None and params is None:
         raise ValueError("`param_jac` needs `params`")
     pjacs = ((None,) * n_seg if param_jac is None
              else seg.segment_callables(param_jac, n_seg, "param_jac"))
@@ -259,7 +259,7 @@ def variational_flow(
             raise ValueError(f"`t_out` times must lie within t_span {t_span}, got {t}")
     if stm_atol is not None:
         stm_atol = check.positive("stm_atol", stm_atol)
-    return seg.variational(funs, jacs, pjacs, t0, t1, x0, args=tuple(args), params=p,
+    return seg.variational(funs, jacs, pjacs, t0, t1, x0, args=tuple(args), params=params,
                            trace=bool(trace), settings=settings, h=h, period=period,
                            breakpoints=breakpoints, t_out=times, stm_atol=stm_atol)
 

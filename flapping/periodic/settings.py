@@ -36,6 +36,12 @@ floor with a :class:`~flapping.errors.ToleranceWarning` (solve_ivp does the same
 warning, at every call of the solver); ``atol`` must be positive (solve_ivp also accepts 0; a
 zero ``atol`` stalls the step control at a zero component). The work an argument can ask for is
 capped (:data:`CAPS`): a ``max_steps`` of 10**12 is a typo that would run for days, not a budget.
+
+Functions whose signature shows their defaults as numbers (the hover layer's, which the book and
+the CLI read) mark them with :func:`default`: a marked value is the number itself (it compares,
+formats and computes as one) but :func:`given` tells it apart from the same number passed
+explicitly, so that an explicit keyword still wins over ``settings`` and the signature's default
+loses to it.
 """
 
 from __future__ import annotations
@@ -52,7 +58,7 @@ from flapping.errors import ToleranceWarning
 from flapping.periodic.rk4 import RK4
 
 __all__ = ["SolverSettings", "METHODS", "MAX_STEPS", "RTOL_FLOOR", "CAPS", "check_field",
-           "check_rtol", "check_atol", "check_method", "capped", "resolve"]
+           "check_rtol", "check_atol", "check_method", "capped", "resolve", "default", "given"]
 
 #: Integration methods by name: scipy's and the fixed-step ``"RK4"``.
 METHODS: dict[str, type[OdeSolver]] = {
@@ -241,3 +247,53 @@ def resolve(settings: Any, defaults: dict[str, Any], **explicit: Any) -> dict[st
 
 _EMPTY = SolverSettings()
 
+
+
+# =========================================================================== marked defaults
+class _DefaultFloat(float):
+    """A float default of a signature (:func:`default`)."""
+
+    __slots__ = ()
+
+
+class _DefaultInt(int):
+    """An int default of a signature (:func:`default`)."""
+
+    __slots__ = ()
+
+
+class _DefaultStr(str):
+    """A str default of a signature (:func:`default`)."""
+
+    __slots__ = ()
+
+
+_MARKED = (_DefaultFloat, _DefaultInt, _DefaultStr)
+
+
+def default(value: Any) -> Any:
+    """``value`` marked as a signature's default: equal to it, told apart by :func:`given`.
+
+    Parameters
+    ----------
+    value : float, int or str
+
+    Returns
+    -------
+    float, int or str
+        An instance of a private subclass with the same value (repr, format, arithmetic and
+        comparison are the value's own; arithmetic returns plain numbers).
+    """
+    for base, marked in ((bool, None), (float, _DefaultFloat), (int, _DefaultInt),
+                         (str, _DefaultStr)):
+        if isinstance(value, base):
+            if marked is None:
+                break
+            return marked(value)
+    raise TypeError(f"default() marks a float, int or str; got {value!r}")
+
+
+def given(value: Any) -> Any:
+    """None if ``value`` is a marked default (:func:`default`), else ``value``: what
+    :func:`resolve` takes as an explicit keyword."""
+    return None if type(value) in _MARKED else value

@@ -2,9 +2,10 @@
 
 A periodic orbit of ``x' = f(t, x)`` (eq. 30) satisfies ``x(t + T) = x(t)`` (eq. 31). In normalised
 time ``tau = t / T`` the orbit has period one (eq. 36), and the optimized shooting method finds the
-initial state (and, for an autonomous system, the period) that minimise the residual (eq. 38)
+initial state (and, for an autonomous system, the period) that minimise the residual (eq. 38, with
+the paper's p residual blocks called m = ``n_points`` here)
 
-    R = (x(1) - x(0), x(1 + delta) - x(delta), ..., x(1 + (p-1) delta) - x((p-1) delta))
+    R = (x(1) - x(0), x(1 + delta) - x(delta), ..., x(1 + (m-1) delta) - x((m-1) delta))
 
 with the Levenberg-Marquardt algorithm (eqs. 32-35), here MINPACK's ``lmder`` through
 :func:`scipy.optimize.least_squares` (``method="lm"``).
@@ -23,7 +24,7 @@ integration, step ``2**-10`` of a period):
 The paper's method is available as ``jacobian="finite-difference", method="RK4"``.
 
 Structure: :func:`find_periodic_orbit` checks its arguments once and builds a
-:class:`~flapping.periodic._problem.ShootingProblem` (unknowns <-> ``(x0, T, p)``, residual,
+:class:`~flapping.periodic._problem.ShootingProblem` (unknowns <-> ``(x0, T, params)``, residual,
 Jacobian, counters); Levenberg-Marquardt solves it; the answer and its diagnostics come back as a
 :class:`PeriodicOrbit`.
 
@@ -351,7 +352,7 @@ def _solve(problem: ShootingProblem, stopping: _Stopping) -> _Outcome:
     return _Outcome(problem.last_good, r, failure, False, True, 0)
 
 
-def _refusal(problem: ShootingProblem, x: np.ndarray, T: float, p: np.ndarray | None,
+def _refusal(problem: ShootingProblem, x: np.ndarray, T: float, params: np.ndarray | None,
              min_period: float) -> str | None:
     """Why a converged autonomous answer is not a periodic orbit (None if it is one)."""
     if not min_period <= T:
@@ -360,7 +361,8 @@ def _refusal(problem: ShootingProblem, x: np.ndarray, T: float, p: np.ndarray | 
                 f"guess, or an equilibrium)")
     s = problem.setup
     # One evaluation outside the counters: a diagnostic, not part of the iteration.
-    fx = np.asarray(s.funs[0](0.0, x, *(s.args if p is None else s.args + (p,))), dtype=float)
+    extra = s.args if params is None else s.args + (params,)
+    fx = np.asarray(s.funs[0](0.0, x, *extra), dtype=float)
     scale = max(1.0, float(np.linalg.norm(x)), float(np.linalg.norm(s.x_init)))
     moved = float(np.linalg.norm(fx)) * T
     if moved <= _EQUILIBRIUM * scale:
@@ -376,12 +378,12 @@ def _result(problem: ShootingProblem, outcome: _Outcome, stopping: _Stopping,
     """The :class:`PeriodicOrbit` of an outcome, with the acceptance verdict."""
     s = problem.setup
     norm = float(np.linalg.norm(outcome.residual))
-    x, T, p = problem.unpack(outcome.z)
+    x, T, params = problem.unpack(outcome.z)
     problem.close_history(outcome.z, norm)
     success = not outcome.failed and outcome.status_ok and norm <= stopping.tol
     message = outcome.message
     if success and s.autonomous:
-        refusal = _refusal(problem, x, T, p, stopping.min_period)
+        refusal = _refusal(problem, x, T, params, stopping.min_period)
         if refusal is not None:
             success, message = False, refusal
     elif not outcome.failed and not success:
@@ -389,7 +391,7 @@ def _result(problem: ShootingProblem, outcome: _Outcome, stopping: _Stopping,
                    f"tol = {stopping.tol:.1e}" if outcome.status_ok
                    else f"Levenberg-Marquardt did not converge: {message}")
     return PeriodicOrbit(
-        x0=x, period=T, params=p, success=success, message=message,
+        x0=x, period=T, params=params, success=success, message=message,
         residual=np.asarray(outcome.residual), residual_norm=norm,
         residual_history=np.array(problem.residual_history),
         iteration_history=np.array(problem.iteration_history),
@@ -441,9 +443,10 @@ def find_periodic_orbit(
     Parameters
     ----------
     fun : callable or sequence of callables
-        Right-hand side ``fun(t, x, *args)``, or ``fun(t, x, *args, p)`` with ``free_params``; a
-        sequence gives one callable per segment of the period (``len(breakpoints) + 1``), each
-        smooth on its closed segment (see :mod:`flapping.periodic.integrate`).
+        Right-hand side ``fun(t, x, *args)``, or ``fun(t, x, *args, params)`` with
+        ``free_params``; a sequence gives one callable per segment of the period
+        (``len(breakpoints) + 1``), each smooth on its closed segment (see
+        :mod:`flapping.periodic.integrate`).
     x0 : array_like, shape (n,)
         Initial guess of a state on the orbit; components in ``fixed`` are kept.
     period : float
@@ -457,10 +460,11 @@ def find_periodic_orbit(
         Analytic ``df/dx`` (same signature and segments as ``fun``). Default: central finite
         differences of ``fun`` inside the variational equations.
     free_params : array_like, optional
-        Initial guess of extra unknown parameters ``p`` (e.g. a flapping amplitude), passed as the
-        last argument of ``fun``, ``jac``, ``param_jac`` and to ``extra_residual``.
+        Initial guess of extra unknown parameters ``params`` (e.g. a flapping amplitude), passed
+        as the last argument of ``fun``, ``jac``, ``param_jac`` and to ``extra_residual``.
     param_jac : callable or sequence of callables, optional
-        ``df/dp(t, x, *args, p)``, shape (n, n_p). Default: central differences of ``fun`` in p.
+        ``df/dparams(t, x, *args, params)``, shape (n, n_p). Default: central differences of
+        ``fun`` in params.
     extra_residual : callable, optional
         ``extra_residual(x0, period, params) -> array`` of further conditions appended to R
         (differenced centrally in the unknowns: it must be cheap and smooth).
@@ -471,7 +475,7 @@ def find_periodic_orbit(
         Fractions of the period in (0, 1) where the integrator restarts (forced systems only).
     jacobian : {"variational", "finite-difference"}, optional
         ``"variational"``: one integration of state + variational equations per Jacobian (exact
-        up to the tolerance; columns for x0, for T as ``tau f(x(tau))``, for p from the
+        up to the tolerance; columns for x0, for T as ``tau f(x(tau))``, for params from the
         sensitivity equations). ``"finite-difference"``: forward differences of the residual,
         step ``sqrt(eps) |z_j|`` (MINPACK ``lmdif``'s rule, the paper's method); one extra
         shooting integration per unknown.
@@ -479,8 +483,8 @@ def find_periodic_orbit(
         Integrator: ``"DOP853"`` (default), another solve_ivp method, or ``"RK4"`` (fixed step
         ``T / rk4_steps``, the paper's).
     n_points : int, optional
-        Number ``p`` of residual blocks in eq. (38), in [1, 1024]. Two blocks at the same phase
-        (``k delta`` equal modulo 1) warn: the sampling aliases.
+        Number of residual blocks in eq. (38) (the paper's p), in [1, 1024]. Two blocks at the
+        same phase (``k delta`` equal modulo 1) warn: the sampling aliases.
     delta : float, optional
         Spacing of the residual blocks in normalised time (paper: ``2**-10``), in (0, 1).
     segments : int, optional
@@ -509,7 +513,7 @@ def find_periodic_orbit(
         Autonomous only: a converged period below this is rejected as the trivial solution
         ``T -> 0`` every autonomous shooting residual has (default ``1e-2 * period``).
     args : tuple, optional
-        Extra arguments of ``fun`` and ``jac`` (before ``p``).
+        Extra arguments of ``fun`` and ``jac`` (before ``params``).
     settings : SolverSettings, optional
         ``method``, ``rtol``, ``atol``, ``rk4_steps``, ``max_steps``, ``tol`` and ``max_nfev``
         as one object (:mod:`flapping.periodic.settings`); a keyword given explicitly

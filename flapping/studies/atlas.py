@@ -75,7 +75,7 @@ FWUAV_HOVER: dict[str, tuple[float, float, tuple[float, float]]] = {
     "monarch": (11.721978, 0.6072701, (-8.4354604, -12.8449206)),
 }
 
-#: Sun & Xiong (2005, J. Exp. Biol. 208:447), bumblebee, CFD derivatives and the averaged model,
+#: Sun & Xiong (2005a, J. Exp. Biol. 208:447), bumblebee, CFD derivatives and the averaged model,
 #: attitude free, as stated in their abstract: wingbeat period, the unstable oscillatory mode's
 #: doubling time and period, and the halving times of the fast and slow subsidence modes [s].
 SUN_XIONG_2005 = {"wingbeat": 6.4e-3, "doubling": 0.1, "oscillation_period": 0.32,

@@ -46,6 +46,7 @@ from flapping.hover.stability import hover_stability
 from flapping.model.dynamics import LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
+from flapping.model.presets import BODY_SIZES
 from flapping.periodic.integrate import variational_flow
 from flapping.studies._path import Guess, WarmStart, follow
 
@@ -76,16 +77,13 @@ __all__ = [
     "simulate_feedback",
 ]
 
-#: Body lengths [m] behind the presets' pitch-inertia estimates (:mod:`flapping.model.presets`):
-#: the hinge heights studied run from 0 to half (and up to one) body length.
-BODY_LENGTHS: dict[str, float] = {"hawkmoth": 48e-3, "bumblebee": 18e-3, "honeybee": 13e-3,
-                                  "hoverfly": 1.29 * 11.2e-3}
+#: Body lengths [m] behind the presets' pitch-inertia estimates (:data:`flapping.model.presets.
+#: BODY_SIZES`): the hinge heights studied run from 0 to half (and up to one) body length.
+BODY_LENGTHS: dict[str, float] = {name: size[0] for name, size in BODY_SIZES.items()}
 
-#: Body diameters [m] behind the same estimates (the ellipsoids of :mod:`flapping.model.presets`;
-#: the hawkmoth's is the 10 mm of the check against the paper's inertia): anatomy's scale for a
-#: hinge height, since the wing base lies within the thorax, less than one diameter above the CG.
-BODY_DIAMETERS: dict[str, float] = {"hawkmoth": 10e-3, "bumblebee": 7e-3, "honeybee": 4.5e-3,
-                                    "hoverfly": 5e-3}
+#: Body diameters [m] behind the same estimates: anatomy's scale for a hinge height, since the
+#: wing base lies within the thorax, less than one diameter above the CG.
+BODY_DIAMETERS: dict[str, float] = {name: size[1] for name, size in BODY_SIZES.items()}
 
 #: Gains act on (u, w, q, theta). The default pair feeds back the forward speed u and the pitch
 #: angle theta: the pair that stabilises the hawkmoth with the longest delay (the pitch-only pair

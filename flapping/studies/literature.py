@@ -153,7 +153,7 @@ class PublishedResult:
         return self.doubling_time_s / self.wingbeat_s
 
 
-_SUN2005 = ("Sun & Xiong (2005), J. Exp. Biol. abstract: 'three natural modes were identified: one "
+_SUN2005 = ("Sun & Xiong (2005a), J. Exp. Biol. abstract: 'three natural modes were identified: one "
             "unstable oscillatory mode, one stable fast subsidence mode and one stable slow "
             "subsidence mode'; 'The period of the oscillations is 0.32 s'; 'The oscillations "
             "double in amplitude in 0.1 s'; fast subsidence 'decay[s] to half of the starting "
@@ -197,7 +197,7 @@ def _sun_group() -> list[PublishedResult]:
         PublishedResult(
             "sun2005honeybee", "honeybee", method, "free", "unstable", "oscillatory",
             "verified",
-            "Sun & Xiong (2005), Acta Aeronaut. Astronaut. Sin. 26(4), abstract: 'The disturbed "
+            "Sun & Xiong (2005b), Acta Aeronaut. Astronaut. Sin. 26(4), abstract: 'The disturbed "
             "motion has three natural modes: an unstable oscillatory mode, a stable fast "
             "subsidence mode and a stable slow subsidence mode'; (Chinese abstract) the "
             "doubling time of the disturbance, 0.11 s, is 22 times the wingbeat period, 5.1 ms",

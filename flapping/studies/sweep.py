@@ -10,6 +10,8 @@ How it runs:
 - with the compiled kernel (:mod:`flapping.fast`, eq. 29's linear loads) when numba is installed,
   else with the adaptive scipy path (:func:`~flapping.hover.find_hover_orbit` and
   :func:`~flapping.hover.stability.hover_stability`; a warning says so: it is ~1000 times slower);
+  the blade-element loads (``aerodynamics``) on the fixed-step path, as
+  :func:`~flapping.hover.find_hover_orbit` runs them (or on any path named by ``backend``);
 - the points are visited in a boustrophedon ("snake") order through the grid, split into chunks
   of consecutive points; within a chunk each solve starts from its neighbour's step count and
   from (x0, Phi) predicted by the cubic through the last four answers on its grid line (the
@@ -37,10 +39,12 @@ import numpy as np
 import flapping._validation as _validation
 from flapping.errors import ConvergenceError, HoverDriftWarning
 from flapping.fast import kernel
-from flapping.hover import HoverOrbit, HoverProblem, HoverStatus, find_hover_orbit
+from flapping.hover import BACKENDS, HoverOrbit, HoverProblem, HoverStatus, find_hover_orbit
 from flapping.hover.stability import hover_stability
+from flapping.model.dynamics import AERODYNAMIC_MODELS
 from flapping.model.morphology import Insect
 from flapping.model.presets import preset_names
+from flapping.periodic.settings import SolverSettings
 from flapping.studies._path import Guess, Step, WarmStart, follow
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -80,6 +84,8 @@ class _Settings:
     backend: str
     amplitude_tol_deg: float
     multiplier_tol: float
+    solver: SolverSettings | None = None
+    aerodynamics: str = "linear"
 
 
 def grid_points(grid: Mapping[str, Sequence[float]]) -> list[dict[str, float]]:
@@ -139,7 +145,7 @@ def _snake(shape: tuple[int, ...]) -> list[int]:
 
 # =========================================================================== one point
 def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
-         backend: str) -> dict[str, Any]:
+         backend: str, mu_error: float = math.nan) -> dict[str, Any]:
     """The result columns of one point (NaN where there is no answer).
 
     ``converged`` is true only for a hover orbit: a periodic orbit that drifts (a hinge off the
@@ -166,19 +172,23 @@ def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
     elif orbit.fixed_step is not None:
         fs = orbit.fixed_step
         row.update(amplitude_error_deg=math.degrees(float(fs.unknowns_error[4])),
-                   multiplier_error=fs.multiplier_error, n_steps=fs.n_steps)
+                   multiplier_error=mu_error, n_steps=fs.n_steps)
     row.update(zip(("u0", "w0", "q0", "theta0"), map(float, orbit.x0), strict=True))
     for i in range(4):
         row[f"mu{i + 1}_real"], row[f"mu{i + 1}_imag"] = float(mu[i].real), float(mu[i].imag)
     return row
 
 
-def _multipliers(orbit: HoverOrbit) -> np.ndarray:
-    """The orbit's Floquet multipliers: the kernel's (its last Newton integration), or those of
-    :func:`~flapping.hover.stability.hover_stability` (a sweep needs no averaged system)."""
+def _multipliers(orbit: HoverOrbit, solver: SolverSettings | None = None
+                 ) -> tuple[np.ndarray, float]:
+    """The orbit's Floquet multipliers and their error estimate: the kernel's (its last Newton
+    integration), or those of :func:`~flapping.hover.stability.hover_stability`, on the
+    fixed-step path for an orbit found there (its estimate: the change from n to 2n steps)."""
     if orbit.kernel is not None:
-        return np.asarray(orbit.kernel.multipliers)
-    return hover_stability(orbit).multipliers
+        return np.asarray(orbit.kernel.multipliers), orbit.kernel.multiplier_error
+    backend = "fixed-step" if orbit.backend == "fixed-step" else "auto"
+    stability = hover_stability(orbit, backend=backend, settings=solver)
+    return stability.multipliers, stability.multiplier_error
 
 
 class _Point:
@@ -197,28 +207,33 @@ class _Point:
         return self.base.with_(**self.point)
 
 
-def _solve_point(point: _Point, guess: Guess[tuple[HoverOrbit, np.ndarray]] | None,
-                 settings: _Settings) -> tuple[HoverOrbit, np.ndarray]:
+def _solve_point(point: _Point, guess: Guess[tuple[HoverOrbit, np.ndarray, float]] | None,
+                 settings: _Settings) -> tuple[HoverOrbit, np.ndarray, float]:
     """One point: from the previous orbit's x0, Phi and step count, or cold without a guess."""
-    problem = HoverProblem(point.insect)
+    problem = HoverProblem(point.insect, settings.aerodynamics)
     kernel_options = {"amplitude_tol_deg": settings.amplitude_tol_deg,
                       "multiplier_tol": settings.multiplier_tol}
     if guess is None:
         orbit = find_hover_orbit(problem, backend=settings.backend,
-                                 kernel_options=kernel_options)
+                                 kernel_options=kernel_options, settings=settings.solver)
     else:
         start = guess.previous[0]
+        fixed_step_options = None
         if start.kernel is not None:
             kernel_options["n_steps"] = start.kernel.n_steps
+        elif start.fixed_step is not None:  # this point runs the fixed-step path too
+            fixed_step_options = {"n_steps": start.fixed_step.n_steps}
         x0, amplitude = start.x0, start.amplitude
         if guess.unknowns is not None and 0.0 < guess.unknowns[4] <= 0.5 * math.pi:
             x0, amplitude = guess.unknowns[:4], float(guess.unknowns[4])  # on a grid line
         orbit = find_hover_orbit(problem, amplitude_guess=amplitude, x0_guess=x0,
-                                 backend=settings.backend, kernel_options=kernel_options)
-    return orbit, _multipliers(orbit)
+                                 backend=settings.backend, kernel_options=kernel_options,
+                                 fixed_step_options=fixed_step_options,
+                                 settings=settings.solver)
+    return (orbit, *_multipliers(orbit, settings.solver))
 
 
-def _unknowns(point: _Point, result: tuple[HoverOrbit, np.ndarray]) -> np.ndarray:
+def _unknowns(point: _Point, result: tuple[HoverOrbit, np.ndarray, float]) -> np.ndarray:
     """The continued unknowns of a solved point: (u0, w0, q0, theta0, Phi)."""
     return np.append(result[0].x0, result[0].amplitude)
 
@@ -254,18 +269,26 @@ def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insec
     return [_row_of(step, settings.backend) for step in steps]
 
 
-def _row_of(step: Step[Any, tuple[HoverOrbit, np.ndarray]], backend: str) -> dict[str, Any]:
+def _row_of(step: Step[Any, tuple[HoverOrbit, np.ndarray, float]], backend: str
+            ) -> dict[str, Any]:
     """The row of a solved or failed point."""
     if step.result is None:
         return _row(None, None, f"{type(step.error).__name__}: {step.error}", backend)
-    return _row(*step.result, "", backend)
+    orbit, mu, mu_error = step.result
+    return _row(orbit, mu, "", backend, mu_error)
 
 
 # =========================================================================== the sweep
-def _backend(backend: str) -> str:
-    backend = _validation.choice("backend", backend, ("auto", "compiled", "adaptive"))
-    if backend == "adaptive":
+def _backend(backend: str, aerodynamics: str) -> str:
+    backend = _validation.choice("backend", backend, BACKENDS)
+    if backend in ("adaptive", "fixed-step"):
         return backend
+    if aerodynamics != "linear":
+        if backend == "compiled":
+            raise ValueError(f"backend='compiled' does not apply: the kernel has eq. (29)'s "
+                             f"linear loads only, not aerodynamics={aerodynamics!r}; use "
+                             "backend='fixed-step' or 'auto'")
+        return backend  # "auto": the fixed-step path, as find_hover_orbit runs it
     if kernel.numba_available():
         return backend  # each point's HoverProblem decides where "auto" runs
     if backend == "compiled":
@@ -313,6 +336,8 @@ def sweep_hover(
     backend: str = "auto",
     amplitude_tol_deg: float = kernel.AMPLITUDE_TOL_DEG,
     multiplier_tol: float = kernel.MULTIPLIER_TOL,
+    settings: SolverSettings | None = None,
+    aerodynamics: str = "linear",
 ) -> pandas.DataFrame:
     """Hover orbit and Floquet multipliers (eqs. 29, 42-49) at every point of a parameter grid.
 
@@ -331,11 +356,25 @@ def sweep_hover(
         Show a tqdm progress bar.
     chunk_size : int
         Consecutive points per task (warm starts run within a chunk), >= 1.
-    backend : {"auto", "compiled", "adaptive"}
-        ``"auto"``: the compiled kernel if numba is installed, else the adaptive path (with a
-        warning); ``"adaptive"``: the scipy reference path.
+    backend : {"auto", "compiled", "adaptive", "fixed-step"}
+        ``"auto"``: for the linear loads the compiled kernel if numba is installed, else the
+        adaptive path (with a warning); for the blade-element loads the fixed-step path (as
+        :func:`~flapping.hover.find_hover_orbit` decides, with its fallback to the adaptive
+        path). ``"adaptive"``: the scipy reference path; ``"fixed-step"``: Newton on the
+        fixed-step period map (:data:`flapping.hover.BACKENDS`), any loads model, each point
+        warm-started with its neighbour's step count. The row's ``backend`` says which path
+        solved it.
     amplitude_tol_deg, multiplier_tol : float
         The kernel's accuracy targets for Phi [deg] and every multiplier (absolute).
+    settings : SolverSettings, optional
+        Solver options of the points solved off the kernel, passed to
+        :func:`~flapping.hover.find_hover_orbit` and
+        :func:`~flapping.hover.stability.hover_stability` (each reads the fields it uses, with
+        its own default for a field left at None). A ``method`` other than ``"DOP853"`` sends
+        every point to the adaptive path.
+    aerodynamics : {"linear", "small-angle", "exact"}
+        Loads model of every point (:class:`~flapping.model.dynamics.LongitudinalDynamics`;
+        ``"linear"`` is eq. 29).
 
     Returns
     -------
@@ -346,7 +385,10 @@ def sweep_hover(
         ``stable``; ``converged`` (a hover orbit was found: false for one that drifts);
         ``status`` (:class:`~flapping.hover.HoverStatus`, -1 for a failed point);
         ``forward_speed`` and ``climb_speed`` (cycle means of the inertial velocities [m/s]);
-        the error estimates; ``nit``; ``n_steps`` (per half-stroke);
+        the error estimates ``amplitude_error_deg`` and ``multiplier_error`` (largest absolute
+        error of a multiplier: the kernel's estimate, or on the fixed-step path
+        :attr:`~flapping.hover.stability.HoverStability.multiplier_error`, the multipliers being
+        that analysis's; NaN on the adaptive path); ``nit``; ``n_steps`` (per half-stroke);
         ``backend``; ``message`` (why a point failed; empty otherwise).
 
     Raises
@@ -361,15 +403,20 @@ def sweep_hover(
     import pandas
 
     chunk_size = _validation.integer("chunk_size", chunk_size, low=1)
-    settings = _Settings(_backend(backend),
-                         _validation.positive("amplitude_tol_deg", amplitude_tol_deg),
-                         _validation.positive("multiplier_tol", multiplier_tol))
+    if settings is not None and not isinstance(settings, SolverSettings):
+        raise ValueError(f"`settings` must be a SolverSettings; got {settings!r} "
+                         f"({type(settings).__name__})")
+    aerodynamics = _validation.choice("aerodynamics", aerodynamics, AERODYNAMIC_MODELS)
+    settings_ = _Settings(_backend(backend, aerodynamics),
+                          _validation.positive("amplitude_tol_deg", amplitude_tol_deg),
+                          _validation.positive("multiplier_tol", multiplier_tol), settings,
+                          aerodynamics)
     if executor is not None and not isinstance(executor, Executor):
         raise ValueError(f"`executor` must be a concurrent.futures.Executor; got {executor!r}")
     base, points, params, shape = _points(insect, grid)
     order = _snake(shape)
     tasks = [(idx, [points[i] for i in idx]) for idx in _chunks(order, chunk_size)]
-    rows = _run(tasks, base, settings, executor, progress)
+    rows = _run(tasks, base, settings_, executor, progress)
     table = pandas.DataFrame([rows[i] for i in range(len(points))], columns=list(COLUMNS))
     return pandas.concat([pandas.DataFrame(params), table], axis=1)
 
@@ -392,7 +439,7 @@ def _points(insect: Insect | Sequence[Insect], grid: Mapping[str, Sequence[float
     base = insect
     axes = _axes(grid)
     points: list[Any] = grid_points(axes)
-    columns: dict[str, list[Any]] = {name: [p[name] for p in points] for name in axes}
+    columns: dict[str, list[Any]] = {name: [point[name] for point in points] for name in axes}
     return base, points, columns, tuple(len(v) for v in axes.values())
 
 

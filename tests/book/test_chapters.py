@@ -108,11 +108,6 @@ def test_the_paper_chapters_are_about_half_their_length_before_the_appendices():
         "forensic detail to an appendix")
 
 
-# Pages another session is fixing for issue 19 (control's figures and its Exercise 26): the checks
-# below hold for every other page and will hold for these once they are fixed; then empty this.
-ISSUE_19_ELSEWHERE: frozenset[str] = frozenset()
-
-
 def _toc_order() -> list[str]:
     return [TOC["root"]] + [chapter["file"] for part in TOC["parts"] for chapter in part["chapters"]]
 
@@ -134,8 +129,6 @@ def test_the_floquet_primer_comes_before_the_first_chapter_that_uses_its_words()
 
 @pytest.mark.parametrize("name", [n for n in _toc_order() if n != "references"])
 def test_every_figure_a_page_shows_is_numbered_and_captioned(name):
-    if name in ISSUE_19_ELSEWHERE:
-        pytest.skip("fixed by another session (issue 19)")
     text = _text(name)
     assert "plt.show()" not in text, f"{name}: a figure shown without a number or caption"
     glued = set(re.findall(r"""glue\(\s*["'](fig-[\w-]+)["']""", text))
@@ -145,15 +138,24 @@ def test_every_figure_a_page_shows_is_numbered_and_captioned(name):
 
 @pytest.mark.parametrize("name", [n for n in _toc_order() if n != "references"])
 def test_every_exercise_solution_executes(name):
-    if name in ISSUE_19_ELSEWHERE:
-        pytest.skip("fixed by another session (issue 19)")
     assert "skip-execution" not in _text(name), f"{name}: a code cell the build does not run"
+
+
+@pytest.mark.parametrize("name", _taught_chapters())
+def test_every_exercise_solution_prints_its_answer(name):
+    # a solution is a gated block (solution-start/-end) with a code cell that prints, shows or
+    # displays its answer, so the reader sees the computation and the number it gives
+    text = _text(name)
+    assert not re.search(r"```\{solution\} ", text), f"{name}: a solution without code"
+    for label, body in re.findall(r"```\{solution-start\} ([\w-]+)\n(.*?)```\{solution-end\}",
+                                  text, flags=re.DOTALL):
+        cells = re.findall(r"```\{code-cell\}[^\n]*\n(.*?)```", body, flags=re.DOTALL)
+        assert any(re.search(r"\b(print|show|display)\(", cell) for cell in cells), \
+            f"{name}: the solution of {label} prints no answer"
 
 
 @pytest.mark.parametrize("name", [n for n in _toc_order() if n != "references"])
 def test_no_orange_unit_circle(name):
-    if name in ISSUE_19_ELSEWHERE:
-        pytest.skip("fixed by another session (issue 19)")
     # the unit circle and other reference lines are grey; orange (SOURCE_COLORS["paper"]) is the
     # paper's printed numbers only
     for line in _text(name).splitlines():
@@ -194,3 +196,24 @@ def test_every_code_cell_fence_is_a_code_cell(name):
     fences = len(re.findall(r"^```\{code-cell\}", text, re.M))
     cells = sum(c.cell_type == "code" for c in jupytext.reads(text, fmt="myst").cells)
     assert cells == fences, f"{name}: {fences} code-cell fences, {cells} code cells"
+
+
+# The setup-cell convention: the first code cell of every page (imports, the insect, the page's
+# small helpers) is tagged hide-input, collapsed behind "Show code cell source" so that a student
+# can open and copy it, never removed.
+def _first_code_cell(name: str):
+    import jupytext
+
+    cells = [c for c in jupytext.reads(_text(name), fmt="myst").cells if c.cell_type == "code"]
+    return cells[0] if cells else None
+
+
+@pytest.mark.parametrize("name", [n for n in _toc_order() if n not in ("references", "api")])
+def test_every_setup_cell_is_collapsed_not_removed(name):
+    cell = _first_code_cell(name)
+    if cell is None:
+        pytest.skip(f"{name} has no code")
+    tags = set(cell.metadata.get("tags", []))
+    assert not tags & {"remove-cell", "remove-input"}, \
+        f"{name}: the setup cell is removed ({sorted(tags)}); a reader cannot see how to start"
+    assert "hide-input" in tags, f"{name}: tag the setup cell hide-input (got {sorted(tags)})"

@@ -53,3 +53,24 @@ def test_every_force_budget_term_is_typeset_without_code_names():
     for tex in out.values():
         assert tex.startswith("$") and tex.endswith("$")
         assert "theta" not in tex.replace(r"\theta", "") and "Iy" not in tex
+
+
+def test_a_lone_negative_number_gets_a_true_minus_sign():
+    from flapping.book.formatting import minus_sign
+
+    assert minus_sign("-0.10") == "\u22120.10"
+    assert minus_sign(" -3 ") == " \u22123 "
+    # anything but a lone plain number is left alone: ranges, words, positives, e-notation
+    for text in ("0.10", "+2", "-0.1 to 0.2", "-", "x-1", "-1e-3", "n/a"):
+        assert minus_sign(text) == text
+
+
+def test_the_transform_typesets_a_glued_negative_number():
+    from docutils import nodes
+
+    from flapping.book.formatting import _typeset
+
+    node = nodes.inline("", "-0.25", classes=["pasted-text"])
+    assert _typeset(node, nodes) and node.astext() == "\u22120.25"
+    node = nodes.inline("", "0.25", classes=["pasted-text"])
+    assert not _typeset(node, nodes) and node.astext() == "0.25"

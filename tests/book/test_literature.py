@@ -39,3 +39,23 @@ def test_chaosbook_sources_disagree_in_the_eleventh_digit():
     between = agreement_digits(ROSSLER_T_WEB.value, ROSSLER_T_CODE)
     assert 10.0 < between < 10.6
     assert ROSSLER_T_CODE.source != ROSSLER_T_WEB.source == ROSSLER_MU_WEB.source
+
+
+def test_dednam_and_botha_printed_their_orbit_to_the_digits_our_shooting_finds():
+    # their Table 1 case, from their own initial guess: the period to all 13 printed digits, the
+    # largest non-trivial multiplier to its printed rounding (half a unit in the 6th decimal)
+    import numpy as np
+
+    from flapping.book.literature import DEDNAM_BOTHA_MU, DEDNAM_BOTHA_T
+    from flapping.periodic.floquet import monodromy, nontrivial_multipliers
+    from flapping.periodic.shooting import find_periodic_orbit
+    from flapping.periodic.testproblems import rossler, rossler_jac
+
+    args = (0.15, 0.2, 3.5)
+    orbit = find_periodic_orbit(rossler, [2.7002161609, 3.4723025491, 3.0], 5.92030065,
+                                fixed=[2], jac=rossler_jac, args=args)
+    mon = monodromy(rossler, orbit.x0, orbit.period, jac=rossler_jac, args=args)
+    assert DEDNAM_BOTHA_T.significant_digits == 13 and DEDNAM_BOTHA_MU.decimals == 6
+    assert agreement_digits(orbit.period, DEDNAM_BOTHA_T) > 12.0
+    mu = float(np.max(np.abs(nontrivial_multipliers(mon))))
+    assert abs(mu - DEDNAM_BOTHA_MU.value) <= 0.5e-6

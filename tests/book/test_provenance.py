@@ -25,3 +25,11 @@ def test_chapter_statistics_count_prose_not_code(tmp_path):
         1, 1, 1, 1, 1)
     # A title here (3) + One two three 0 four (5) + Caption words (2) + Table title (2) + Do it (2)
     assert stats.words == 14
+
+
+def test_the_captioned_execution_table_counts_as_a_table(tmp_path):
+    page = tmp_path / "status.md"
+    page.write_text("# Status\n\n```{captioned-exec-table} Execution of each page.\n"
+                    ":name: tab-exec\n```\n", encoding="utf-8")
+    stats = chapter_statistics(page)
+    assert stats.tables == 1 and stats.words == 5   # Status + its caption's four words

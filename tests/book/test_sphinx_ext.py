@@ -49,3 +49,23 @@ def test_exec_table_handler_rewrites_the_table_cells():
     cells = [entry.astext() for entry in doctree.findall(nodes.entry)]
     assert cells == ["intro", "force", "succeeded"]
     assert "exec-status-succeeded" in list(doctree.findall(nodes.entry))[2]["classes"]
+
+
+def test_captioned_exec_table_takes_the_rows_myst_nb_writes():
+    nodes = pytest.importorskip("docutils.nodes")
+    from flapping.book.sphinx_ext import CAPTIONED_EXEC_TABLE, merge_captioned_exec_tables
+
+    doctree = nodes.document(None, None)
+    outer = nodes.table(classes=[CAPTIONED_EXEC_TABLE], ids=["tab-status-exec"])
+    outer += nodes.title(text="Execution of each page")
+    inner = nodes.table(classes=["colwidths-auto"])  # what myst-nb's post-transform puts there
+    tgroup = nodes.tgroup(cols=1)
+    inner += tgroup
+    outer += inner
+    doctree += outer
+    doctree += nodes.table(classes=["other"])  # other tables are left alone
+    assert merge_captioned_exec_tables(doctree) == 1
+    assert [type(c).__name__ for c in outer.children] == ["title", "tgroup"]
+    assert outer["ids"] == ["tab-status-exec"] and "colwidths-auto" in outer["classes"]
+    assert len(list(doctree.findall(nodes.table))) == 2
+    assert merge_captioned_exec_tables(doctree) == 0  # idempotent

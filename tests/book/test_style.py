@@ -44,3 +44,29 @@ def test_load_colours_are_far_from_state_and_source_colours():
     for load, colour in style.LOAD_COLORS.items():
         for name, other in others.items():
             assert _redmean_distance(colour, other) > 130, (load, name)
+
+
+@pytest.mark.parametrize("colour", ["0.55", "0", "1.0", "k", "white", "Grey", "#7f7f7f", "#FFFFFFFF",
+                                    style.GUIDE_COLOR, style.SOURCE_COLORS["ours"]])
+def test_greys_are_greys(colour):
+    assert style.is_grey(colour)
+
+
+@pytest.mark.parametrize("colour", [*style.STATE_COLORS.values(), style.SOURCE_COLORS["paper"],
+                                    style.SOURCE_COLORS["averaged"], "C0", "red", "#7f7f7e", "1.5",
+                                    "#zzzzzz"])
+def test_colours_are_not_greys(colour):
+    assert not style.is_grey(colour)
+
+
+def test_is_grey_wants_a_string():
+    with pytest.raises(ValueError, match="color"):
+        style.is_grey((0.5, 0.5, 0.5))
+
+
+def test_guide_lines_are_grey_and_distinct_from_every_quantity():
+    import matplotlib.colors as mcolors
+
+    assert style.is_grey(style.GUIDE_COLOR)
+    r, g, b = mcolors.to_rgb(style.GUIDE_COLOR)
+    assert r == g == b

@@ -169,3 +169,24 @@ def test_the_error_estimate_holds_with_switches():
                                                n_steps=256, error_tol=1e-2).x0[0]
     orbit = find_periodic_orbit_fixed_step(_kinked, [0.0], 2.0 * math.pi, switches=[crossing])
     assert abs(orbit.x0[0] - reference) <= orbit.x0_error[0]
+
+
+def test_fixed_step_monodromy_is_the_solves_derivative_and_converges_at_order_8():
+    from flapping.periodic.fixedstep import fixed_step_monodromy
+
+    orbit = find_periodic_orbit_fixed_step(forced_oscillator, [0.3, 0.1], PERIOD, args=ARGS,
+                                           jac=forced_oscillator_jac)
+    same = fixed_step_monodromy(forced_oscillator, orbit.x0, PERIOD, n_steps=orbit.n_steps,
+                                args=ARGS, jac=forced_oscillator_jac)
+    np.testing.assert_array_equal(same, orbit.monodromy)
+    assert not same.flags.writeable
+    # the forced oscillator's monodromy is exp(A T): the multipliers' error falls as n^-8
+    errors = []
+    for n in (4, 8):
+        M = fixed_step_monodromy(forced_oscillator, X0, PERIOD, n_steps=n, args=ARGS,
+                                 jac=forced_oscillator_jac)
+        mu = np.linalg.eigvals(M)
+        errors.append(max(np.min(np.abs(mu[:, None] - MULTIPLIERS[None, :]), axis=1)))
+    assert 2.0 ** 8 / 2 < errors[0] / errors[1] < 2.0 ** 8 * 2
+    with pytest.raises(ValueError, match="n_steps"):
+        fixed_step_monodromy(forced_oscillator, X0, PERIOD, n_steps=1, args=ARGS)

@@ -1,0 +1,250 @@
+"""Compiled (numba) blade-element loads for the fixed-step hover path.
+
+The fixed-step path of the blade-element hover orbit (:meth:`flapping.hover.HoverProblem.
+graded_fields`) spends ~90 % of its time in the right-hand side: ~10^5 evaluations per solve of
+the blade-element loads (:class:`flapping.model.aerodynamics.BladeElementModel`, a span
+quadrature on ~100 stations) through three layers of Python. :class:`BladeField` evaluates the
+same graded field in one compiled call (:mod:`flapping.fast._blade`), ~50 times faster per
+evaluation; the period map, Newton and the error estimate are unchanged, so the results are the
+Python path's to rounding.
+
+One source of truth: the quadrature rules and the constants are the Python model's own arrays
+(packed by :func:`pack`), and the compiled arithmetic is checked against the Python loads and
+field at random states, phases and insects (``tests/fast/test_blade.py``); the wings' inertial
+loads are the generated code of :mod:`flapping.model.inertia`, compiled as it is.
+:data:`SUPPORTED_FIELDS` lists the :class:`~flapping.model.morphology.Insect` fields the compiled
+field follows, and :meth:`BladeField.of` refuses (returns None for) an insect with another field
+off its default (a field added to ``Insect`` and not yet modelled here), so that the Python path
+runs then.
+
+Importing this module does not import numba: :func:`load` compiles the numba code (or loads it
+from numba's on-disk cache) the first time a field is built, said once by a
+:class:`~flapping.fast.kernel.KernelCompileWarning` when it compiles, and logged on the
+``"flapping"`` logger, as for the hover kernel.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import logging
+import time
+import warnings
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from types import MappingProxyType, ModuleType
+from typing import Any
+
+import numpy as np
+
+from flapping.fast.kernel import KernelCompileWarning, numba_available
+from flapping.model.dynamics import LongitudinalDynamics
+from flapping.model.kinematics import segment_stroke_sign
+from flapping.model.morphology import Insect
+
+__all__ = ["SUPPORTED_FIELDS", "BladeField", "load", "pack", "unsupported_field"]
+
+#: The :class:`~flapping.model.morphology.Insect` fields the compiled loads follow, and how each
+#: enters. An insect whose other fields differ from their defaults is refused (the Python path
+#: runs), so a field added to ``Insect`` is refused until it is modelled here and listed.
+SUPPORTED_FIELDS: Mapping[str, str] = MappingProxyType({
+    "name": "label only",
+    "semi_span": "R: the span stations and the sign-change station of U",
+    "wing_area": "the quadrature weights (mean chord) and A of eq. (4)",
+    "r1": "the beta chord distribution (quadrature rules, incomplete span moments)",
+    "r2": "the beta chord distribution (quadrature rules, incomplete span moments)",
+    "frequency": "omega = 2 pi f of eq. (39), the period and the rotational damping",
+    "stroke_amplitude": "none here (the amplitude is the trim p[0])",
+    "mass": "1/m of eq. (2)",
+    "pitch_inertia": "1/I_y of eq. (2)",
+    "air_density": "rho of the loads",
+    "gravity": "g of eq. (2)",
+    "a0": "the 2-D lift slope in A of eq. (4)",
+    "aspect_ratio_convention": "the aspect ratio in A of eq. (4)",
+    "pitch_axis": "3/4 - x0_hat of the rotational circulation (eq. 5)",
+    "center_of_pressure": "x_hat of the moments (eqs. 21-23)",
+    "hinge_offset": "x_h of w_eff (eq. 12) and of the moments",
+    "mu1": "the rotational damping torque (mu1 f)",
+    "mu2": "the rotational damping torque (mu2 |Omega|)",
+    "hinge_height": "h_w of the section's forward speed and of the moment",
+    "stroke_mean": "phi_bar of eq. (39) (or the trim p[1])",
+    "wing_mass": "the wings' inertial loads (flapping.model.inertia, generated code)",
+    "wing_mass_r1": "the wings' first mass moment A1",
+    "wing_mass_r2": "the wings' second mass moment A2",
+})
+
+_LOG = logging.getLogger("flapping")
+
+#: Seconds above which the first load is worth a note (loading the cache takes ~0.1 s).
+_NOTE_AFTER_S = 1.0
+
+_MODULE: list[ModuleType] = []
+
+
+def unsupported_field(insect: Insect) -> str:
+    """Why the compiled loads cannot model this insect: its first field outside
+    :data:`SUPPORTED_FIELDS` that is not at its default, in words ('' if there is none)."""
+    for f in dataclasses.fields(insect):
+        if not f.init or f.name in SUPPORTED_FIELDS:
+            continue
+        value = getattr(insect, f.name)
+        if f.default is dataclasses.MISSING or value != f.default:
+            default = "" if f.default is dataclasses.MISSING else f" (its default {f.default!r})"
+            return (f"the compiled blade-element loads do not model the insect field "
+                    f"`{f.name}` = {value!r}: they support the default only{default}")
+    return ""
+
+
+def load() -> ModuleType:
+    """Import the numba code and compile it, or load it from numba's cache, once per process.
+
+    Returns
+    -------
+    module
+        :mod:`flapping.fast._blade`.
+
+    Raises
+    ------
+    ImportError
+        If numba is not installed (``pip install flapping[fast]``).
+    """
+    if not _MODULE:
+        start = time.perf_counter()
+        from flapping.fast import _blade
+
+        entry = _blade.graded_rhs
+        if _blade.CACHED and entry.stats.cache_path:
+            _drop_stale_cache(Path(entry.stats.cache_path))
+        fresh = not _blade.CACHED or not _cached(entry)
+        if fresh:
+            warnings.warn("compiling flapping's blade-element loads with numba (first use in "
+                          "this environment: 5-20 s of CPU, once)", KernelCompileWarning,
+                          stacklevel=3)
+        _touch(_blade)
+        seconds = time.perf_counter() - start
+        _LOG.info("blade-element loads %s in %.2f s", "compiled" if fresh else "loaded", seconds)
+        _MODULE.append(_blade)
+    return _MODULE[0]
+
+
+def _cached(dispatcher: Any) -> bool:
+    """Whether numba's on-disk cache holds compiled code of ``dispatcher``."""
+    path = dispatcher.stats.cache_path
+    name = dispatcher.py_func.__module__.rsplit(".", 1)[-1]
+    return bool(path) and any(Path(path).glob(f"{name}.graded_rhs-*.nbi"))
+
+
+def _drop_stale_cache(cache: Path) -> None:
+    """Remove numba's cached :mod:`flapping.fast._blade` if the generated inertia code changed.
+
+    numba keys a cached function on its own file only, so the functions that inline
+    :mod:`flapping.model._inertia_generated` would keep its old arithmetic after a regeneration
+    that changed that file alone (as :func:`flapping.fast.kernel._drop_stale_cache` guards the
+    kernel): a stamp of the generated source in the cache directory detects it.
+    """
+    from flapping.model import _inertia_generated
+
+    source = Path(_inertia_generated.__file__).read_bytes()
+    digest = hashlib.sha256(source).hexdigest()
+    stamp = cache / "_blade.generated-sha256"
+    try:
+        if stamp.is_file() and stamp.read_text() == digest:
+            return
+        for old in list(cache.glob("_blade.*.nbi")) + list(cache.glob("_blade.*.nbc")):
+            old.unlink()
+        cache.mkdir(parents=True, exist_ok=True)
+        stamp.write_text(digest)
+    except OSError:  # numba checked the directory is writable; a race with another process
+        pass
+
+
+def _touch(compiled: ModuleType) -> None:
+    """Run the entry points once on the hawkmoth with the argument types of use."""
+    from flapping.model.morphology import hawkmoth
+
+    for variant in ("small-angle", "exact"):
+        for insect in (hawkmoth(), hawkmoth(wing_mass=1e-5)):
+            model = LongitudinalDynamics(insect, aerodynamics=variant)
+            data = pack(model, 1)
+            y, p = np.zeros(5), np.array([model.amplitude])
+            compiled.graded_rhs(0.25, y, p, 0, -1.0, data)
+            compiled.loads(0.001, 0.1, 0.0, 1.0, 1.0, model.amplitude, 0.0, data)
+
+
+def pack(model: LongitudinalDynamics, n_conditions: int) -> np.ndarray:
+    """The model's blade-element loads as the compiled code's ``data`` array.
+
+    The quadrature stations, weights, incomplete span moments and load constants are the
+    Python model's own (``model``'s :class:`~flapping.model.aerodynamics.BladeElementModel`),
+    laid out as :mod:`flapping.fast._blade` documents.
+
+    Parameters
+    ----------
+    model : LongitudinalDynamics
+        A blade-element model (``"small-angle"`` or ``"exact"``).
+    n_conditions : {1, 2}
+        Hover conditions appended to the state (z; z and x_e).
+    """
+    from flapping.fast import _blade
+
+    blade = model._blade
+    assert blade is not None, "only the blade-element models have compiled loads"
+    insect = model.insect
+    a, b, full = blade._partial_moments
+    head = np.zeros(_blade.OFFSET)
+    head[:13] = blade._consts
+    head[_blade.I_R] = insect.semi_span
+    head[_blade.I_H_W] = insect.hinge_height
+    head[_blade.I_PHI_BAR] = insect.stroke_mean
+    head[_blade.I_G] = insect.gravity
+    head[_blade.I_MASS] = insect.mass
+    head[_blade.I_IY] = insect.pitch_inertia
+    head[_blade.I_HALF] = 0.5 * model.period
+    head[_blade.I_VARIANT] = 0.0 if blade.variant == "small-angle" else 1.0
+    head[_blade.I_N_R] = blade._r.size
+    head[_blade.I_N_COND] = n_conditions
+    if model._inertia is not None:
+        head[_blade.I_INERTIA] = 1.0
+        head[_blade.I_K:_blade.I_K + 8] = model._inertia.constants
+    # Writable on purpose: numba types a read-only array as another type, and dispatching a
+    # call on one costs ~2 microseconds more (as much as the loads); nothing writes to it.
+    return np.concatenate([head, blade._r, np.ascontiguousarray(blade._weights).ravel(),
+                           blade._weight_sums, blade._weight_moments, a, b, full])
+
+
+@dataclass(frozen=True, eq=False)
+class BladeField:
+    """The compiled graded hover field of a blade-element model (build with :meth:`of`).
+
+    Attributes
+    ----------
+    function : callable
+        ``function(s, y, p, k, sign, data)``: the graded field F(s, y, p) of half-stroke k
+        (:meth:`flapping.hover.HoverProblem.graded_fields`), compiled; ``sign`` is the stroke sign
+        of the half-stroke and ``data`` the packed model.
+    data : ndarray
+        The packed model (:func:`pack`).
+    signs : tuple of float
+        The stroke sign of each half-stroke.
+    """
+
+    function: Callable[..., np.ndarray]
+    data: np.ndarray
+    signs: tuple[float, ...]
+
+    @classmethod
+    def of(cls, model: LongitudinalDynamics, n_conditions: int) -> BladeField | None:
+        """The compiled field of ``model``, or None where it does not apply (linear loads, numba
+        not installed, or an insect field outside :data:`SUPPORTED_FIELDS`): then the Python
+        field runs. The first call in a process compiles or loads the numba code."""
+        if (model.aerodynamics == "linear" or not numba_available()
+                or unsupported_field(model.insect)):
+            return None
+        compiled = load()
+        signs = tuple(segment_stroke_sign(k) for k in range(len(model.breakpoints) + 1))
+        return cls(compiled.graded_rhs, pack(model, n_conditions), signs)
+
+    def arguments(self, k: int) -> tuple[Any, ...]:
+        """The trailing arguments of :attr:`function` on half-stroke k: (k, sign, data)."""
+        return (k, self.signs[k], self.data)

@@ -1,0 +1,74 @@
+"""hover_stability on the fixed-step path: the monodromy at n and 2n steps per half-stroke, with
+the change as the error estimate of the multipliers (HoverStability.multiplier_error); under
+"auto" a fixed-step orbit keeps the adaptive reference analysis."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from flapping import hawkmoth
+from flapping.hover import find_hover_orbit, forced_orbit
+from flapping.hover.stability import hover_stability
+
+
+def _gap(a: np.ndarray, b: np.ndarray) -> float:
+    """Largest distance from a multiplier of ``a`` to the nearest of ``b``."""
+    return float(np.max(np.min(np.abs(np.asarray(a)[:, None] - np.asarray(b)[None, :]), axis=1)))
+
+
+@pytest.fixture(scope="module")
+def linear():
+    return find_hover_orbit(hawkmoth(), backend="adaptive")
+
+
+@pytest.fixture(scope="module")
+def small_angle():
+    return find_hover_orbit(hawkmoth(), aerodynamics="small-angle")
+
+
+def test_the_estimate_bounds_the_difference_to_the_adaptive_analysis_on_the_linear_loads(linear):
+    # The adaptive analysis of the linear loads is converged far below the fixed-step one's
+    # error (rtol 1e-12 against 1e-13: ~1e-13 apart), so it is the exact answer here.
+    fixed = hover_stability(linear, backend="fixed-step")
+    adaptive = hover_stability(linear, backend="adaptive")
+    assert 0.0 < fixed.multiplier_error < math.inf
+    assert _gap(fixed.multipliers, adaptive.multipliers) <= fixed.multiplier_error
+    assert fixed.multipliers.shape == (4,) and fixed.monodromy.shape == (4, 4)
+    assert fixed.orbit is linear and fixed.det == pytest.approx(np.prod(fixed.multipliers).real)
+    # Liouville: det M against exp(int trace J), an independent check of the monodromy
+    assert fixed.liouville_error < 10 * fixed.multiplier_error
+    np.testing.assert_array_equal(fixed.averaged_jacobian, adaptive.averaged_jacobian)
+
+
+def test_a_forced_orbit_is_analysed_on_the_fixed_step_path_too():
+    insect = hawkmoth()
+    orbit = forced_orbit(insect, 0.9 * insect.stroke_amplitude)
+    fixed = hover_stability(orbit, backend="fixed-step")
+    adaptive = hover_stability(orbit, backend="adaptive")
+    assert _gap(fixed.multipliers, adaptive.multipliers) <= fixed.multiplier_error
+
+
+def test_the_adaptive_analysis_has_no_estimate_and_the_kernel_reports_its_own(linear):
+    assert math.isnan(hover_stability(linear).multiplier_error)
+    compiled = find_hover_orbit(hawkmoth())
+    if compiled.kernel is None:
+        pytest.skip("needs numba")
+    stability = hover_stability(compiled)
+    assert stability.multiplier_error == compiled.kernel.multiplier_error > 0.0
+
+
+@pytest.mark.slow  # ~2 min: the adaptive analysis of the blade-element loads at rtol 1e-13
+def test_the_estimate_bounds_the_difference_to_a_tight_adaptive_analysis(small_angle):
+    assert small_angle.backend == "fixed-step"
+    fixed = hover_stability(small_angle, backend="fixed-step")
+    tight = hover_stability(small_angle, backend="adaptive", rtol=1e-13, atol=1e-13)
+    assert 0.0 < fixed.multiplier_error < math.inf
+    assert _gap(fixed.multipliers, tight.multipliers) <= fixed.multiplier_error
+    # "auto" analyses the fixed-step orbit on the adaptive path, as before: the reference
+    default = hover_stability(small_angle)
+    reference = hover_stability(small_angle, backend="adaptive")
+    np.testing.assert_array_equal(default.monodromy, reference.monodromy)
+    assert math.isnan(default.multiplier_error)
