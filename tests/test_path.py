@@ -84,3 +84,31 @@ def test_halving_stops_after_max_failures_with_the_callers_error():
         follow_halving(lambda s: s, warm, n_steps=1, max_failures=1,
                        retry=(ConvergenceError,), stalled=stalled)
     assert isinstance(info.value.__cause__, ConvergenceError)
+
+
+def test_order_two_predicts_a_quadratic_path_exactly():
+    solve = Recorder()
+    warm = WarmStart(solve, lambda point, result: np.array([result**2]), secant=True, order=2)
+    follow([(s, s) for s in (1.0, 2.0, 4.0, 5.0)], warm)
+    # Fourth point: the parabola through (1, 1), (2, 4), (4, 16) at s = 5 is 25.
+    np.testing.assert_allclose(solve.calls[3][1], [25.0], rtol=1e-14)
+
+
+def test_a_grid_corner_takes_the_last_answer_then_the_new_line():
+    # A 2-D snake: along the first axis, round the corner, then along the second.
+    solve = Recorder()
+    warm = WarmStart(solve, lambda point, result: np.array([sum(result)]), secant=True, order=2)
+    path = [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (2.0, 2.0)]
+    follow([(c, c) for c in path], warm)
+    np.testing.assert_allclose(solve.calls[2][1], [2.0])  # secant on the first line: 0, 1 -> 2
+    np.testing.assert_allclose(solve.calls[3][1], [2.0])  # off that line: the last answer
+    np.testing.assert_allclose(solve.calls[4][1], [4.0])  # secant on the new line: 2, 3 -> 4
+
+
+def test_order_three_keeps_four_points_and_predicts_a_cubic_exactly():
+    # The memory must hold order + 1 points from the third one on (it once kept one point too
+    # few while filling, and the cubic fell back to the secant).
+    solve = Recorder()
+    warm = WarmStart(solve, lambda point, result: np.array([result**3]), secant=True, order=3)
+    follow([(s, s) for s in (1.0, 2.0, 3.0, 4.0, 5.0)], warm)
+    np.testing.assert_allclose(solve.calls[4][1], [125.0], rtol=1e-13)

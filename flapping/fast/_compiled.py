@@ -28,6 +28,12 @@ import math
 import numba
 import numpy as np
 
+# numba's own bindings of LAPACK's dgeev, those behind its np.linalg.eigvals (numba 0.60-0.68),
+# which refuses a real matrix with complex eigenvalues (an oscillatory mode's pair): called here
+# directly for the real and imaginary parts. Internal names: if a numba release moves them, the
+# import fails loudly here rather than the multipliers changing.
+from numba.np.linalg import _LAPACK, _dummy_liveness_func
+
 from flapping.fast import _dop853, _generated
 
 #: Whether numba found a writable place for its on-disk cache (see :func:`_jit`).
@@ -69,6 +75,15 @@ MAX_ITERATIONS = 1
 AMPLITUDE_OUT_OF_RANGE = 2
 NOT_FINITE = 3
 SINGULAR = 4
+
+# The eigenvalue problems' outcomes (np.linalg.eigvals raises LinAlgError for both failures).
+EIGEN_OK = 0
+EIGEN_NOT_FINITE = 1
+EIGEN_NOT_CONVERGED = 2
+
+_DGEEV = _LAPACK().numba_ez_rgeev(numba.float64)
+_DGEEV_KIND = ord("d")
+_DGEEV_NO_VECTORS = ord("N")
 
 
 @_jit
@@ -132,23 +147,35 @@ def variational_rhs(t, y, amp, sign, k, p, d, out):  # pragma: no cover - compil
 
 @_jit
 def _rk_step(variational, t, h, y, amp, sign, k, p, d, stages, tmp):  # pragma: no cover
-    """One fixed step of the 8th-order Dormand-Prince formula, in place on y."""
+    """One fixed step of the 8th-order Dormand-Prince formula, in place on y.
+
+    The stage sums run over contiguous rows of ``stages`` (the inner loop over the state
+    vectorises) and skip the zero couplings and weights of the tableau (16 of the 66 a_ij, 4 of
+    the 12 b_j); each sum adds its terms in the order of the plain double loop, so the result
+    is the same to the last bit.
+    """
     n = y.size
     for s in range(N_STAGES):
         for i in range(n):
-            acc = y[i]
-            for j in range(s):
-                acc += h * RK_A[s, j] * stages[j, i]
-            tmp[i] = acc
+            tmp[i] = y[i]
+        for j in range(s):
+            a = h * RK_A[s, j]
+            if a != 0.0:
+                for i in range(n):
+                    tmp[i] += a * stages[j, i]
         if variational:
             variational_rhs(t + RK_C[s] * h, tmp, amp, sign, k, p, d, stages[s])
         else:
             plain_rhs(t + RK_C[s] * h, tmp, amp, sign, k, p, d, stages[s])
     for i in range(n):
-        acc = 0.0
-        for s in range(N_STAGES):
-            acc += RK_B[s] * stages[s, i]
-        y[i] += h * acc
+        tmp[i] = 0.0
+    for s in range(N_STAGES):
+        b = RK_B[s]
+        if b != 0.0:
+            for i in range(n):
+                tmp[i] += b * stages[s, i]
+    for i in range(n):
+        y[i] += h * tmp[i]
 
 
 @_jit
@@ -235,6 +262,94 @@ def newton(z, n_steps, k, p, max_iter, xtol):  # pragma: no cover - compiled
             return CONVERGED, it, norm, y
         z += scale * dz
     return MAX_ITERATIONS, max_iter, norm, y
+
+
+@_jit
+def eigenvalues(m, out):  # pragma: no cover - compiled
+    """Eigenvalues of the real square matrix ``m`` into the complex ``out``: LAPACK's dgeev, as
+    ``np.linalg.eigvals``. Returns :data:`EIGEN_OK`, or the failure (non-finite entries, or
+    dgeev did not converge)."""
+    n = m.shape[0]
+    a = np.empty((n, n))  # m transposed in C order: m in the Fortran order dgeev reads
+    for i in range(n):
+        for j in range(n):
+            if not math.isfinite(m[i, j]):
+                return EIGEN_NOT_FINITE
+            a[j, i] = m[i, j]
+    wr = np.empty(n)
+    wi = np.empty(n)
+    vl = np.empty(1)  # not referenced (no eigenvectors), but some LAPACKs check the pointers
+    vr = np.empty(1)
+    info = _DGEEV(_DGEEV_KIND, _DGEEV_NO_VECTORS, _DGEEV_NO_VECTORS, n, a.ctypes, n, wr.ctypes,
+                  wi.ctypes, vl.ctypes, 1, vr.ctypes, 1)
+    _dummy_liveness_func([a.size, wr.size, wi.size, vl.size, vr.size])  # alive through the call
+    if info != 0:
+        return EIGEN_NOT_CONVERGED
+    for i in range(n):
+        out[i] = complex(wr[i], wi[i])
+    return EIGEN_OK
+
+
+@_jit
+def sort_multipliers(w):  # pragma: no cover - compiled
+    """In place: by descending modulus (a stable sort), in a complex-conjugate pair the positive
+    imaginary part first (the order of :func:`flapping.fast.kernel._sorted`)."""
+    n = w.size
+    for i in range(1, n):
+        v = w[i]
+        modulus = abs(v)
+        j = i - 1
+        while j >= 0 and abs(w[j]) < modulus:
+            w[j + 1] = w[j]
+            j -= 1
+        w[j + 1] = v
+    for i in range(n - 1):
+        a, b = w[i], w[i + 1]
+        if a.imag < 0.0 and abs(a - b.conjugate()) <= 1e-12 * max(1.0, abs(a)):
+            w[i], w[i + 1] = b, a
+
+
+@_jit
+def newton_and_estimate(z, n_steps, k, p, max_iter, xtol, factor):  # pragma: no cover
+    """:func:`newton` at ``n_steps``, then the Richardson estimates, in one call.
+
+    Returns (status, iterations, residual norm, y, r, z_err, multipliers, multiplier_err,
+    eigen_status): ``y`` the variational state of the last Newton integration and ``r`` its
+    residual at z; ``z_err`` (5) the absolute Richardson estimate of z's error, ``factor`` times
+    the Newton correction that the ``n_steps / 2`` integration at z asks for; ``multipliers``
+    the eigenvalues of the monodromy M (sorted by :func:`sort_multipliers`) and
+    ``multiplier_err`` the largest distance from one of them to the nearest eigenvalue of
+    M + dM, dM = ``factor`` (M - M_coarse). On a failed Newton solve only the status, iterations
+    and norm are meaningful; ``eigen_status`` is :data:`EIGEN_OK` unless an eigenvalue problem
+    failed.
+    """
+    status, nit, norm, y = newton(z, n_steps, k, p, max_iter, xtol)
+    multipliers = np.zeros(4, dtype=np.complex128)
+    if status != CONVERGED:
+        return status, nit, norm, y, np.zeros(5), np.zeros(5), multipliers, 0.0, EIGEN_OK
+    r, _ = residual_and_jacobian(y, z)
+    coarse = variational_period(z, n_steps // 2, k, p)
+    r_c, J_c = residual_and_jacobian(coarse, z)
+    z_err = np.abs(np.linalg.solve(J_c, -(r_c - r)) * factor)
+    M = np.empty((4, 4))
+    moved = np.empty((4, 4))
+    for i in range(4):
+        for j in range(4):
+            m = y[5 + 4 * i + j]
+            M[i, j] = m
+            moved[i, j] = m + (m - coarse[5 + 4 * i + j]) * factor
+    moved_values = np.empty(4, dtype=np.complex128)
+    eigen = eigenvalues(M, multipliers)
+    if eigen == EIGEN_OK:
+        eigen = eigenvalues(moved, moved_values)
+    shift = 0.0
+    for i in range(4):
+        nearest = math.inf
+        for j in range(4):
+            nearest = min(nearest, abs(moved_values[j] - multipliers[i]))
+        shift = max(shift, nearest)
+    sort_multipliers(multipliers)
+    return status, nit, norm, y, r, z_err, multipliers, shift, eigen
 
 
 @_jit

@@ -54,6 +54,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType, ModuleType
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -256,6 +257,7 @@ def _touch(compiled: ModuleType) -> None:
     problem = KernelProblem.of(hawkmoth())
     z = np.append(np.zeros(4), problem.insect.stroke_amplitude)
     compiled.newton(z.copy(), _MIN_STEPS, problem.k, problem.p, 2, _XTOL)
+    compiled.newton_and_estimate(z.copy(), _MIN_STEPS, problem.k, problem.p, 2, _XTOL, _FACTOR)
     compiled.residual_and_jacobian(compiled.variational_period(z, _MIN_STEPS, problem.k,
                                                                problem.p), z)
     compiled.states_at(z[:4], z[4], _MIN_STEPS, problem.k, problem.p, np.array([0.001]))
@@ -385,15 +387,22 @@ def _packed(insect: Insect, alpha_m: float | None) -> KernelProblem:
 def unsupported_field(insect: Insect) -> str:
     """Why the kernel cannot model this insect: its first field outside :data:`SUPPORTED_FIELDS`
     that is not at its default, in words ('' if there is none)."""
-    for f in dataclasses.fields(insect):
-        if not f.init or f.name in SUPPORTED_FIELDS:
-            continue
-        value = getattr(insect, f.name)
-        if f.default is dataclasses.MISSING or value != f.default:
-            default = "" if f.default is dataclasses.MISSING else f" (its default {f.default!r})"
-            return (f"the compiled kernel does not model the insect field `{f.name}` = "
-                    f"{value!r}: it supports the default only{default}")
+    cls: Any = type(insect)  # a dataclass type is hashable (mypy reads Insect.__hash__)
+    for name, default in _unsupported_fields(cls, tuple(SUPPORTED_FIELDS)):
+        value = getattr(insect, name)
+        if default is dataclasses.MISSING or value != default:
+            shown = "" if default is dataclasses.MISSING else f" (its default {default!r})"
+            return (f"the compiled kernel does not model the insect field `{name}` = "
+                    f"{value!r}: it supports the default only{shown}")
     return ""
+
+
+@functools.lru_cache(maxsize=16)
+def _unsupported_fields(cls: type, supported: tuple[str, ...]) -> tuple[tuple[str, object], ...]:
+    """The init fields of an ``Insect`` class outside ``supported`` and their defaults, in field
+    order (listed once per class: a sweep asks at every point)."""
+    return tuple((f.name, f.default) for f in dataclasses.fields(cls)
+                 if f.init and f.name not in supported)
 
 
 def _check_supported(insect: Insect) -> None:
@@ -410,15 +419,27 @@ def _read_only(a: np.ndarray) -> np.ndarray:
 
 def _pack(c: AeroConstants, alpha_m: float) -> np.ndarray:
     """The constants array of the generated derivatives (layout :data:`_generated.CONSTANTS`)."""
-    values = {"FREQUENCY": c.f, "MASS": c.m, "PITCH_INERTIA": c.Iy, "K_NU": c.Knu,
-              "MU1": c.mu1, "X_H": c.x_h, "H_W": c.h_w, "X_HAT": c.x_hat,
-              "SIN_ALPHA_M": math.sin(alpha_m),
-              "COS_ALPHA_M": math.cos(alpha_m), "SIN_2ALPHA_M": math.sin(2.0 * alpha_m)}
-    for name in _generated.CONSTANTS:
-        if name.startswith(("K_", "KROT_")) and name != "K_NU":
-            table = c.Krot if name.startswith("KROT_") else c.K
-            values[name] = table[(int(name[-2]), int(name[-1]))]
-    return np.array([values[name] for name in _generated.CONSTANTS], dtype=float)
+    trig = {"SIN_ALPHA_M": math.sin(alpha_m), "COS_ALPHA_M": math.cos(alpha_m),
+            "SIN_2ALPHA_M": math.sin(2.0 * alpha_m)}
+    return np.array([trig[name] if attr is None else
+                     getattr(c, attr) if key is None else getattr(c, attr)[key]
+                     for name, attr, key in _LAYOUT], dtype=float)
+
+
+def _source(name: str) -> tuple[str, str | None, tuple[int, int] | None]:
+    """Where constant ``name`` of the layout comes from: (name, AeroConstants attribute or None
+    for a function of alpha_m, key of the K or Krot table or None)."""
+    plain = {"FREQUENCY": "f", "MASS": "m", "PITCH_INERTIA": "Iy", "K_NU": "Knu", "MU1": "mu1",
+             "X_H": "x_h", "H_W": "h_w", "X_HAT": "x_hat"}
+    if name in plain:
+        return name, plain[name], None
+    if name.startswith(("K_", "KROT_")):
+        return name, "Krot" if name.startswith("KROT_") else "K", (int(name[-2]), int(name[-1]))
+    return name, None, None
+
+
+#: The layout of :data:`_generated.CONSTANTS`, resolved once (a sweep packs every point).
+_LAYOUT = tuple(_source(name) for name in _generated.CONSTANTS)
 
 
 # =========================================================================== results
@@ -512,21 +533,32 @@ class HoverSolution:
 
 def _sorted(values: np.ndarray) -> np.ndarray:
     """By descending modulus; in a complex-conjugate pair, positive imaginary part first."""
-    values = np.asarray(values, dtype=complex)
-    values = values[np.argsort(-np.abs(values), kind="stable")]
-    if not np.any(values.imag < 0.0):  # no pair to reorder (the loop below would do nothing)
-        return values
-    for i in range(values.size - 1):
-        a, b = values[i], values[i + 1]
-        if a.imag < 0.0 and abs(a - np.conj(b)) <= 1e-12 * max(1.0, abs(a)):
-            values[i], values[i + 1] = b, a
-    return values
+    # On Python complex numbers: for four values a third of the cost of NumPy's argsort and
+    # indexing, with the same order (a stable sort by modulus, as a stable argsort of -abs).
+    vals = [complex(v) for v in np.asarray(values).ravel().tolist()]
+    vals.sort(key=abs, reverse=True)
+    if any(v.imag < 0.0 for v in vals):  # else no pair to reorder
+        for i in range(len(vals) - 1):
+            a, b = vals[i], vals[i + 1]
+            if a.imag < 0.0 and abs(a - b.conjugate()) <= 1e-12 * max(1.0, abs(a)):
+                vals[i], vals[i + 1] = b, a
+    return np.array(vals, dtype=complex)
+
+
+def _shift(eigenvalues: np.ndarray, moved: np.ndarray) -> float:
+    """max over ``eigenvalues`` of the distance to the nearest of ``moved``.
+
+    On Python complex numbers: NumPy's broadcast costs more than the arithmetic on 4 x 4 values
+    (the distances are then libm's hypot, NumPy's within an ulp).
+    """
+    moved_list = moved.tolist()
+    return float(max(min(abs(m - e) for m in moved_list) for e in eigenvalues.tolist()))
 
 
 def _eigenvalue_shift(eigenvalues: np.ndarray, M: np.ndarray, dM: np.ndarray) -> float:
     """max over the eigenvalues of M of the distance to the nearest eigenvalue of M + dM."""
-    moved = np.linalg.eigvals(M + dM)
-    return float(np.max(np.min(np.abs(moved[None, :] - eigenvalues[:, None]), axis=1)))
+    return _shift(np.asarray(eigenvalues, dtype=complex),
+                  np.asarray(np.linalg.eigvals(M + dM), dtype=complex))
 
 
 def _read_only_array(a: np.ndarray) -> np.ndarray:
@@ -571,34 +603,31 @@ _AMPLITUDE_TOL_RAD = math.radians(AMPLITUDE_TOL_DEG)
 
 
 # =========================================================================== solving
-def _newton(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int
-            ) -> tuple[np.ndarray, int, np.ndarray]:
-    """Newton at n steps per half-stroke; (variational state, iterations, residual)."""
-    status, nit, norm, y = kc.newton(z, n, problem.k, problem.p, _MAX_ITER, _XTOL)
+#: Richardson's factor: the n/2-step correction over 2^8 - 1, with the safety factor.
+_FACTOR = _SAFETY / (_COARSE**_ORDER - 1.0)
+
+
+def _newton_and_estimate(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int
+                         ) -> tuple[np.ndarray, int, np.ndarray, np.ndarray, float, np.ndarray]:
+    """Newton at n steps per half-stroke from z (in place), and the Richardson estimates.
+
+    One compiled call: Newton's integrations, the n/2-step integration at the answer, and the
+    eigenvalues of the monodromy and of its Richardson-moved copy. Returns the variational
+    state, the iterations, the residual, the estimated error of z (5,), the largest multiplier
+    error and the multipliers (sorted as :func:`_sorted`).
+    """
+    status, nit, norm, y, r, z_err, multipliers, shift, eigen = kc.newton_and_estimate(
+        z, n, problem.k, problem.p, _MAX_ITER, _XTOL, _FACTOR)
     if status != kc.CONVERGED:
         raise ConvergenceError(
             f"no hover orbit for {problem.insect.name} with the compiled kernel "
             f"({n} steps per half-stroke): {_STATUS[status]} (Phi = "
             f"{math.degrees(z[4]):.6g} deg)", x=z, residual=float(norm), iterations=int(nit))
-    r, _ = kc.residual_and_jacobian(y, z)
-    return y, int(nit), r
-
-
-#: Richardson's factor: the n/2-step correction over 2^8 - 1, with the safety factor.
-_FACTOR = _SAFETY / (_COARSE**_ORDER - 1.0)
-
-
-def _estimate(kc: ModuleType, problem: KernelProblem, z: np.ndarray, y: np.ndarray,
-              r: np.ndarray, n: int) -> tuple[np.ndarray, float, np.ndarray]:
-    """Richardson estimates at n steps: the error of z (5,), the largest multiplier error, and
-    the eigenvalues of the monodromy of ``y`` (whose residual at ``z`` is ``r``)."""
-    coarse = kc.variational_period(z, n // _COARSE, problem.k, problem.p)
-    r_c, J_c = kc.residual_and_jacobian(coarse, z)
-    dz = np.linalg.solve(J_c, -(r_c - r)) * _FACTOR
-    M = _monodromy(y)
-    eigenvalues = np.linalg.eigvals(M)
-    dM = (M - _monodromy(coarse)) * _FACTOR
-    return np.abs(dz), _eigenvalue_shift(eigenvalues, M, dM), eigenvalues
+    if eigen != kc.EIGEN_OK:  # the messages of np.linalg.eigvals
+        raise np.linalg.LinAlgError("Array must not contain infs or NaNs"
+                                    if eigen == kc.EIGEN_NOT_FINITE else
+                                    "Eigenvalues did not converge")
+    return y, int(nit), r, z_err, float(shift), multipliers
 
 
 def _monodromy(y: np.ndarray) -> np.ndarray:
@@ -669,10 +698,9 @@ def _solve(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int, tol_am
     """:func:`solve_hover` on checked arguments, from z = (x0, Phi) (modified in place)."""
     total_nit = nfev = 0
     for _ in range(_MAX_REFINEMENTS + 1):
-        y, nit, r = _newton(kc, problem, z, n)
+        y, nit, r, z_err, mu_err, eigenvalues = _newton_and_estimate(kc, problem, z, n)
         total_nit += nit
         nfev += nit * 2 * n * kc.N_STAGES + n * kc.N_STAGES
-        z_err, mu_err, eigenvalues = _estimate(kc, problem, z, y, r, n)
         ratio = max(z_err[4] / tol_amp, mu_err / tol_mu)
         if ratio <= 1.0 or n >= _MAX_STEPS:
             break
@@ -685,7 +713,7 @@ def _solve(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int, tol_am
     return HoverSolution(
         x0=_read_only(z[:4].copy()), amplitude=float(z[4]), alpha_m=problem.alpha_m,
         period=problem.period, monodromy=_read_only(_monodromy(y)),
-        multipliers=_read_only(_sorted(eigenvalues)), trace_integral=float(y[30]),
+        multipliers=_read_only(eigenvalues), trace_integral=float(y[30]),
         residual=_read_only(r), nit=total_nit, nfev=nfev, n_steps=n,
         amplitude_error=float(z_err[4]), x0_error=float(z_err[:4].max()), multiplier_error=mu_err,
         mean_velocity=_read_only(np.array([y[31], -y[4]]) / problem.period))

@@ -187,3 +187,28 @@ def test_a_regenerated_kernel_drops_the_stale_numba_cache(tmp_path):
     generated.write_text("NAMES = ('X0',)\n")
     _drop_stale_cache(cache, generated)
     assert not any(p.exists() for p in stale)
+
+
+def test_compiled_eigenvalues_and_their_order_are_numpys():
+    # The kernel's multipliers come from LAPACK's dgeev called in the compiled code: the values
+    # of np.linalg.eigvals (same routine; 1e-13 allows another LAPACK build's rounding) in the
+    # order of kernel._sorted, on real spectra, complex pairs and a repeated eigenvalue.
+    kc = kernel.load()
+    rng = np.random.default_rng(7)
+    out = np.empty(4, dtype=complex)
+    kinds = set()
+    for i in range(300):
+        m = rng.normal(size=(4, 4))
+        if i % 3 == 0:
+            m = m + m.T
+        if i % 5 == 0:
+            m = np.diag([0.5, 0.5, -0.2, 1.5]) + 0.0 * m
+        assert kc.eigenvalues(m, out) == kc.EIGEN_OK
+        kc.sort_multipliers(out)
+        ref = kernel._sorted(np.linalg.eigvals(m))
+        np.testing.assert_allclose(out, ref, rtol=1e-13, atol=1e-14)
+        kinds.add(bool(np.any(ref.imag != 0)))
+    assert kinds == {True, False}
+    bad = np.eye(4)
+    bad[2, 1] = np.inf
+    assert kc.eigenvalues(bad, out) == kc.EIGEN_NOT_FINITE

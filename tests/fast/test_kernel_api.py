@@ -210,9 +210,10 @@ def test_orbit_quadrature_refuses_bad_arguments(hover, bad):
 
 def test_a_solve_does_each_python_step_once(hover, monkeypatch):
     # The Python around the compiled Newton, counted rather than timed (timings on a shared
-    # machine are noise): per solve at one step count, two eigen-decompositions (the monodromy
-    # and its Richardson-moved copy; there were three), one residual evaluation after Newton
-    # (there were two) and no range check of the default tolerances (there were two).
+    # machine are noise): per solve at one step count, no eigenvalue call and no residual
+    # evaluation from Python (Newton, the coarse integration of the estimate and both
+    # eigenvalue problems are one compiled call; there were three eigvals calls, then two, and
+    # two residual evaluations) and no range check of the default tolerances.
     problem, _ = hover
     kc = kernel.load()
     calls = {"eigvals": 0, "residual": 0, "real": 0}
@@ -229,7 +230,7 @@ def test_a_solve_does_each_python_step_once(hover, monkeypatch):
     monkeypatch.setattr(kernel._validation, "real", counting("real", kernel._validation.real))
     sol = solve_hover(problem)
     assert sol.n_steps == kernel.DEFAULT_STEPS  # one step count: one estimate
-    assert calls == {"eigvals": 2, "residual": 2, "real": 0}  # residual: fine and coarse
+    assert calls == {"eigvals": 0, "residual": 0, "real": 0}
 
 
 # ------------------------------------------------------------------ compile note and cache
