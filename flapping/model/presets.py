@@ -320,10 +320,11 @@ R2_HALF_RANGE = 0.03
 AMPLITUDE_RANGE = (0.85, 1.15)
 
 
-#: Body length and diameter [m] behind the pitch-inertia estimates (:func:`ellipsoid_pitch_inertia`),
-#: one pair per species whose body is an ellipsoid here: also the scale of a hinge height (a wing
-#: base lies in the thorax, within a body diameter of the centre of gravity). The hawkmoth's pair
-#: is the check against the paper's inertia (-5 %); the monarch's body is FWUAV's, not an ellipsoid.
+#: Body length and diameter [m] behind the pitch-inertia estimates
+#: (:func:`ellipsoid_pitch_inertia`), one pair per species whose body is an ellipsoid here; also
+#: the scale of a hinge height (a wing base lies in the thorax, within a body diameter of the
+#: centre of gravity). Both are estimates (see each preset's pitch-inertia source). The hawkmoth's
+#: pair is the check against the paper's inertia (-5 %); the monarch's body is FWUAV's.
 BODY_SIZES: Mapping[str, tuple[float, float]] = MappingProxyType({
     "hawkmoth": (48e-3, 10e-3),
     "bumblebee": (18e-3, 7e-3),      # L: Dudley & Ellington (1990), unverified; d estimated
@@ -473,8 +474,8 @@ def _bumblebee_preset() -> Preset:
                                        "peak-to-peak", "unverified", "dudley1990"),
         "mass": _v(mass, bw + "; Sun & Xiong (2005a) also 175 mg", "verified", "berman2007",
                    "fwuav", "sun2005"),
-        "pitch_inertia": _inertia(mass, *BODY_SIZES["bumblebee"], "L unverified (Dudley & Ellington 1990), "
-                                  "d estimated"),
+        "pitch_inertia": _inertia(mass, *BODY_SIZES["bumblebee"],
+                                  "L unverified (Dudley & Ellington 1990), d estimated"),
     }
     extras = {
         "frequency_berman_wang": _v(116.0, bw, "verified", "berman2007", "fwuav",
@@ -560,7 +561,8 @@ def _hoverfly_preset() -> Preset:
         "stroke_amplitude": _amplitude(54.0, "drone flies, ~108 deg peak-to-peak (Liu & Sun "
                                        "2008)", "unverified", "liu2008"),
         "mass": _v(mass, sun, "second-hand", "sun2007"),
-        "pitch_inertia": _inertia(mass, *BODY_SIZES["hoverfly"], "L = 1.29 R second-hand, d estimated"),
+        "pitch_inertia": _inertia(mass, *BODY_SIZES["hoverfly"],
+                                  "L = 1.29 R second-hand, d estimated"),
     }
     extras = {
         "hinge_to_cg": _v(0.13 * 1.29 * r, sun + ": wing root to CG 0.13 body lengths; free "
