@@ -20,7 +20,7 @@ import numpy as np
 
 __all__ = ["E_NUMBER", "PLAIN_NUMBER", "minus_sign", "text_minus", "scientific",
            "split_scientific", "latex_scientific", "roundoff_bound", "term_latex", "complex_text",
-           "bmatrix", "setup"]
+           "latex_complex", "bmatrix", "latex_array", "setup"]
 
 #: A number in Python's ``e`` notation, alone in its text: ``1.2e-13``, ``-3e+05``, ``4.0E2``.
 E_NUMBER = re.compile(r"^(?P<sign>[-+−]?)(?P<mantissa>\d+(?:\.\d+)?)[eE](?P<exponent>[-+]?\d+)$")
@@ -111,6 +111,34 @@ def complex_text(z: complex, digits: int = 4) -> str:
         return text_minus(f"{z.real:.{digits}f}")
     sign = "+" if z.imag > 0 else "-"
     return text_minus(f"{z.real:.{digits}f} {sign} {abs(z.imag):.{digits}f}i")
+
+
+def latex_complex(z: complex, digits: int = 4, pair: bool = False) -> str:
+    r"""A complex number as LaTeX: ``-0.25 + 8.67i``, or with ``pair`` the conjugate pair
+    ``-0.25 \pm 8.67i``; a real number (imaginary part below 1e-12) alone."""
+    z = complex(z)
+    if abs(z.imag) < 1e-12:
+        return f"{z.real:.{digits}f}"
+    sign = r"\pm" if pair else ("+" if z.imag > 0 else "-")
+    return f"{z.real:.{digits}f} {sign} {abs(z.imag):.{digits}f}i"
+
+
+def latex_array(header, rows, align: str | None = None) -> str:
+    r"""A small table as a LaTeX ``array`` (no math delimiters), for a cell's ``Math`` output:
+    header cells in LaTeX, a rule below them, the rows' cells in LaTeX (converted with ``str``).
+
+    Raises
+    ------
+    ValueError
+        If a row or ``align`` does not have one entry per column.
+    """
+    n = len(header)
+    align = "c" * n if align is None else align
+    if len(align) != n or any(len(row) != n for row in rows):
+        raise ValueError(f"align and every row need {n} entries; got {align!r}, {rows!r}")
+    body = r" \\ ".join(" & ".join(str(c) for c in row) for row in rows)
+    return (r"\begin{array}{" + align + "}" + " & ".join(header) + r" \\ \hline " + body
+            + r" \end{array}")
 
 
 def bmatrix(matrix, fmt: str) -> str:

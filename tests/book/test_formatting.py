@@ -5,6 +5,8 @@ import pytest
 from flapping.book.formatting import (
     bmatrix,
     complex_text,
+    latex_array,
+    latex_complex,
     latex_scientific,
     scientific,
     split_scientific,
@@ -107,3 +109,16 @@ def test_complex_text_uses_true_minus_signs():
 def test_bmatrix_formats_each_entry():
     assert bmatrix([[1, -2], [3, 4]], ".1f") == (
         r"\begin{bmatrix}1.0 & -2.0 \\ 3.0 & 4.0\end{bmatrix}")
+
+
+def test_latex_complex_writes_pairs_with_plus_minus():
+    assert latex_complex(-0.25 - 8.6729j, 2, pair=True) == r"-0.25 \pm 8.67i"
+    assert latex_complex(-0.25 - 8.6729j, 2) == "-0.25 - 8.67i"
+    assert latex_complex(-2.403954 + 0j, 3) == "-2.404"
+
+
+def test_latex_array_has_a_rule_below_the_header_and_checks_its_rows():
+    assert latex_array(["a", "b"], [[1, 2], [3, 4]], "lr") == (
+        r"\begin{array}{lr}a & b \\ \hline 1 & 2 \\ 3 & 4 \end{array}")
+    with pytest.raises(ValueError, match="entries"):
+        latex_array(["a", "b"], [[1]])
