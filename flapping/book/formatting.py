@@ -20,7 +20,7 @@ import numpy as np
 
 __all__ = ["E_NUMBER", "PLAIN_NUMBER", "minus_sign", "text_minus", "scientific",
            "split_scientific", "latex_scientific", "roundoff_bound", "term_latex", "complex_text",
-           "latex_complex", "bmatrix", "latex_array", "setup"]
+           "text_number", "latex_complex", "bmatrix", "latex_array", "setup"]
 
 #: A number in Python's ``e`` notation, alone in its text: ``1.2e-13``, ``-3e+05``, ``4.0E2``.
 E_NUMBER = re.compile(r"^(?P<sign>[-+−]?)(?P<mantissa>\d+(?:\.\d+)?)[eE](?P<exponent>[-+]?\d+)$")
@@ -101,6 +101,13 @@ def text_minus(text: str) -> str:
     if "$" in text or "`" in text:
         return text
     return _TEXT_MINUS.sub("\u2212", text)
+
+
+def text_number(value: float, fmt: str = ".6g") -> str:
+    """A number as a reader reads it, for printed output: formatted with ``fmt``, then
+    ``1.2 × 10⁻¹³`` for e notation and a true minus sign: ``text_number(-1.28211e-14)`` ->
+    ``"−1.28211 × 10⁻¹⁴"``, ``text_number(-2.40395)`` -> ``"−2.40395"``."""
+    return text_minus(scientific(format(float(value), fmt)))
 
 
 def complex_text(z: complex, digits: int = 4) -> str:

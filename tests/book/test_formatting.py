@@ -11,6 +11,7 @@ from flapping.book.formatting import (
     scientific,
     split_scientific,
     text_minus,
+    text_number,
 )
 
 
@@ -122,3 +123,14 @@ def test_latex_array_has_a_rule_below_the_header_and_checks_its_rows():
         r"\begin{array}{lr}a & b \\ \hline 1 & 2 \\ 3 & 4 \end{array}")
     with pytest.raises(ValueError, match="entries"):
         latex_array(["a", "b"], [[1]])
+
+
+@pytest.mark.parametrize("value, fmt, expected", [
+    (-1.28211e-14, ".6g", "\u22121.28211 × 10⁻¹⁴"),
+    (1.19e-10, ".3g", "1.19 × 10⁻¹⁰"),
+    (-2.40395, ".6g", "\u22122.40395"),
+    (1.0, ".6g", "1"),
+    (0.0367, ".2e", "3.67 × 10⁻²"),
+])
+def test_text_number_typesets_powers_and_minus_signs(value, fmt, expected):
+    assert text_number(value, fmt) == expected
