@@ -18,14 +18,20 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["E_NUMBER", "PLAIN_NUMBER", "minus_sign", "scientific", "split_scientific",
-           "latex_scientific", "roundoff_bound", "term_latex", "setup"]
+__all__ = ["E_NUMBER", "PLAIN_NUMBER", "minus_sign", "text_minus", "scientific",
+           "split_scientific", "latex_scientific", "roundoff_bound", "term_latex", "complex_text",
+           "text_number", "latex_complex", "bmatrix", "latex_array", "setup"]
 
 #: A number in Python's ``e`` notation, alone in its text: ``1.2e-13``, ``-3e+05``, ``4.0E2``.
 E_NUMBER = re.compile(r"^(?P<sign>[-+−]?)(?P<mantissa>\d+(?:\.\d+)?)[eE](?P<exponent>[-+]?\d+)$")
 
 #: A plain decimal number alone in its text, with its sign: ``-0.10``, ``+3``, ``12.5``.
 PLAIN_NUMBER = re.compile(r"^[-+]?\d+(?:\.\d+)?$")
+
+#: A hyphen used as a minus sign in text: not after a letter, digit, ``_`` or ``.`` (so not in
+#: ``0.1-0.2``, ``e-04`` or ``k-1``), and before a digit, directly or after one space
+#: (``0.98 - 0.01i``).
+_TEXT_MINUS = re.compile(r"(?<![\w.])-(?= ?\d)")
 
 _SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
 
@@ -84,6 +90,69 @@ def minus_sign(text: str) -> str:
     if stripped.startswith("-") and PLAIN_NUMBER.match(stripped):
         return text.replace("-", "\u2212", 1)
     return text
+
+
+def text_minus(text: str) -> str:
+    """Every minus sign in running text as U+2212: ``"-21%"`` -> ``"−21%"``,
+    ``"0.98 - 0.01i"`` -> ``"0.98 − 0.01i"``; ranges (``"0.1-0.2"``), exponents (``"e-04"``) and
+    words stay. Text with math (``$``) or code (backticks) is returned unchanged.
+    """
+    text = str(text)
+    if "$" in text or "`" in text:
+        return text
+    return _TEXT_MINUS.sub("\u2212", text)
+
+
+def text_number(value: float, fmt: str = ".6g") -> str:
+    """A number as a reader reads it, for printed output: formatted with ``fmt``, then
+    ``1.2 × 10⁻¹³`` for e notation and a true minus sign: ``text_number(-1.28211e-14)`` ->
+    ``"−1.28211 × 10⁻¹⁴"``, ``text_number(-2.40395)`` -> ``"−2.40395"``."""
+    return text_minus(scientific(format(float(value), fmt)))
+
+
+def complex_text(z: complex, digits: int = 4) -> str:
+    """A multiplier or eigenvalue as text: ``"0.9871"`` if real, else ``"0.9871 − 0.0108i"``,
+    with true minus signs (U+2212) and ``digits`` decimals."""
+    z = complex(z)
+    if abs(z.imag) < 1e-12:
+        return text_minus(f"{z.real:.{digits}f}")
+    sign = "+" if z.imag > 0 else "-"
+    return text_minus(f"{z.real:.{digits}f} {sign} {abs(z.imag):.{digits}f}i")
+
+
+def latex_complex(z: complex, digits: int = 4, pair: bool = False) -> str:
+    r"""A complex number as LaTeX: ``-0.25 + 8.67i``, or with ``pair`` the conjugate pair
+    ``-0.25 \pm 8.67i``; a real number (imaginary part below 1e-12) alone."""
+    z = complex(z)
+    if abs(z.imag) < 1e-12:
+        return f"{z.real:.{digits}f}"
+    sign = r"\pm" if pair else ("+" if z.imag > 0 else "-")
+    return f"{z.real:.{digits}f} {sign} {abs(z.imag):.{digits}f}i"
+
+
+def latex_array(header, rows, align: str | None = None) -> str:
+    r"""A small table as a LaTeX ``array`` (no math delimiters), for a cell's ``Math`` output:
+    header cells in LaTeX, a rule below them, the rows' cells in LaTeX (converted with ``str``).
+
+    Raises
+    ------
+    ValueError
+        If a row or ``align`` does not have one entry per column.
+    """
+    n = len(header)
+    align = "c" * n if align is None else align
+    if len(align) != n or any(len(row) != n for row in rows):
+        raise ValueError(f"align and every row need {n} entries; got {align!r}, {rows!r}")
+    body = r" \\ ".join(" & ".join(str(c) for c in row) for row in rows)
+    return (r"\begin{array}{" + align + "}" + " & ".join(header) + r" \\ \hline " + body
+            + r" \end{array}")
+
+
+def bmatrix(matrix, fmt: str) -> str:
+    r"""A real matrix as a LaTeX ``bmatrix`` (no math delimiters), each entry formatted with
+    ``fmt``: ``bmatrix([[1, -2]], ".1f")`` -> ``\begin{bmatrix}1.0 & -2.0\end{bmatrix}``."""
+    rows = [" & ".join(format(v, fmt) for v in row) for row in np.atleast_2d(np.asarray(matrix))]
+    return r"\begin{bmatrix}" + r" \\ ".join(rows) + r"\end{bmatrix}"
 
 
 def latex_scientific(value: float, digits: int = 2) -> str:

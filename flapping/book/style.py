@@ -8,9 +8,10 @@ way the figures are coloured.
   load likewise (:data:`LOAD_COLORS`). A stability derivative takes the colour of the state it
   multiplies (X_w, Z_w, M_w are all "w"-coloured) and the constant terms X0, Z0, M0 the colour of
   their load (:func:`derivative_color`).
-* **Line style = model.** The aerodynamic models of :mod:`flapping.model.dynamics` are told apart
-  by line style (:data:`MODEL_LINESTYLES`), never by colour. A curve in a quantity's or a
-  source's colour is solid unless it is one of these models. Guide lines (zero, the unit circle,
+* **Line style = model.** Where a figure compares the aerodynamic models of
+  :mod:`flapping.model.dynamics`, they are told apart by line style (:data:`MODEL_LINESTYLES`),
+  never by colour. A curve in a quantity's or a source's colour is otherwise solid, whatever
+  its model. Guide lines (zero, the unit circle,
   cycle means, envelopes, reference slopes, nominal values) are thin and grey
   (:data:`GUIDE_COLOR`, :func:`is_grey`), in any line style; the caption names them.
 * **Colour = source** where ours and others' numbers share a figure (:data:`SOURCE_COLORS`).
@@ -61,11 +62,12 @@ STATE_LABELS: dict[str, str] = {
 STATE_SCALES: dict[str, float] = {"u": 1.0, "w": 1.0, "q": 1.0, "theta": 180.0 / math.pi}
 
 #: One colour per aerodynamic load (body-axis force X, Z and pitching moment M).
-#: Dark, neutral tones chosen far from every state and source colour (the teal and sky blue used
-#: before sat next to q's green and u's blue); tests/book/test_style.py checks the distances.
+#: Dark tones chosen far from every state and source colour (the teal and sky blue used before
+#: sat next to q's green and u's blue) and not grey (grey is for guide lines);
+#: tests/book/test_style.py checks both.
 LOAD_COLORS: dict[str, str] = {
     "X": "#556B2F",  # dark olive
-    "Z": "#7F7F7F",  # mid grey
+    "Z": "#800000",  # maroon
     "M": "#332288",  # indigo
 }
 
@@ -80,7 +82,8 @@ SOURCE_COLORS: dict[str, str] = {
 #: Axis labels of the loads, SI.
 LOAD_LABELS: dict[str, str] = {"X": r"$X$ [N]", "Z": r"$Z$ [N]", "M": r"$M$ [N m]"}
 
-#: Line style of each aerodynamic model (see :data:`flapping.model.dynamics.AERODYNAMIC_MODELS`).
+#: Line style of each aerodynamic model where a figure compares them (see
+#: :data:`flapping.model.dynamics.AERODYNAMIC_MODELS`); a figure of one model draws it solid.
 MODEL_LINESTYLES: dict[str, Literal["-", "--", ":", "-."]] = {
     "linear": ":", "small-angle": "-", "exact": "--",
 }

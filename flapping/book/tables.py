@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
+from flapping.book.formatting import text_minus
+
 __all__ = ["markdown_table", "latex_aligned", "book_symbols"]
 
 
@@ -20,7 +22,9 @@ def markdown_table(header: Sequence[str], rows: Sequence[Sequence],
     header : sequence of str
         Column titles.
     rows : sequence of sequences
-        Cells, converted with ``str``; ``|`` inside a cell is escaped.
+        Cells, converted with ``str``; ``|`` inside a cell is escaped, and a hyphen used as a
+        minus sign outside math and code becomes U+2212
+        (:func:`flapping.book.formatting.text_minus`).
     align : str, optional
         One character per column: ``l``, ``c`` or ``r``; default all left.
 
@@ -46,7 +50,7 @@ def markdown_table(header: Sequence[str], rows: Sequence[Sequence],
     for row in rows:
         if len(row) != n:
             raise ValueError(f"every row needs {n} cells; got {len(row)} in {row!r}")
-        out.append(line(row))
+        out.append(line([text_minus(c) for c in row]))
     return "\n".join(out)
 
 

@@ -2,7 +2,17 @@
 
 import pytest
 
-from flapping.book.formatting import latex_scientific, scientific, split_scientific
+from flapping.book.formatting import (
+    bmatrix,
+    complex_text,
+    latex_array,
+    latex_complex,
+    latex_scientific,
+    scientific,
+    split_scientific,
+    text_minus,
+    text_number,
+)
 
 
 @pytest.mark.parametrize("text, expected", [
@@ -74,3 +84,53 @@ def test_the_transform_typesets_a_glued_negative_number():
     assert _typeset(node, nodes) and node.astext() == "\u22120.25"
     node = nodes.inline("", "0.25", classes=["pasted-text"])
     assert not _typeset(node, nodes) and node.astext() == "0.25"
+
+
+@pytest.mark.parametrize("text, expected", [
+    ("-0.2627 m/s", "\u22120.2627 m/s"),
+    ("-21%", "\u221221%"),
+    ("(-3.5 %)", "(\u22123.5 %)"),
+    ("0.9871 - 0.0108i", "0.9871 \u2212 0.0108i"),
+    ("0.1-0.2", "0.1-0.2"),          # a range
+    ("1.2e-04", "1.2e-04"),          # an exponent (typeset at build time)
+    ("$-1$", "$-1$"),                # math
+    ("`x = -1`", "`x = -1`"),        # code
+    ("k-1, well-posed, -", "k-1, well-posed, -"),
+])
+def test_text_minus_sets_true_minus_signs_only_where_a_hyphen_is_a_minus(text, expected):
+    assert text_minus(text) == expected
+
+
+def test_complex_text_uses_true_minus_signs():
+    assert complex_text(0.9871 - 0.0108j) == "0.9871 \u2212 0.0108i"
+    assert complex_text(-0.25 + 8.6729j, 2) == "\u22120.25 + 8.67i"
+    assert complex_text(-0.5) == "\u22120.5000"
+
+
+def test_bmatrix_formats_each_entry():
+    assert bmatrix([[1, -2], [3, 4]], ".1f") == (
+        r"\begin{bmatrix}1.0 & -2.0 \\ 3.0 & 4.0\end{bmatrix}")
+
+
+def test_latex_complex_writes_pairs_with_plus_minus():
+    assert latex_complex(-0.25 - 8.6729j, 2, pair=True) == r"-0.25 \pm 8.67i"
+    assert latex_complex(-0.25 - 8.6729j, 2) == "-0.25 - 8.67i"
+    assert latex_complex(-2.403954 + 0j, 3) == "-2.404"
+
+
+def test_latex_array_has_a_rule_below_the_header_and_checks_its_rows():
+    assert latex_array(["a", "b"], [[1, 2], [3, 4]], "lr") == (
+        r"\begin{array}{lr}a & b \\ \hline 1 & 2 \\ 3 & 4 \end{array}")
+    with pytest.raises(ValueError, match="entries"):
+        latex_array(["a", "b"], [[1]])
+
+
+@pytest.mark.parametrize("value, fmt, expected", [
+    (-1.28211e-14, ".6g", "\u22121.28211 × 10⁻¹⁴"),
+    (1.19e-10, ".3g", "1.19 × 10⁻¹⁰"),
+    (-2.40395, ".6g", "\u22122.40395"),
+    (1.0, ".6g", "1"),
+    (0.0367, ".2e", "3.67 × 10⁻²"),
+])
+def test_text_number_typesets_powers_and_minus_signs(value, fmt, expected):
+    assert text_number(value, fmt) == expected

@@ -24,6 +24,11 @@ def test_every_model_has_a_line_style_and_a_label():
     assert len(set(style.MODEL_LINESTYLES.values())) == len(style.MODEL_LINESTYLES)
 
 
+def test_load_colours_are_not_grey():
+    # grey is reserved for guide lines (zero, cycle means, envelopes)
+    assert not any(style.is_grey(colour) for colour in style.LOAD_COLORS.values())
+
+
 def test_sources_do_not_reuse_a_quantity_colour():
     quantities = set(style.STATE_COLORS.values()) | set(style.LOAD_COLORS.values())
     assert not quantities & set(style.SOURCE_COLORS.values())

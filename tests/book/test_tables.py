@@ -27,3 +27,9 @@ def test_book_symbols_renames_the_damping_coefficients_not_the_multipliers():
     assert tables.book_symbols(r"\mu_{1} f + \mu_{2} \Omega") == r"\nu_{1} f + \nu_{2} \Omega"
     assert tables.book_symbols(r"\mu_1 + \mu_2") == r"\nu_1 + \nu_2"
     assert tables.book_symbols(r"\mu_{k} \mu_3") == r"\mu_{k} \mu_3"
+
+
+def test_markdown_table_sets_true_minus_signs_in_cells_outside_math():
+    table = tables.markdown_table(["a", "b"], [["-0.2627 m/s", "$-1$"], ["-21%", "1.2e-04"]])
+    assert "\u22120.2627 m/s" in table and "\u221221%" in table
+    assert "$-1$" in table and "1.2e-04" in table
