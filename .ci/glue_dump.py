@@ -17,8 +17,13 @@ import sys
 from collections import Counter
 from pathlib import Path
 
-#: What counts as a number inside a glued text.
+#: What counts as a number inside a glued text (after the minus sign U+2212 is read as "-": the
+#: book typesets it, the number is the same).
 NUMBER = re.compile(r"-?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
+
+
+def numbers(text: str) -> Counter:
+    return Counter(NUMBER.findall(text.replace("\u2212", "-")))
 
 
 def dump(folder: Path) -> dict[str, dict[str, str]]:
@@ -60,7 +65,7 @@ def diff(before: dict, after: dict) -> int:
             print(f"{key}: gone (was in {sorted(old[key])})")
             continue
         for chapter, text in sorted(new[key].items()):
-            lost = Counter(NUMBER.findall(reference)) - Counter(NUMBER.findall(text))
+            lost = numbers(reference) - numbers(text)
             if lost:
                 changed += 1
                 print(f"{chapter}:{key}: numbers {sorted(lost.elements())} changed: "
