@@ -286,6 +286,22 @@ def ellington_r1(r2: float) -> float:
     return (r2 / a) ** (1.0 / b)
 
 
+#: FWUAV's monarch thorax, a cylinder: pitch inertia about its own centre [kg m^2] (J_B,yy).
+_MONARCH_THORAX_IY = 2.94814204e-9
+
+_SUPERSCRIPT = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075"
+                                             "\u2076\u2077\u2078\u2079")
+
+
+def _inertia_text(value: float) -> str:
+    """A pitch inertia [kg m^2] as text, in SI and in the tables' mg cm^2 (1 kg m^2 = 1e10 of
+    them)."""
+    exponent = math.floor(math.log10(value))
+    mantissa = value / 10.0**exponent
+    return (f"{mantissa:.2f} \u00d7 10{str(exponent).translate(_SUPERSCRIPT)} kg m\u00b2 "
+            f"({value * 1e10:.3g} mg cm\u00b2)")
+
+
 def _monarch_pitch_inertia() -> float:
     """I_y of FWUAV's monarch thorax + abdomen, rigid, about their joint centre of gravity.
 
@@ -294,7 +310,7 @@ def _monarch_pitch_inertia() -> float:
     behind the thorax centre, its centre 8.69 mm further back. Parallel axes to the joint CG
     (6.78 mm behind the thorax centre, where the wings are attached) give 2.19e-8 kg m^2.
     """
-    m_b, j_b = 1.485e-4, 2.94814204e-9          # thorax: mass [kg], J_yy about its centre
+    m_b, j_b = 1.485e-4, _MONARCH_THORAX_IY     # thorax: mass [kg], J_yy about its centre
     m_a, h_a, w_a = 1.092e-4, 1.738e-2, 3.71e-3  # abdomen: mass, length, width
     attach, centre = 7.315e-3, 8.69e-3           # abdomen joint behind thorax; its CG behind joint
     j_a_end = m_a * (h_a**2 / 3.0 + w_a**2 / 16.0)
@@ -320,7 +336,8 @@ R2_HALF_RANGE = 0.03
 AMPLITUDE_RANGE = (0.85, 1.15)
 
 
-#: Body length and diameter [m] behind the pitch-inertia estimates (:func:`ellipsoid_pitch_inertia`),
+#: Body length and diameter [m] behind the pitch-inertia estimates
+#: (:func:`ellipsoid_pitch_inertia`),
 #: one pair per species whose body is an ellipsoid here: also the scale of a hinge height (a wing
 #: base lies in the thorax, within a body diameter of the centre of gravity). The hawkmoth's pair
 #: is the check against the paper's inertia (-5 %); the monarch's body is FWUAV's, not an ellipsoid.
@@ -473,7 +490,8 @@ def _bumblebee_preset() -> Preset:
                                        "peak-to-peak", "unverified", "dudley1990"),
         "mass": _v(mass, bw + "; Sun & Xiong (2005a) also 175 mg", "verified", "berman2007",
                    "fwuav", "sun2005"),
-        "pitch_inertia": _inertia(mass, *BODY_SIZES["bumblebee"], "L unverified (Dudley & Ellington 1990), "
+        "pitch_inertia": _inertia(mass, *BODY_SIZES["bumblebee"],
+                                  "L unverified (Dudley & Ellington 1990), "
                                   "d estimated"),
     }
     extras = {
@@ -560,7 +578,8 @@ def _hoverfly_preset() -> Preset:
         "stroke_amplitude": _amplitude(54.0, "drone flies, ~108 deg peak-to-peak (Liu & Sun "
                                        "2008)", "unverified", "liu2008"),
         "mass": _v(mass, sun, "second-hand", "sun2007"),
-        "pitch_inertia": _inertia(mass, *BODY_SIZES["hoverfly"], "L = 1.29 R second-hand, d estimated"),
+        "pitch_inertia": _inertia(mass, *BODY_SIZES["hoverfly"],
+                                  "L = 1.29 R second-hand, d estimated"),
     }
     extras = {
         "hinge_to_cg": _v(0.13 * 1.29 * r, sun + ": wing root to CG 0.13 body lengths; free "
@@ -598,7 +617,8 @@ def _monarch_preset() -> Preset:
                             "joint CG (arithmetic on verified data)", "estimate", "fwuav",
                             low=INERTIA_RANGE[0] * _monarch_pitch_inertia(),
                             high=INERTIA_RANGE[1] * _monarch_pitch_inertia(),
-                            note="the thorax alone (a free abdomen) would give 2.95e-9"),
+                            note="the thorax alone (a free abdomen) would give "
+                                 + _inertia_text(_MONARCH_THORAX_IY)),
     }
     measured = {
         **_hinge(_fwuav_body_cg(1.485e-4, 1.092e-4, 7.315e-3, 8.69e-3), 17.513,

@@ -167,8 +167,8 @@ class PublishedResult:
         return self.doubling_time_s / self.wingbeat_s
 
 
-_SUN2005 = ("Sun & Xiong (2005a), J. Exp. Biol. abstract: 'three natural modes were identified: one "
-            "unstable oscillatory mode, one stable fast subsidence mode and one stable slow "
+_SUN2005 = ("Sun & Xiong (2005a), J. Exp. Biol. abstract: 'three natural modes were identified: "
+            "one unstable oscillatory mode, one stable fast subsidence mode and one stable slow "
             "subsidence mode'; 'The period of the oscillations is 0.32 s'; 'The oscillations "
             "double in amplitude in 0.1 s'; fast subsidence 'decay[s] to half of the starting "
             "values in 0.024 s', slow 'in 0.37 s'; 'the wingbeat period (6.4 ms)'")
