@@ -523,7 +523,9 @@ def _fruit_fly_preset() -> Preset:
                                        "peak-to-peak)", "unverified",
                                        note="FWUAV's quasi-steady hover: 66.5 deg at 285 Hz"),
         "mass": _v(mass, bw, "verified", "berman2007", "fwuav"),
-        "pitch_inertia": _inertia(mass, *BODY_SIZES["fruit_fly"], "L and d estimated"),
+        "pitch_inertia": _inertia(mass, *BODY_SIZES["fruit_fly"], "L and d estimated; Berthe & "
+                                  "Lehmann (2015) model the fly's moments of inertia about its "
+                                  "three body axes, their values not read here"),
     }
     measured = {
         **_hinge(_fwuav_body_cg(4.30968e-7, 2.87312e-7, 0.97093e-3, 1.15344e-3), 26.835,
@@ -546,7 +548,7 @@ def _honeybee_preset() -> Preset:
         **_r2_r1(0.55, "typical hymenopteran value", "unverified", "ellington1984"),
         "frequency": _v(230.0, alt + ": 'approximate to 230 Hz'", "verified", "altshuler2005"),
         "stroke_amplitude": _v(math.radians(45.0), alt + ": ~90 deg stroke (read as peak-to-"
-                               "peak)", "verified", "altshuler2005",
+                               "peak)", "verified", "altshuler2005", "vance2014",
                                note="Vance et al. (2014): 86.7 +- 7.9 deg"),
         "mass": _v(mass, "unloaded forager, 80-110 mg (Ellington 1984)", "unverified",
                    "ellington1984", low=8e-5, high=1.2e-4),
