@@ -106,6 +106,25 @@ def test_species_names_are_presets_or_the_sources_own():
         assert r.species in PRESETS or "_" not in r.species, r.species
 
 
+def test_a_record_compared_with_a_preset_names_one_and_says_why():
+    # Xu & Sun's model dronefly is our hoverfly's morphology; Wu & Sun's dronefly gives its
+    # frequency: both compared with the hoverfly, each note saying how close the insects are.
+    for r in PUBLISHED:
+        assert r.preset is None or r.preset in PRESETS, r.preset
+        assert r.compared_with == (r.preset or r.species)
+    for cite in ("xu2015", "wu2012"):
+        (r,) = [r for r in PUBLISHED if r.cite == cite and r.species == "dronefly"]
+        assert r.compared_with == "hoverfly" and "hoverfly" in r.note
+
+
+def test_preset_must_be_a_name_or_none():
+    base = dict(cite="xu2015", species="dronefly", method="CFD", attitude="free",
+                verdict="unstable", mode_type=None, status="verified", quote="q")
+    assert PublishedResult(**base).compared_with == "dronefly"
+    with pytest.raises(ValueError, match="`preset`"):
+        PublishedResult(**base, preset="")
+
+
 def test_records_are_frozen():
     with pytest.raises(dataclasses.FrozenInstanceError):
         PUBLISHED[0].status = "unverified"  # type: ignore[misc]

@@ -286,6 +286,22 @@ def ellington_r1(r2: float) -> float:
     return (r2 / a) ** (1.0 / b)
 
 
+#: FWUAV's monarch thorax, a cylinder: pitch inertia about its own centre [kg m^2] (J_B,yy).
+_MONARCH_THORAX_IY = 2.94814204e-9
+
+_SUPERSCRIPT = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075"
+                                             "\u2076\u2077\u2078\u2079")
+
+
+def _inertia_text(value: float) -> str:
+    """A pitch inertia [kg m^2] as text, in SI and in the tables' mg cm^2 (1 kg m^2 = 1e10 of
+    them)."""
+    exponent = math.floor(math.log10(value))
+    mantissa = value / 10.0**exponent
+    return (f"{mantissa:.2f} \u00d7 10{str(exponent).translate(_SUPERSCRIPT)} kg m\u00b2 "
+            f"({value * 1e10:.3g} mg cm\u00b2)")
+
+
 def _monarch_pitch_inertia() -> float:
     """I_y of FWUAV's monarch thorax + abdomen, rigid, about their joint centre of gravity.
 
@@ -294,7 +310,7 @@ def _monarch_pitch_inertia() -> float:
     behind the thorax centre, its centre 8.69 mm further back. Parallel axes to the joint CG
     (6.78 mm behind the thorax centre, where the wings are attached) give 2.19e-8 kg m^2.
     """
-    m_b, j_b = 1.485e-4, 2.94814204e-9          # thorax: mass [kg], J_yy about its centre
+    m_b, j_b = 1.485e-4, _MONARCH_THORAX_IY     # thorax: mass [kg], J_yy about its centre
     m_a, h_a, w_a = 1.092e-4, 1.738e-2, 3.71e-3  # abdomen: mass, length, width
     attach, centre = 7.315e-3, 8.69e-3           # abdomen joint behind thorax; its CG behind joint
     j_a_end = m_a * (h_a**2 / 3.0 + w_a**2 / 16.0)
@@ -506,7 +522,9 @@ def _fruit_fly_preset() -> Preset:
                                        "peak-to-peak)", "unverified",
                                        note="FWUAV's quasi-steady hover: 66.5 deg at 285 Hz"),
         "mass": _v(mass, bw, "verified", "berman2007", "fwuav"),
-        "pitch_inertia": _inertia(mass, *BODY_SIZES["fruit_fly"], "L and d estimated"),
+        "pitch_inertia": _inertia(mass, *BODY_SIZES["fruit_fly"], "L and d estimated; Berthe & "
+                                  "Lehmann (2015) model the fly's moments of inertia about its "
+                                  "three body axes, their values not read here"),
     }
     measured = {
         **_hinge(_fwuav_body_cg(4.30968e-7, 2.87312e-7, 0.97093e-3, 1.15344e-3), 26.835,
@@ -529,7 +547,7 @@ def _honeybee_preset() -> Preset:
         **_r2_r1(0.55, "typical hymenopteran value", "unverified", "ellington1984"),
         "frequency": _v(230.0, alt + ": 'approximate to 230 Hz'", "verified", "altshuler2005"),
         "stroke_amplitude": _v(math.radians(45.0), alt + ": ~90 deg stroke (read as peak-to-"
-                               "peak)", "verified", "altshuler2005",
+                               "peak)", "verified", "altshuler2005", "vance2014",
                                note="Vance et al. (2014): 86.7 +- 7.9 deg"),
         "mass": _v(mass, "unloaded forager, 80-110 mg (Ellington 1984)", "unverified",
                    "ellington1984", low=8e-5, high=1.2e-4),
@@ -600,7 +618,8 @@ def _monarch_preset() -> Preset:
                             "joint CG (arithmetic on verified data)", "estimate", "fwuav",
                             low=INERTIA_RANGE[0] * _monarch_pitch_inertia(),
                             high=INERTIA_RANGE[1] * _monarch_pitch_inertia(),
-                            note="the thorax alone (a free abdomen) would give 2.95e-9"),
+                            note="the thorax alone (a free abdomen) would give "
+                                 + _inertia_text(_MONARCH_THORAX_IY)),
     }
     measured = {
         **_hinge(_fwuav_body_cg(1.485e-4, 1.092e-4, 7.315e-3, 8.69e-3), 17.513,

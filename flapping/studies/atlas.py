@@ -456,7 +456,10 @@ def species_stability(insect: Insect | None = None, orbit: HoverOrbit | None = N
 # =========================================================================== geometry
 #: The three geometries of :func:`geometry_comparison`, in order: the paper's (hinge at the CG,
 #: massless wings), the sources' hinge position with massless wings, and with the wings' mass.
-GEOMETRY_CASES: tuple[str, ...] = ("paper", "measured hinge", "measured hinge and wing mass")
+#: "Source hinge", not "measured": five of the six hinge positions are estimates and the
+#: hoverfly's is a second-hand model parameter (:attr:`~flapping.model.presets.Preset.measured`
+#: keeps its API name, ``geometry="measured"``).
+GEOMETRY_CASES: tuple[str, ...] = ("paper", "source hinge", "source hinge and wing mass")
 
 #: The trims of a hover with the hinge off the centre of gravity: the mean stroke angle puts the
 #: mean lift over the centre of gravity (else the orbit drifts).
@@ -518,11 +521,11 @@ class GeometryCase:
 
 
 def geometry_comparison(name: str, **hover_options: Any) -> tuple[GeometryCase, ...]:
-    """A preset in the paper's geometry, at its measured hinge, and with its wings' mass.
+    """A preset in the paper's geometry, at its sources' hinge, and with its wings' mass.
 
     Each case is solved from the previous one's orbit (initial state, amplitude and mean stroke
     angle), by continuation in the geometry (:func:`hover_by_homotopy`) if the warm start fails;
-    the measured cases trim the mean stroke angle as well (:data:`TWO_TRIMS`).
+    the source-hinge cases trim the mean stroke angle as well (:data:`TWO_TRIMS`).
 
     Parameters
     ----------

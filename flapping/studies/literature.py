@@ -12,7 +12,9 @@ table rows with the units in the keys (``doubling_time_ms``, ``doubling_time_win
 
 The species names are the presets' (:mod:`flapping.model.presets`: ``hawkmoth``, ``bumblebee``,
 ``fruit_fly``, ``honeybee``, ``hoverfly``, ``monarch``) where the source's insect is the preset's,
-and the source's own name otherwise (``"cranefly"``, ``"dronefly"``).
+and the source's own name otherwise (``"cranefly"``, ``"dronefly"``). Where a source's insect
+under its own name is close enough to a preset to compare with, :attr:`PublishedResult.preset`
+names that preset and the record's note says how close (:attr:`PublishedResult.compared_with`).
 
 Imports the standard library and the package's validation only: the table is data, and a reader of
 the book can check each row against its quote without running a model.
@@ -96,6 +98,9 @@ class PublishedResult:
         Floquet (characteristic) exponents or eigenvalues' real parts [1/s], when given.
     note : str
         What else a reader needs (what the numbers do not say, how the insect relates to ours).
+    preset : str, optional
+        The preset to compare with when the source's insect goes by another name (Xu & Sun's
+        model dronefly is our ``"hoverfly"``); None: the species itself, when it is a preset.
 
     Raises
     ------
@@ -117,6 +122,7 @@ class PublishedResult:
     halving_times_s: tuple[float, ...] = ()
     exponents_per_s: tuple[float, ...] = ()
     note: str = ""
+    preset: str | None = None
 
     def __post_init__(self) -> None:
         for name in ("cite", "species", "method"):
@@ -127,6 +133,8 @@ class PublishedResult:
         check.choice("status", self.status, STATUSES)
         _text("quote", self.quote, empty=self.status != "verified")
         _text("note", self.note)
+        if self.preset is not None:
+            _text("preset", self.preset, empty=False)
         for name in ("doubling_time_s", "oscillation_period_s", "wingbeat_s"):
             object.__setattr__(self, name, _optional_positive(name, getattr(self, name), "s"))
         object.__setattr__(self, "halving_times_s",
@@ -139,6 +147,12 @@ class PublishedResult:
             check.real(f"exponents_per_s[{i}]", v, unit="1/s") for i, v in enumerate(exponents)))
         if self.doubling_time_s is not None and self.verdict == "stable":
             raise ValueError("`doubling_time_s` is given, so `verdict` cannot be 'stable'")
+
+    @property
+    def compared_with(self) -> str:
+        """The name our result for this record is looked up by: :attr:`preset` if given, else
+        :attr:`species`."""
+        return self.species if self.preset is None else self.preset
 
     @property
     def growth_rate_per_s(self) -> float | None:
@@ -224,13 +238,16 @@ def _sun_group() -> list[PublishedResult]:
             "unstable mode, therefore hovering is unstable'; in forward flight the longitudinal "
             "unstable mode's doubling time is shorter than at hover",
             note="The morphology of our hoverfly preset (145 mg, R = 11.2 mm, data from R. "
-                 "Dudley) is this paper's model dronefly. Mode type and doubling time not in "
-                 "the abstract."),
+                 "Dudley) is this paper's model dronefly, so we compare with the hoverfly. Mode "
+                 "type and doubling time not in the abstract.", preset="hoverfly"),
         PublishedResult(
             "wu2012", "dronefly", "CFD + Floquet vs averaging, checked by NS-coupled simulation",
             "free", None, None, "verified", _WU,
             note="The abstract gives no verdict and no numbers: averaging valid for the "
-                 "dronefly (high wingbeat frequency, small wing-to-body mass ratio)."),
+                 "dronefly (high wingbeat frequency, small wing-to-body mass ratio). Compared "
+                 "with our hoverfly, which takes this dronefly's frequency (164 Hz, second-hand) "
+                 "but Sun's group's hoverfly morphology: close, not the same data set.",
+            preset="hoverfly"),
         PublishedResult(
             "wu2012", "hawkmoth", "CFD + Floquet vs averaging, checked by NS-coupled simulation",
             "free", None, None, "verified", _WU,
@@ -355,7 +372,7 @@ def _row(r: PublishedResult) -> dict[str, Any]:
         "wingbeat_ms": ms(r.wingbeat_s),
         "halving_times_ms": tuple(1e3 * t for t in r.halving_times_s),
         "exponents_per_s": r.exponents_per_s,
-        "status": r.status, "quote": r.quote, "note": r.note,
+        "status": r.status, "quote": r.quote, "note": r.note, "preset": r.preset,
     }
 
 
@@ -373,7 +390,7 @@ def as_rows(records: Iterable[PublishedResult] | None = None) -> list[dict[str, 
         One dict per record, with keys ``cite``, ``species``, ``method``, ``attitude``,
         ``verdict``, ``mode_type``, ``doubling_time_ms``, ``doubling_time_wingbeats`` (None
         unless the source gives the wingbeat), ``oscillation_period_ms``, ``wingbeat_ms``,
-        ``halving_times_ms``, ``exponents_per_s``, ``status``, ``quote``, ``note``.
+        ``halving_times_ms``, ``exponents_per_s``, ``status``, ``quote``, ``note``, ``preset``.
 
     Raises
     ------

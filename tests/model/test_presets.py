@@ -91,6 +91,14 @@ def test_monarch_inertia_is_fwuavs_two_bodies_about_their_joint_cg():
     assert preset("monarch").pitch_inertia == pytest.approx(expected, rel=1e-12)
 
 
+def test_monarch_thorax_inertia_note_gives_its_units_and_the_tables_unit():
+    # The I_y column is in mg cm^2: the note's SI value must carry its unit and its conversion.
+    note = PRESETS["monarch"].values["pitch_inertia"].note
+    j = presets._MONARCH_THORAX_IY
+    assert f"{j / 1e-9:.2f} \u00d7 10\u207b\u2079 kg m\u00b2" in note
+    assert f"({j * 1e10:.3g} mg cm\u00b2)" in note  # 29.5 mg cm^2
+
+
 def test_bumblebee_frequency_choice_and_its_alternative():
     assert preset("bumblebee").frequency == pytest.approx(1 / 6.4e-3)
     alternative = PRESETS["bumblebee"].extras["frequency_berman_wang"].value
