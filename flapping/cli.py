@@ -185,9 +185,9 @@ def _parser() -> argparse.ArgumentParser:
                             "and exact: the blade-element loads)")
     hover.add_argument("--geometry", default="paper", choices=species.GEOMETRIES,
                        help="with a preset: the paper's geometry (hinge at the centre of "
-                            "gravity, massless wings; the default) or the sources' measured "
-                            "hinge position and wing mass (the mean stroke angle is then trimmed "
-                            "too)")
+                            "gravity, massless wings; the default) or the sources' hinge "
+                            "position (estimated for all but the hoverfly) and wing mass (the "
+                            "mean stroke angle is then trimmed too)")
     hover.add_argument("--json", action="store_true",
                        help="print one JSON object (SI units, a `units` map) instead of text")
     listing = sub.add_parser("species", help="list the preset insects",
