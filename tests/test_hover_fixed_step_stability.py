@@ -65,8 +65,16 @@ def test_the_estimate_bounds_the_difference_to_a_tight_adaptive_analysis(small_a
     assert small_angle.backend == "fixed-step"
     fixed = hover_stability(small_angle, backend="fixed-step")
     tight = hover_stability(small_angle, backend="adaptive", rtol=1e-13, atol=1e-13)
+    looser = hover_stability(small_angle, backend="adaptive", rtol=1e-12, atol=1e-12)
     assert 0.0 < fixed.multiplier_error < math.inf
-    assert _gap(fixed.multipliers, tight.multipliers) <= fixed.multiplier_error
+    # The adaptive reference is not exact on these loads either: its multipliers move by
+    # ~4e-10 from rtol 1e-12 to 1e-13 (measured), the size of the gap itself. The gap must lie
+    # within the two estimates together.
+    reference_error = _gap(looser.multipliers, tight.multipliers)
+    assert _gap(fixed.multipliers, tight.multipliers) <= fixed.multiplier_error + reference_error
+    # and the estimate is not vacuous: below a tenth of the rtol-1e-11 analysis's own error
+    coarse = hover_stability(small_angle, backend="adaptive", rtol=1e-11, atol=1e-11)
+    assert fixed.multiplier_error < 0.1 * _gap(coarse.multipliers, tight.multipliers)
     # "auto" analyses the fixed-step orbit on the adaptive path, as before: the reference
     default = hover_stability(small_angle)
     reference = hover_stability(small_angle, backend="adaptive")

@@ -69,8 +69,12 @@ class PeriodMap:
                  jacs: Sequence[Callable[..., Any] | None],
                  pjacs: Sequence[Callable[..., Any] | None], args: tuple[Any, ...],
                  period: float, breakpoints: tuple[float, ...], has_params: bool,
-                 max_nfev: int, switches: Sequence[Sequence[Callable[..., Any]]] = ()) -> None:
+                 max_nfev: int, switches: Sequence[Sequence[Callable[..., Any]]] = (),
+                 difference_scale: float = 1.0) -> None:
         self.funs, self.jacs, self.pjacs = tuple(funs), tuple(jacs), tuple(pjacs)
+        # the central-difference step in units of the optimal one (_numdiff.central_step): a
+        # second scale tells the quotient's own error (truncation, rounding) from the mesh's
+        self.difference_scale = difference_scale
         self.switches = tuple(tuple(g) for g in switches) or ((),) * len(self.funs)
         self.args, self.has_params = args, has_params
         self.nodes = [period * b for b in (0.0, *breakpoints)] + [period]
@@ -203,7 +207,7 @@ class PeriodMap:
         """Central differences of the discrete map (all trajectories in one batch)."""
         d = x.size
         v = x if params is None else np.concatenate([x, params])
-        h = central_step(v)
+        h = central_step(v) * self.difference_scale
         V = np.repeat(v[None, :], 1 + 2 * len(columns), axis=0)
         for i, j in enumerate(columns):
             V[1 + 2 * i, j] += h[j]

@@ -570,6 +570,7 @@ def fixed_step_monodromy(
     switches: Sequence[Any] = (),
     args: tuple[Any, ...] = (),
     max_nfev: int | None = None,
+    difference_scale: float = 1.0,
 ) -> np.ndarray:
     """d x(T) / d x(0) of the fixed-step DOP853 period map at ``n_steps`` steps per segment.
 
@@ -589,6 +590,10 @@ def fixed_step_monodromy(
         The period T > 0.
     n_steps : int
         Steps per segment, in [2, :data:`MAX_STEPS`].
+    difference_scale : float
+        The central-difference step in units of the optimal one, in [0.1, 10] (central
+        differences only): the monodromy at two scales tells the difference quotient's own
+        error (truncation and rounding) apart from the mesh's.
 
     Returns
     -------
@@ -611,8 +616,9 @@ def fixed_step_monodromy(
     n = check.integer("n_steps", n_steps, low=2, high=MAX_STEPS)
     cap = MAX_NFEV if max_nfev is None else check.integer("max_nfev", max_nfev, low=1,
                                                           high=MAX_NFEV_CAP)
+    scale = check.real("difference_scale", difference_scale, low=0.1, high=10.0)
     pmap = PeriodMap(funs, jacs, pjacs, tuple(args), T, b, params is not None, cap,
-                     _switches(switches, len(b) + 1))
+                     _switches(switches, len(b) + 1), difference_scale=scale)
     _probe(pmap, x, params)
     try:
         _, D = pmap.derivative(x, params, n, range(x.size))
