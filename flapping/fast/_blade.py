@@ -105,7 +105,8 @@ def _betacf(a, b, x):  # pragma: no cover - compiled
 @_jit
 def betainc_pair(a, b, x):  # pragma: no cover - compiled
     """(I_x(a, b), 1 - I_x(a, b)): the regularized incomplete beta function and its complement,
-    the smaller of the two from its own continued fraction."""
+    one from the continued fraction that converges at x, the other as 1 minus it (so both are
+    accurate to ~1e-13 of the larger of the two, not always relative to the smaller)."""
     if x <= 0.0:
         return 0.0, 1.0
     if x >= 1.0:

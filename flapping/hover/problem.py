@@ -372,21 +372,21 @@ def _graded(f: Any, k: int, half: float) -> Any:
 
 
 def _compiled_graded(fast: _blade.BladeField, k: int, n_conditions: int) -> Any:
-    """F(s, y, p) of :func:`_graded` on half-stroke k, by the compiled loads (the trims checked
+    """F(s, y, params) of :func:`_graded` on half-stroke k, by the compiled loads (the trims checked
     as :class:`_Fields` checks them)."""
     function, arguments = fast.function, fast.arguments(k)
     half_pi = 0.5 * math.pi
     if n_conditions == 1:
-        def field(s: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
-            if not 0.0 < p[0] <= half_pi:
-                check_iterate_amplitude(p[0])
-            return function(s, y, p, *arguments)
+        def field(s: float, y: np.ndarray, params: np.ndarray) -> np.ndarray:
+            if not 0.0 < params[0] <= half_pi:
+                check_iterate_amplitude(params[0])
+            return function(s, y, params, *arguments)
     else:
-        def field(s: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
-            if not (0.0 < p[0] <= half_pi and -half_pi < p[1] < half_pi):
-                check_iterate_amplitude(p[0])
-                check_iterate_stroke_mean(float(p[1]))
-            return function(s, y, p, *arguments)
+        def field(s: float, y: np.ndarray, params: np.ndarray) -> np.ndarray:
+            if not (0.0 < params[0] <= half_pi and -half_pi < params[1] < half_pi):
+                check_iterate_amplitude(params[0])
+                check_iterate_stroke_mean(float(params[1]))
+            return function(s, y, params, *arguments)
     return field
 
 
