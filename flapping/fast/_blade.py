@@ -25,26 +25,10 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
+from flapping.fast._compiled import _jit  # the kernel's: njit with the disk cache if numba can
 from flapping.model import _inertia_generated
-
-#: Whether numba found a writable place for its on-disk cache (see :func:`_jit`).
-CACHED = True
-
-
-def _jit(fn):
-    """``numba.njit(cache=True)``, or without the disk cache if numba finds no writable place."""
-    global CACHED
-    try:
-        return numba.njit(cache=True)(fn)
-    except RuntimeError as error:
-        if "cannot cache" not in str(error):
-            raise
-        CACHED = False
-        return numba.njit(fn)
-
 
 # The layout of ``data``: the 13 constants of BladeElementModel._consts, in its order, then ...
 (I_OMEGA, I_SIN_2AM, I_COS_2AM, I_SIN_AM2, I_COS_AM2, I_RHO_A, I_RHO_K, I_X_H, I_ZH, I_XC,

@@ -111,12 +111,13 @@ def load() -> ModuleType:
     """
     if not _MODULE:
         start = time.perf_counter()
-        from flapping.fast import _blade
+        from flapping.fast import _blade, _compiled
 
         entry = _blade.graded_rhs
-        if _blade.CACHED and entry.stats.cache_path:
+        # _compiled._jit decorated both modules' functions: one cache place, one flag
+        if _compiled.CACHED and entry.stats.cache_path:
             _drop_stale_cache(Path(entry.stats.cache_path))
-        fresh = not _blade.CACHED or not _cached(entry)
+        fresh = not _compiled.CACHED or not _cached(entry)
         if fresh:
             warnings.warn("compiling flapping's blade-element loads with numba (first use in "
                           "this environment: 5-20 s of CPU, once)", KernelCompileWarning,
