@@ -118,6 +118,8 @@ class _VariationalField:
         self.jac = None if jac is None else field.params.bind(jac, field.P)
         self.width = field.n + n_par   # y = (x, [Phi | S]), the block row-major
         self.shape, self.jshape = (field.n,), (field.n, field.n)
+        self.n, self.size = field.n, field.n * (1 + self.width)
+        self.counter, self.calls = field.counter, 1 + n_par
         self.shifted = []
         for j in range(n_par):
             h = _EPS ** 0.5 * max(1.0, abs(float(field.P[j])))
@@ -139,24 +141,24 @@ class _VariationalField:
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
         # The hot loop of continuation: the user's functions are called directly (no bound
-        # lambdas) and their outputs checked at once (a failure is diagnosed by the checked
-        # paths, in _reject).
-        n, fun = self.field.n, self.fun
+        # lambdas). Only shapes are checked before the product; finiteness once, on the output:
+        # a non-finite entry of f or J makes a component of the output non-finite (J's row
+        # multiplies the nonsingular [Phi | S]), and _reject then names the culprit.
+        n, fun, extra = self.n, self.fun, self.extra
         x = y[:n]
-        f = np.asarray(fun(t, x, *self.extra), dtype=float)
+        f = np.asarray(fun(t, x, *extra), dtype=float)
         uj = self.user_jac
-        J = self._jac(t, x) if uj is None else np.asarray(uj(t, x, *self.extra), dtype=float)
-        if f.shape != self.shape or J.shape != self.jshape or not math.isfinite(
-                f.dot(f) + np.vdot(J, J)):
+        J = self._jac(t, x) if uj is None else np.asarray(uj(t, x, *extra), dtype=float)
+        if f.shape != self.shape or J.shape != self.jshape:
             self._reject(t, x)
         # Phi and S side by side: one product J [Phi | S], written in place into the output.
-        out = np.empty(y.size)
+        out = np.empty(self.size)
         out[:n] = f
         block = out[n:].reshape(n, self.width)
         np.matmul(J, y[n:].reshape(n, self.width), out=block)
-        for j, (extra, h) in enumerate(self.shifted):
-            block[:, n + j] += (np.asarray(fun(t, x, *extra), dtype=float) - f) / h
-        self.field.counter.n += 1 + self.n_par
+        for j, (shifted, h) in enumerate(self.shifted):
+            block[:, n + j] += (np.asarray(fun(t, x, *shifted), dtype=float) - f) / h
+        self.counter.n += self.calls
         if not math.isfinite(out.dot(out)):
             self._reject(t, x)
         return out

@@ -36,24 +36,50 @@ class LeanDOP853(DOP853):
     h_abs: float
     h_previous: float | None
     y_old: np.ndarray | None
+    status: str
+    t_old: float | None
 
     def __init__(self, fun: Any, t0: float, y0: Any, t_bound: float, **options: Any) -> None:
         super().__init__(fun, t0, y0, t_bound, **options)
-        stages = self.n_stages
-        self._rows = [self.A[s, :s] for s in range(1, stages)]
-        self._c = [float(c) for c in self.C[1:]]
+        K = self.K  # scipy allocates the stages once and writes them in place
+        # per stage: the view K[:s].T, the tableau row and the node, built once per solver
+        self._plan = [(K[:s].T, self.A[s, :s], float(self.C[s]))
+                      for s in range(1, self.n_stages)]
+        self._KB, self._KT = K[:-1].T, K.T
         self._n = float(self.n)
 
     def _stages(self, t: float, y: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
-        """The Runge-Kutta stages into ``self.K``; the new state and its slope."""
+        """The Runge-Kutta stages into ``self.K``; the new state and its slope.
+
+        ``y + dot(K[:s].T, a) * h`` as scipy writes it, with the scaling and the addition
+        (which commutes exactly) done in place on the product: the same numbers, two
+        temporaries fewer. Each stage state is a new array, as scipy's: ``fun`` may keep it.
+        """
         K, fun, dot = self.K, self.fun, np.dot
         K[0] = self.f
-        for s, (a, c) in enumerate(zip(self._rows, self._c, strict=True), start=1):
-            K[s] = fun(t + c * h, y + dot(K[:s].T, a) * h)
-        y_new = y + h * dot(K[:-1].T, self.B)
+        for s, (KT, a, c) in enumerate(self._plan, start=1):
+            x = dot(KT, a)
+            x *= h
+            x += y
+            K[s] = fun(t + c * h, x)
+        y_new = y + h * dot(self._KB, self.B)
         f_new = fun(t + h, y_new)
         K[-1] = f_new
         return y_new, f_new
+
+    def step(self) -> str | None:
+        """One step: scipy's ``OdeSolver.step`` for a running, non-empty solver."""
+        if self.status != "running" or self.n == 0 or self.t == self.t_bound:
+            return super().step()  # scipy's errors and corner cases
+        t = self.t
+        success, message = self._step_impl()
+        if not success:
+            self.status = "failed"
+        else:
+            self.t_old = t
+            if self.direction * (self.t - self.t_bound) >= 0:
+                self.status = "finished"
+        return message
 
     def _error_norm(self, h: float, scale: np.ndarray) -> float:
         """DOP853's error norm, as scipy's ``_estimate_error_norm`` computes it.
@@ -62,7 +88,7 @@ class LeanDOP853(DOP853):
         (``E @ K`` for ``K.T @ E``) moves it by ~1e-4 relative and the step sizes with it, so
         the sums are scipy's own (``norm(x)**2`` is ``sqrt(x @ x)**2`` in NumPy).
         """
-        K = self.K.T
+        K = self._KT
         err5, err3 = np.dot(K, self.E5) / scale, np.dot(K, self.E3) / scale
         e5, e3 = math.sqrt(err5.dot(err5)) ** 2, math.sqrt(err3.dot(err3)) ** 2
         if e5 == 0.0 and e3 == 0.0:
@@ -71,7 +97,7 @@ class LeanDOP853(DOP853):
 
     def _step_impl(self) -> tuple[bool, str | None]:
         t, y, direction = float(self.t), self.y, float(self.direction)
-        min_step = 10 * abs(float(np.nextafter(t, direction * np.inf)) - t)
+        min_step = 10 * abs(math.nextafter(t, direction * math.inf) - t)
         h_abs = float(self.h_abs)
         h_abs = self.max_step if h_abs > self.max_step else max(h_abs, min_step)
         rejected, exponent = False, self.error_exponent

@@ -345,6 +345,7 @@ class _Tracer:
     def __init__(self, system: OrbitSystem, opts: ContinuationOptions, p_end: float) -> None:
         self.system, self.opts, self.p_end = system, opts, p_end
         self.corrector = bif.Corrector(system, opts.tol, opts.max_newton)
+        self.locate_corrector = bif.Corrector(system, opts.locate_tol, opts.max_newton)
         self.locate_settings = _integration(opts, opts.locate_rtol, opts.locate_atol)
         self.points: list[_Point] = []
         self.found: list[Bifurcation] = []
@@ -428,7 +429,7 @@ class _Tracer:
         previous = self.points[-1]
         self.points.append(point)
         for kind in self._changes(previous.tests, point.tests):
-            located = bif.locate(kind, self.corrector, self.locate_settings, previous.u,
+            located = bif.locate(kind, self.locate_corrector, self.locate_settings, previous.u,
                                  previous.t, point.u, 1e-13 * (1.0 + abs(float(point.u[-1]))))
             if located is None:
                 continue
