@@ -233,3 +233,19 @@ def test_table_and_plot(rossler_branch):
     matplotlib.use("Agg")
     axes = rossler_branch.plot()
     assert len(axes) == 2
+
+
+def test_location_corrects_to_locate_tol(monkeypatch):
+    # locate_tol is the location's corrector residual, not the branch's tol
+    import flapping.periodic._bifurcation as bif
+
+    seen, locate = [], bif.locate
+
+    def spy(kind, corrector, *args):
+        seen.append(corrector.tol)
+        return locate(kind, corrector, *args)
+
+    monkeypatch.setattr(bif, "locate", spy)
+    continue_orbit(f_rossler, X_ROSSLER_25, 5.749, 2.8, 2.86, jac=j_rossler, tol=1e-8,
+                   locate_tol=3e-11)
+    assert seen == [3e-11]
