@@ -121,6 +121,8 @@ def nonnegative(name: str, value: Any, *, unit: str = "") -> float:
 
 def integer(name: str, value: Any, *, low: int | None = None, high: int | None = None) -> int:
     """``value`` as a Python int in [low, high]; integral floats such as ``4.0`` are refused."""
+    if type(value) is int and (low is None or value >= low) and (high is None or value <= high):
+        return value  # the common case, without the abstract-class checks below
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
     lo = "-inf" if low is None else str(low)
@@ -198,7 +200,7 @@ def array(name: str, value: Any) -> np.ndarray:
         raise ValueError(
             f"`{name}` must be an array of real numbers; got {value!r} (dtype {x.dtype})")
     x = x.astype(float)
-    if not np.all(np.isfinite(x)):
+    if not np.isfinite(x).all():
         raise ValueError(f"`{name}` must be finite; got {value!r}")
     return x
 

@@ -183,8 +183,10 @@ class KernelCompileWarning(UserWarning):
 _NOTE_AFTER_S = 1.0
 
 
+@functools.lru_cache(maxsize=1)
 def numba_available() -> bool:
-    """True if numba can be imported (the ``fast`` extra), without importing it."""
+    """True if numba can be imported (the ``fast`` extra), without importing it (looked up once
+    per process: every solve asks)."""
     return importlib.util.find_spec("numba") is not None
 
 
@@ -688,9 +690,29 @@ def solve_hover(
     amp = (problem.insect.stroke_amplitude if amplitude_guess is None
            else check_amplitude(amplitude_guess, "amplitude_guess"))
     x0 = np.zeros(4) if x0_guess is None else _validation.vector("x0_guess", x0_guess, size=4)
-    n = _steps(n_steps)
-    tol_amp, tol_mu = _amplitude_tol(amplitude_tol_deg), _multiplier_tol(multiplier_tol)
-    return _solve(load(), problem, np.append(x0, amp), n, tol_amp, tol_mu)
+    return solve_checked(problem, np.append(x0, amp),
+                         *checked_options(n_steps, amplitude_tol_deg, multiplier_tol))
+
+
+def checked_options(n_steps: int | None = None, amplitude_tol_deg: float = AMPLITUDE_TOL_DEG,
+                    multiplier_tol: float = MULTIPLIER_TOL) -> tuple[int, float, float]:
+    """:func:`solve_hover`'s options checked: (steps per half-stroke, Phi tolerance [rad],
+    multiplier tolerance).
+
+    Raises
+    ------
+    ValueError
+        As :func:`solve_hover`.
+    """
+    return _steps(n_steps), _amplitude_tol(amplitude_tol_deg), _multiplier_tol(multiplier_tol)
+
+
+def solve_checked(problem: KernelProblem, z: np.ndarray, n: int, tol_amp: float,
+                  tol_mu: float) -> HoverSolution:
+    """:func:`solve_hover` from a checked start ``z = (x0, Phi)`` (a float array it may modify)
+    and :func:`checked_options`: for callers that have validated them already (the hover layer
+    checks its guesses once)."""
+    return _solve(load(), problem, z, n, tol_amp, tol_mu)
 
 
 def _solve(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int, tol_amp: float,

@@ -635,7 +635,8 @@ def _kernel_orbit(problem: HoverProblem, amplitude: float, x0: np.ndarray, n_sam
     if unknown:
         raise ValueError(f"`kernel_options` accepts n_steps, amplitude_tol_deg and "
                          f"multiplier_tol; got {sorted(unknown)}")
-    sol = _kernel.solve_hover(kp, amplitude_guess=amplitude, x0_guess=x0, **options)
+    # x0 (state_guess) and the amplitude (problem.guess) are checked already
+    sol = _kernel.solve_checked(kp, np.append(x0, amplitude), *_kernel.checked_options(**options))
     x_start = sol.x0  # read-only already
     return HoverOrbit(problem, x_start, sol.amplitude, problem.insect.stroke_mean, sol.z_drift,
                       "compiled", sol.nit, sol.nfev, sol.residual_norm, kernel=sol,

@@ -9,6 +9,7 @@ input or a solver's cache) is copied first; the copy is small beside the integra
 
 from __future__ import annotations
 
+import functools
 from dataclasses import fields
 from typing import Any
 
@@ -27,10 +28,19 @@ def readonly(a: np.ndarray) -> np.ndarray:
 
 def freeze(obj: Any) -> None:
     """Make every ndarray field of the dataclass ``obj`` (and in tuples of arrays) read-only."""
-    for f in fields(obj):
-        value = getattr(obj, f.name)
+    cls: Any = type(obj)  # a dataclass type is hashable (mypy reads the instance's __hash__)
+    for name in _field_names(cls):
+        value = getattr(obj, name)
+        if value is None:
+            continue
         if isinstance(value, np.ndarray):
-            object.__setattr__(obj, f.name, readonly(value))
+            object.__setattr__(obj, name, readonly(value))
         elif isinstance(value, tuple) and value and all(isinstance(v, np.ndarray)
                                                        for v in value):
-            object.__setattr__(obj, f.name, tuple(readonly(v) for v in value))
+            object.__setattr__(obj, name, tuple(readonly(v) for v in value))
+
+
+@functools.lru_cache(maxsize=64)
+def _field_names(cls: type) -> tuple[str, ...]:
+    # listed once per class: results are built at every point of a sweep
+    return tuple(f.name for f in fields(cls))

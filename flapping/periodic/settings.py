@@ -207,7 +207,7 @@ class SolverSettings:
         dict
             Field name to value, checked; None where neither gives a value.
         """
-        out = {f.name: getattr(self, f.name) for f in fields(self)}
+        out = {name: getattr(self, name) for name in _FIELD_NAMES}
         for name, value in explicit.items():
             if value is not None:
                 out[name] = check_field(name, value)
@@ -246,6 +246,7 @@ def resolve(settings: Any, defaults: dict[str, Any], **explicit: Any) -> dict[st
 
 
 _EMPTY = SolverSettings()
+_FIELD_NAMES = tuple(f.name for f in fields(SolverSettings))
 
 
 

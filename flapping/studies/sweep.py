@@ -160,9 +160,10 @@ def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
     v = orbit.mean_inertial_velocity
     status = orbit.status  # once: each call compares the speeds again
     hover = status == HoverStatus.HOVER
-    modulus = np.abs(mu)
+    mus = mu.tolist()  # Python complex: abs is the same hypot as np.abs, a row costs less
+    modulus = [abs(m) for m in mus]
     row.update(amplitude_deg=orbit.amplitude_deg, alpha_m_deg=math.degrees(orbit.alpha_m),
-               max_abs_mu=float(modulus.max()), stable=bool((modulus < 1.0).all()),
+               max_abs_mu=max(modulus), stable=all(m < 1.0 for m in modulus),
                converged=hover, status=int(status), forward_speed=v["forward"],
                climb_speed=v["climb"], nit=orbit.nit, backend=orbit.backend,
                message="" if hover else orbit.message)
@@ -173,9 +174,9 @@ def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
         fs = orbit.fixed_step
         row.update(amplitude_error_deg=math.degrees(float(fs.unknowns_error[4])),
                    multiplier_error=mu_error, n_steps=fs.n_steps)
-    row.update(zip(("u0", "w0", "q0", "theta0"), map(float, orbit.x0), strict=True))
-    for i in range(4):
-        row[f"mu{i + 1}_real"], row[f"mu{i + 1}_imag"] = float(mu[i].real), float(mu[i].imag)
+    row.update(zip(("u0", "w0", "q0", "theta0"), orbit.x0.tolist(), strict=True))
+    for i, m in enumerate(mus[:4], start=1):
+        row[f"mu{i}_real"], row[f"mu{i}_imag"] = m.real, m.imag
     return row
 
 
