@@ -2,6 +2,7 @@
 
 - :class:`ConvergenceError`: a solver or an integration did not reach its answer;
   :func:`require_success` raises it for an integration result that failed.
+- :class:`DomainError`: an iterate left the domain of the model (a solver may step back);
 - :class:`HoverDriftWarning`: a "hover" orbit that flies away horizontally (an offset hinge).
 - :class:`PlausibilityWarning`: an insect whose magnitudes no insect or flapping vehicle has.
 - :class:`ClosureWarning`: a monodromy matrix of a point that is not on a periodic orbit.
@@ -16,8 +17,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["ConvergenceError", "HoverDriftWarning", "ClosureWarning", "AliasedPeriodWarning",
-           "ToleranceWarning", "PlausibilityWarning", "require_success"]
+__all__ = ["ConvergenceError", "DomainError", "HoverDriftWarning", "ClosureWarning",
+           "AliasedPeriodWarning", "ToleranceWarning", "PlausibilityWarning", "require_success"]
 
 
 class ConvergenceError(RuntimeError):
@@ -59,6 +60,16 @@ class ConvergenceError(RuntimeError):
         self.residual = residual
         self.iterations = iterations
         self.result = result
+
+
+class DomainError(ConvergenceError):
+    """An iterate of a solver left the domain on which the model is defined.
+
+    For example a stroke amplitude beyond 90 deg, where the wings would cross. A
+    :class:`ConvergenceError` (a solver that cannot step back ends with it); Newton on the
+    fixed-step period map (:func:`flapping.periodic.fixedstep.find_periodic_orbit_fixed_step`)
+    meets it by halving its step towards the last iterate it could evaluate.
+    """
 
 
 class HoverDriftWarning(UserWarning):

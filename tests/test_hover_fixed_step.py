@@ -149,6 +149,24 @@ def test_the_monarch_small_angle_orbit_converges():
     _check(orbit)
 
 
+def test_the_measured_monarch_two_trim_orbit_from_its_default_guess():
+    # Newton's first step from the default guess (Phi 34.8 deg, phi_bar 0) asks for Phi = 98.7
+    # deg, which the model refuses: the halved steps reach the orbit that the homotopy from the
+    # paper's monarch finds (a second route)
+    from flapping.studies.atlas import hover_by_homotopy
+
+    insect = preset("monarch", geometry="measured")
+    options = {"aerodynamics": "small-angle", "trims": ("amplitude", "stroke_mean"),
+               "backend": "fixed-step"}
+    orbit = find_hover_orbit(insect, **options)
+    _check(orbit)
+    assert orbit.is_hover
+    route = hover_by_homotopy(insect, preset("monarch"), **options).orbit
+    assert abs(orbit.amplitude - route.amplitude) < 1e-10
+    assert abs(orbit.stroke_mean - route.stroke_mean) < 1e-10
+    np.testing.assert_allclose(orbit.x0, route.x0, rtol=0, atol=1e-10)
+
+
 def test_bad_options_are_value_errors_naming_them():
     insect = hawkmoth()
     with pytest.raises(ValueError, match="fixed_step_options"):

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from flapping import _validation
-from flapping.errors import ConvergenceError
+from flapping.errors import DomainError
 from flapping.fast import blade as _blade
 from flapping.fast import kernel as _kernel
 from flapping.model.aerodynamics import trim_angle_of_attack
@@ -417,7 +417,7 @@ def _switches(problem: HoverProblem, k: int) -> tuple[Any, ...]:
 def check_iterate_amplitude(amplitude: float) -> None:
     """Stop the shooting when an iterate's stroke amplitude leaves (0, pi/2]."""
     if not 0.0 < amplitude <= math.pi / 2:
-        raise ConvergenceError(
+        raise DomainError(
             f"the shooting iteration stepped the stroke amplitude to {math.degrees(amplitude):.4g} "
             "deg, outside (0, 90] deg: no hover orbit with wings that do not cross was found "
             "from this guess")
@@ -426,7 +426,7 @@ def check_iterate_amplitude(amplitude: float) -> None:
 def check_iterate_stroke_mean(stroke_mean: float) -> None:
     """Stop the shooting when an iterate's mean stroke angle leaves (-pi/2, pi/2)."""
     if not -math.pi / 2 < stroke_mean < math.pi / 2:
-        raise ConvergenceError(
+        raise DomainError(
             f"the shooting iteration stepped the mean stroke angle to "
             f"{math.degrees(stroke_mean):.4g} deg, outside (-90, 90) deg")
 

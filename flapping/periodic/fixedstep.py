@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 import flapping._validation as check
-from flapping.errors import ConvergenceError
+from flapping.errors import ConvergenceError, DomainError
 from flapping.periodic import _segments as seg
 from flapping.periodic._fixedmap import NonFinite, OutOfWork, PeriodMap
 from flapping.periodic._readonly import freeze
@@ -83,6 +83,10 @@ _XTOL, _MAX_ITER, _CONTRACTION = 1e-13, 40, 0.1
 
 #: A step that stops shrinking below this (scaled) size is rounding noise: Newton stops there.
 _STALL = 1e-11
+
+#: Halvings of a Newton step whose end the model refuses (:class:`~flapping.errors.DomainError`),
+#: before the refusal ends the solve: 2^-10 of a step that left the domain is well inside it.
+_MAX_HALVINGS = 10
 
 #: Order of the formula, the step ratio of the Richardson estimate, its safety factor (at the
 #: coarse level the error is not yet fully asymptotic), and the step-count increases per solve.
@@ -241,17 +245,35 @@ class _Newton:
 
 
 def _newton(problem: _Problem, z: np.ndarray, n: int, J: np.ndarray | None) -> _Newton:
-    """Newton (a chord iteration while it contracts well) at n steps per segment, from z."""
+    """Newton (a chord iteration while it contracts well) at n steps per segment, from z.
+
+    A step whose end the model refuses (:class:`~flapping.errors.DomainError`: e.g. a stroke
+    amplitude past 90 deg) is halved, back towards the last iterate, at most
+    :data:`_MAX_HALVINGS` times in a row, and Newton goes on from there with a fresh Jacobian:
+    the plain Newton iteration wherever the model accepts every step.
+    """
     prev = step = math.inf
+    back: tuple[np.ndarray, np.ndarray] | None = None  # the last iterate and the step taken
+    halvings = 0
     for it in range(1, _MAX_ITER + 1):
         fresh = J is None
-        if J is None:
-            r, J = problem.linearised(z, n)
-        else:
-            r = problem.residual(z, n)
+        try:
+            if J is None:
+                r, J = problem.linearised(z, n)
+            else:
+                r = problem.residual(z, n)
+        except DomainError:
+            if back is None or halvings >= _MAX_HALVINGS:
+                raise
+            halvings += 1
+            last, dz = back[0], 0.5 * back[1]
+            back, z = (last, dz), last + dz
+            J = None  # the linearisation that overshot is no guide from the shorter step
+            continue
+        halvings = 0
         dz = _newton_step(J, r)
         step = float(np.max(np.abs(dz) / np.maximum(1.0, np.abs(z))))
-        z = z + dz
+        back, z = (z, dz), z + dz
         if step <= _XTOL or (fresh and step <= _STALL and step > 0.5 * prev):
             return _Newton(z, J, it, step, 0)
         if step > _CONTRACTION * prev:

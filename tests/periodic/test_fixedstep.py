@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from flapping.errors import ConvergenceError
+from flapping.errors import ConvergenceError, DomainError
 from flapping.periodic.fixedstep import FixedStepOrbit, find_periodic_orbit_fixed_step
 from flapping.periodic.testproblems import (
     forced_oscillator,
@@ -190,3 +190,27 @@ def test_fixed_step_monodromy_is_the_solves_derivative_and_converges_at_order_8(
     assert 2.0 ** 8 / 2 < errors[0] / errors[1] < 2.0 ** 8 * 2
     with pytest.raises(ValueError, match="n_steps"):
         fixed_step_monodromy(forced_oscillator, X0, PERIOD, n_steps=1, args=ARGS)
+
+
+def _exp_forced(p_max):
+    """The forced oscillator with amplitude exp(p), a model defined for p <= p_max only."""
+    def fun(t, x, p):
+        if p[0] > p_max:
+            raise DomainError(f"p = {p[0]} > {p_max}")
+        return forced_oscillator(t, x, ZETA, OMEGA0, OMEGA, math.exp(p[0]))
+    return fun
+
+
+def test_a_step_the_model_refuses_is_halved():
+    # holding y(0) at twice the orbit's value needs exp(p) = 2; Newton from p = -3 steps to
+    # p ~ 36, which this model refuses: the halved step (p ~ 1.9) is accepted, then it converges
+    orbit = find_periodic_orbit_fixed_step(_exp_forced(5.0), [2.0 * X0[0], 0.0], PERIOD,
+                                           free_params=[-3.0], fixed=[0])
+    assert orbit.params is not None and abs(orbit.params[0] - math.log(2.0)) < 1e-10
+    np.testing.assert_allclose(orbit.x0, 2.0 * X0, rtol=0, atol=1e-10)
+
+
+def test_a_refusal_that_halving_cannot_clear_ends_the_solve():
+    with pytest.raises(DomainError, match="p = "):
+        find_periodic_orbit_fixed_step(_exp_forced(-2.9999), [2.0 * X0[0], 0.0], PERIOD,
+                                       free_params=[-3.0], fixed=[0])
