@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from flapping import hawkmoth
-from flapping.errors import ConvergenceError
+from flapping.errors import ConvergenceError, HoverDriftWarning
 from flapping.hover import HoverProblem, find_hover_orbit
 from flapping.hover.problem import grading, grading_derivative
 from flapping.hover.stability import hover_stability
@@ -165,6 +165,19 @@ def test_the_measured_monarch_two_trim_orbit_from_its_default_guess():
     assert abs(orbit.amplitude - route.amplitude) < 1e-10
     assert abs(orbit.stroke_mean - route.stroke_mean) < 1e-10
     np.testing.assert_allclose(orbit.x0, route.x0, rtol=0, atol=1e-10)
+
+
+def test_mean_velocities_come_from_the_solves_mesh():
+    # x_e(T) / T and -z(T) / T on the fixed-step mesh; the adaptive samples' means (a second
+    # route) agree to their own accuracy, and the drift is what the hinge offset makes
+    with pytest.warns(HoverDriftWarning):
+        orbit = find_hover_orbit(hawkmoth().with_(hinge_offset=1e-3), aerodynamics="small-angle")
+    v = orbit.mean_inertial_velocity
+    assert orbit.mean_velocity is not None and not orbit.mean_velocity.flags.writeable
+    u, w, _, theta = orbit.x[:, :-1]
+    assert abs(v["forward"] - np.mean(u * np.cos(theta) + w * np.sin(theta))) < 1e-8
+    assert abs(v["climb"] - np.mean(u * np.sin(theta) - w * np.cos(theta))) < 1e-8
+    assert abs(v["climb"]) < 1e-12 < 0.1 < v["forward"]
 
 
 def test_bad_options_are_value_errors_naming_them():

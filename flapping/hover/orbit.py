@@ -56,7 +56,11 @@ from flapping.model.dynamics import STATE_NAMES, LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
 from flapping.periodic._readonly import freeze, readonly
-from flapping.periodic.fixedstep import FixedStepOrbit, find_periodic_orbit_fixed_step
+from flapping.periodic.fixedstep import (
+    FixedStepOrbit,
+    find_periodic_orbit_fixed_step,
+    fixed_step_flow,
+)
 from flapping.periodic.integrate import flow, variational_flow
 from flapping.periodic.settings import SolverSettings, default, given, resolve
 from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
@@ -194,6 +198,10 @@ class HoverOrbit:
         ``hover_stability(orbit, backend="fixed-step")`` gives the multipliers at twice the
         steps with the change as their error estimate
         (:attr:`~flapping.hover.stability.HoverStability.multiplier_error`).
+    mean_velocity : ndarray or None
+        (forward, climb) cycle means of the inertial velocities [m/s] from the solve's own
+        integration, where its path has them (the fixed-step path integrates the distances
+        flown on its mesh); None: from the kernel's result, or from the samples.
     """
 
     problem: HoverProblem | None
@@ -210,6 +218,7 @@ class HoverOrbit:
     samples: Any = field(default=None, repr=False)
     model_given: LongitudinalDynamics | None = field(default=None, repr=False)
     fixed_step: FixedStepOrbit | None = field(default=None, repr=False)
+    mean_velocity: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         freeze(self)  # an analysis of the orbit must be an analysis of what was solved
@@ -277,11 +286,12 @@ class HoverOrbit:
     def mean_inertial_velocity(self) -> dict[str, float]:
         """Cycle means of the inertial velocities [m/s]: ``forward`` and ``climb`` (up positive).
 
-        On the compiled path from the Newton integration itself (x_e(T) / T and -z(T) / T,
-        integrated with the orbit); from the samples otherwise.
+        On the compiled and fixed-step paths from their own integration (x_e(T) / T and
+        -z(T) / T, integrated with the orbit); from the samples otherwise.
         """
-        if self.kernel is not None:
-            forward, climb = self.kernel.mean_velocity
+        if self.kernel is not None or self.mean_velocity is not None:
+            given = self.kernel.mean_velocity if self.mean_velocity is None else self.mean_velocity
+            forward, climb = given
             return {"forward": float(forward), "climb": float(climb)}
         u, w, _, th = self.x[:, :-1]
         return {"forward": float(np.mean(u * np.cos(th) + w * np.sin(th))),
@@ -555,10 +565,27 @@ def _fixed_step_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, 
         funs, np.concatenate([x0, np.zeros(extra)]), 2.0, free_params=list(guess),
         fixed=tuple(range(4, 4 + extra)), breakpoints=(0.5,), switches=switches, tol=tol,
         **settings)
-    orbit = _orbit_of(problem, result, "fixed-step", fixed_step=result)
+    assert result.params is not None  # the trims are free parameters
+    trims = [float(v) for v in result.params]
+    _check_converged_trims(problem, result, trims)
+    velocity = _fixed_step_mean_velocity(problem, result.x0[:4], trims, result.n_steps)
+    orbit = _orbit_of(problem, result, "fixed-step", fixed_step=result, mean_velocity=velocity)
     object.__setattr__(orbit, "samples",
                        _AdaptiveSamples(orbit.model, orbit.x0, n_samples, rtol, atol))
     return orbit
+
+
+def _fixed_step_mean_velocity(problem: HoverProblem, x0: np.ndarray, trims: list[float],
+                              n_steps: int) -> np.ndarray:
+    """(forward, climb) cycle means of a fixed-step orbit: x_e(T) / T and -z(T) / T on the solve's
+    mesh (the two-trim field carries x_e), instead of sampling the orbit adaptively."""
+    full = problem if problem.n_conditions == 2 else HoverProblem(
+        problem.insect, problem.aerodynamics, problem.alpha_m, TRIMS[1], trim_check=False)
+    params = trims if len(trims) == 2 else [trims[0], problem.insect.stroke_mean]
+    funs, switches = full.graded_fields()
+    end = fixed_step_flow(funs, np.concatenate([x0, [0.0, 0.0]]), 2.0, n_steps=n_steps,
+                          free_params=params, breakpoints=(0.5,), switches=switches)
+    return np.array([end[5], -end[4]]) / problem.period
 
 
 def _orbit_of(problem: HoverProblem, result: PeriodicOrbit | FixedStepOrbit, backend: str,

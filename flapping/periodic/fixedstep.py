@@ -49,6 +49,7 @@ __all__ = [
     "ERROR_TOL_FLOOR",
     "STATUS",
     "FixedStepOrbit",
+    "fixed_step_flow",
     "find_periodic_orbit_fixed_step",
     "fixed_step_monodromy",
 ]
@@ -650,3 +651,64 @@ def fixed_step_monodromy(
     matrix = np.array(D, dtype=float)
     matrix.flags.writeable = False
     return matrix
+
+
+def fixed_step_flow(
+    fun: Callable[..., Any] | Sequence[Callable[..., Any]],
+    x0: Any,
+    period: float,
+    *,
+    n_steps: int,
+    free_params: Any = None,
+    breakpoints: Sequence[float] = (),
+    switches: Sequence[Any] = (),
+    args: tuple[Any, ...] = (),
+    max_nfev: int | None = None,
+) -> np.ndarray:
+    """x(T) of the fixed-step DOP853 period map at ``n_steps`` steps per segment.
+
+    The map :func:`find_periodic_orbit_fixed_step` solves, without its derivative: e.g. a
+    quantity integrated along a solved orbit (a distance flown over the period) on the solve's
+    own mesh.
+
+    Parameters
+    ----------
+    fun, free_params, breakpoints, switches, args, max_nfev, n_steps
+        As for :func:`fixed_step_monodromy`.
+    x0 : array_like, shape (n,)
+        The initial state.
+    period : float
+        The period T > 0.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Read-only.
+
+    Raises
+    ------
+    ValueError
+        For bad arguments, or ``fun`` returning the wrong shape or a non-finite value at x0.
+    ConvergenceError
+        If the integration produces a non-finite value or exceeds ``max_nfev``.
+    """
+    x = check.vector("x0", x0)
+    T = check.positive("period", period)
+    b = seg.check_breakpoints(breakpoints)
+    params = (None if free_params is None
+              else check.vector("free_params", np.atleast_1d(free_params)))
+    funs, jacs, pjacs = _callables(fun, None, None, len(b) + 1, params is not None)
+    n = check.integer("n_steps", n_steps, low=2, high=MAX_STEPS)
+    cap = MAX_NFEV if max_nfev is None else check.integer("max_nfev", max_nfev, low=1,
+                                                          high=MAX_NFEV_CAP)
+    pmap = PeriodMap(funs, jacs, pjacs, tuple(args), T, b, params is not None, cap,
+                     _switches(switches, len(b) + 1))
+    _probe(pmap, x, params)
+    try:
+        end = pmap.flow(x[None, :], None if params is None else params[None, :], n)[0]
+    except (NonFinite, OutOfWork) as exc:
+        raise ConvergenceError(f"the fixed-step integration at {n} steps per segment failed: "
+                               f"{exc}", x=x) from None
+    end = np.array(end, dtype=float)
+    end.flags.writeable = False
+    return end

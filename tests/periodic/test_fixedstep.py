@@ -214,3 +214,15 @@ def test_a_refusal_that_halving_cannot_clear_ends_the_solve():
     with pytest.raises(DomainError, match="p = "):
         find_periodic_orbit_fixed_step(_exp_forced(-2.9999), [2.0 * X0[0], 0.0], PERIOD,
                                        free_params=[-3.0], fixed=[0])
+
+
+def test_the_flow_is_the_solves_map():
+    from flapping.periodic.fixedstep import fixed_step_flow
+
+    orbit = find_periodic_orbit_fixed_step(forced_oscillator, [0.3, 0.1], PERIOD, args=ARGS)
+    end = fixed_step_flow(forced_oscillator, orbit.x0, PERIOD, n_steps=orbit.n_steps,
+                          args=ARGS)
+    np.testing.assert_allclose(end, orbit.x0, rtol=0, atol=1e-12)  # periodic on its own mesh
+    assert not end.flags.writeable
+    with pytest.raises(ValueError, match="n_steps"):
+        fixed_step_flow(forced_oscillator, orbit.x0, PERIOD, n_steps=1, args=ARGS)
