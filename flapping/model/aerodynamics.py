@@ -350,22 +350,18 @@ def aero_constants(insect: Insect) -> AeroConstants:
         If the rotational damping is on (mu1 or mu2 > 0) but I_04 diverges for this planform.
     """
     _validation.instance("insect", insect, Insect)
-    rho, A = insect.air_density, insect.lift_slope
-    kappa = 0.75 - insect.pitch_axis
-    I = dict(_span_table(insect.semi_span, insect.mean_chord, insect.beta_p, insect.beta_q))
-    if (0, 4) in I:
-        knu = math.pi / 16.0 * rho * I[(0, 4)]
-    elif insect.mu1 == 0.0 and insect.mu2 == 0.0:
+    K, Krot, knu = _load_tables(insect.air_density, insect.lift_slope, 0.75 - insect.pitch_axis,
+                                insect.semi_span, insect.mean_chord, insect.beta_p, insect.beta_q)
+    if knu is None:
+        if insect.mu1 != 0.0 or insect.mu2 != 0.0:
+            raise ValueError(
+                f"the rotational damping needs I_04 = 2 int c^4 dr, which diverges for this "
+                f"planform (r1={insect.r1!r}, r2={insect.r2!r}: beta shape "
+                f"p={insect.beta_p:.4g} <= 3/4); choose r1, r2 with p > 3/4 or set mu1 = mu2 = 0")
         knu = 0.0  # no rotational damping: its diverging span integral is never needed
-    else:
-        raise ValueError(
-            f"the rotational damping needs I_04 = 2 int c^4 dr, which diverges for this planform "
-            f"(r1={insect.r1!r}, r2={insect.r2!r}: beta shape p={insect.beta_p:.4g} <= 3/4); "
-            "choose r1, r2 with p > 3/4 or set mu1 = mu2 = 0"
-        )
     return AeroConstants(
-        K={k: 0.5 * rho * A * v for k, v in I.items()},
-        Krot={k: rho * math.pi * kappa * v for k, v in I.items()},
+        K=dict(K),
+        Krot=dict(Krot),
         Knu=knu,
         x_hat=insect.center_of_pressure,
         x_h=insect.hinge_offset,
@@ -375,6 +371,20 @@ def aero_constants(insect: Insect) -> AeroConstants:
         Iy=insect.pitch_inertia,
         h_w=insect.hinge_height,
     )
+
+
+@functools.lru_cache(maxsize=256)
+def _load_tables(rho: float, A: float, kappa: float, semi_span: float, mean_chord: float,
+                 p: float, q: float) -> tuple[tuple[tuple[tuple[int, int], float], ...],
+                                              tuple[tuple[tuple[int, int], float], ...],
+                                              float | None]:
+    """(K, Krot) as items, and K_nu (None where I_04 diverges), per air and planform (cached: a
+    sweep over the frequency or the mass asks the same tables at every point)."""
+    I = _span_table(semi_span, mean_chord, p, q)
+    K = tuple((k, 0.5 * rho * A * v) for k, v in I)
+    Krot = tuple((k, rho * math.pi * kappa * v) for k, v in I)
+    knu = dict(I).get((0, 4))
+    return K, Krot, None if knu is None else math.pi / 16.0 * rho * knu
 
 
 @functools.lru_cache(maxsize=256)
