@@ -80,11 +80,13 @@ def errors(aerodynamics: str, marked: bool, steps=(8, 16, 32, 64, 128),
     return [float(np.max(np.abs(pmap.flow(x, p, n)[0] - reference))) for n in steps]
 
 
-if __name__ == "__main__":
-    model = sys.argv[1] if len(sys.argv) > 1 else "small-angle"
-    mesh = sys.argv[2] if len(sys.argv) > 2 else "graded"
+def main(model: str = "small-angle", mesh: str = "graded") -> None:
     for marked in (False, True) if model != "linear" else (False,):
         found = errors(model, marked, graded=mesh == "graded")
         orders = np.log2(np.array(found[:-1]) / np.array(found[1:]))
         print(f"{model}, {mesh} mesh{' + switches' if marked else ''}: errors {np.array(found)}, "
               f"observed orders {np.round(orders, 2)}")
+
+
+if __name__ == "__main__":
+    main(*sys.argv[1:3])
