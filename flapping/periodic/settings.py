@@ -237,6 +237,8 @@ def resolve(settings: Any, defaults: dict[str, Any], **explicit: Any) -> dict[st
         If ``settings`` is not a SolverSettings, or a value is out of range.
     """
     if settings is None:
+        if all(v is None for v in explicit.values()):
+            return dict(defaults)  # the common call: nothing given, nothing to check
         settings = _EMPTY
     elif not isinstance(settings, SolverSettings):
         raise ValueError(f"`settings` must be a SolverSettings; got {settings!r} "

@@ -169,6 +169,8 @@ def _line_positions(solved: Sequence[Coordinate], s: Coordinate) -> list[float] 
 
     The unit is the last step: the last solved point is at 0, the one before at -1.
     """
+    if all(type(c) is tuple and len(c) == 1 for c in (*solved, s)):
+        return _number_line_positions([c[0] for c in (*solved, s)])  # type: ignore[index]
     points = [_as_tuple(c) for c in (*solved, s)]
     last, before = points[-2], points[-3]
     moved = [i for i, (a, b) in enumerate(zip(last, before, strict=True)) if a != b]
@@ -201,6 +203,16 @@ def _line_positions(solved: Sequence[Coordinate], s: Coordinate) -> list[float] 
             break
         known.insert(0, t)
     return [*known, target]
+
+
+def _number_line_positions(values: list[float]) -> list[float] | None:
+    """:func:`_line_positions` for coordinates on one number line (a 1-D grid): the same
+    arithmetic, without the general case's tuples (it runs at every point of a sweep)."""
+    last, before = values[-2], values[-3]
+    if last == before:
+        return None
+    step = last - before
+    return [*((c - last) / step for c in values[:-3]), -1.0, 0.0, (values[-1] - last) / step]
 
 
 def _lagrange_weights(nodes: Sequence[float], x: float) -> list[float]:
