@@ -155,7 +155,12 @@ def vector(name: str, value: Any, *, size: int | None = None) -> np.ndarray:
     Bools and strings are refused, as in :func:`array` (``[True, False]`` or ``["1", "2"]`` would
     otherwise pass as numbers through ``float()``).
     """
-    x = array(name, value)
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.ndim == 1:
+        x = value.copy()  # the common case (a previous answer): no conversion to check
+        if not np.isfinite(x).all():
+            raise ValueError(f"`{name}` must be finite; got {value!r}")
+    else:
+        x = array(name, value)
     if x.ndim != 1 or x.size == 0 or (size is not None and x.size != size):
         shape = "a non-empty 1-D array" if size is None else f"an array of shape ({size},)"
         raise ValueError(f"`{name}` must be {shape}; got shape {x.shape}")
