@@ -29,10 +29,10 @@ __all__ = [
 ]
 
 
-def _floats(x: Any) -> list[float]:
+def _floats(x: Any) -> list[Any]:
     # Python floats: the same IEEE arithmetic as NumPy scalars at a fraction of the cost
     # (these fields run at every stage of every integration of a continuation).
-    return np.asarray(x, dtype=float).tolist()
+    return x.tolist() if type(x) is np.ndarray else np.asarray(x, dtype=float).tolist()
 
 
 def lorenz(t: float, x: Any, sigma: float = 10.0, rho: float = 28.0,
