@@ -180,6 +180,16 @@ def test_mean_velocities_come_from_the_solves_mesh():
     assert abs(v["climb"]) < 1e-12 < 0.1 < v["forward"]
 
 
+def test_mean_velocities_use_the_problems_own_model():
+    # a model given through HoverProblem.of_model (here 3 span nodes) is the field the mean
+    # velocities integrate too: the climb is the solve's own z drift, not another model's
+    from flapping.model.dynamics import LongitudinalDynamics
+
+    model = LongitudinalDynamics(hawkmoth(), aerodynamics="exact", n_nodes=3)
+    orbit = find_hover_orbit(HoverProblem.of_model(model), backend="fixed-step")
+    assert abs(orbit.mean_inertial_velocity["climb"]) < 1e-12
+
+
 def test_bad_options_are_value_errors_naming_them():
     insect = hawkmoth()
     with pytest.raises(ValueError, match="fixed_step_options"):

@@ -744,7 +744,9 @@ def _solve(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int, tol_am
         period=period, monodromy=_read_only(_monodromy(y)),
         multipliers=_read_only(eigenvalues), trace_integral=float(y[30]),
         residual=_read_only(r), nit=total_nit, nfev=nfev, n_steps=n,
-        amplitude_error=errors[4], x0_error=max(errors[:4]), multiplier_error=mu_err,
+        amplitude_error=errors[4],
+        x0_error=max(errors[:4]) if not math.isnan(sum(errors[:4])) else math.nan,
+        multiplier_error=mu_err,
         mean_velocity=_read_only(np.array([y[31], -y[4]]) / period))
 
 

@@ -579,8 +579,11 @@ def _fixed_step_mean_velocity(problem: HoverProblem, x0: np.ndarray, trims: list
                               n_steps: int) -> np.ndarray:
     """(forward, climb) cycle means of a fixed-step orbit: x_e(T) / T and -z(T) / T on the solve's
     mesh (the two-trim field carries x_e), instead of sampling the orbit adaptively."""
-    full = problem if problem.n_conditions == 2 else HoverProblem(
-        problem.insect, problem.aerodynamics, problem.alpha_m, TRIMS[1], trim_check=False)
+    full = problem
+    if problem.n_conditions == 1:  # the two-trim field carries x_e; on the problem's own model
+        full = HoverProblem(problem.insect, problem.aerodynamics, problem.alpha_m, TRIMS[1],
+                            trim_check=False)
+        full.__dict__["model"] = problem.model  # the cached_property's slot (of_model's models)
     params = trims if len(trims) == 2 else [trims[0], problem.insect.stroke_mean]
     funs, switches = full.graded_fields()
     end = fixed_step_flow(funs, np.concatenate([x0, [0.0, 0.0]]), 2.0, n_steps=n_steps,

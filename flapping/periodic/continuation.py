@@ -345,7 +345,10 @@ class _Tracer:
     def __init__(self, system: OrbitSystem, opts: ContinuationOptions, p_end: float) -> None:
         self.system, self.opts, self.p_end = system, opts, p_end
         self.corrector = bif.Corrector(system, opts.tol, opts.max_newton)
-        self.locate_corrector = bif.Corrector(system, opts.locate_tol, opts.max_newton)
+        # location corrects to locate_tol (never looser than the branch's tol); where that
+        # tolerance is out of reach (integration noise), the branch's corrector tries again
+        self.locate_corrector = bif.Corrector(system, min(opts.tol, opts.locate_tol),
+                                              opts.max_newton)
         self.locate_settings = _integration(opts, opts.locate_rtol, opts.locate_atol)
         self.points: list[_Point] = []
         self.found: list[Bifurcation] = []
@@ -429,8 +432,12 @@ class _Tracer:
         previous = self.points[-1]
         self.points.append(point)
         for kind in self._changes(previous.tests, point.tests):
+            xtol = 1e-13 * (1.0 + abs(float(point.u[-1])))
             located = bif.locate(kind, self.locate_corrector, self.locate_settings, previous.u,
-                                 previous.t, point.u, 1e-13 * (1.0 + abs(float(point.u[-1]))))
+                                 previous.t, point.u, xtol)
+            if located is None and self.locate_corrector.tol < self.corrector.tol:
+                located = bif.locate(kind, self.corrector, self.locate_settings, previous.u,
+                                     previous.t, point.u, xtol)
             if located is None:
                 continue
             if kind == "fold" and self._length(located.u) < 1e-3 * self.L0:

@@ -251,7 +251,8 @@ def _newton(problem: _Problem, z: np.ndarray, n: int, J: np.ndarray | None) -> _
     A step whose end the model refuses (:class:`~flapping.errors.DomainError`: e.g. a stroke
     amplitude past 90 deg) is halved, back towards the last iterate, at most
     :data:`_MAX_HALVINGS` times in a row, and Newton goes on from there with a fresh Jacobian:
-    the plain Newton iteration wherever the model accepts every step.
+    the plain Newton iteration wherever the model accepts every step. A refused evaluation
+    counts as an iteration (towards ``nit`` and the cap).
     """
     prev = step = math.inf
     back: tuple[np.ndarray, np.ndarray] | None = None  # the last iterate and the step taken

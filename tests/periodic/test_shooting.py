@@ -400,3 +400,14 @@ def test_multiple_shooting_jacobian_matches_finite_differences():
 def test_bad_segments_are_valueerrors(kwargs, match):
     with pytest.raises(ValueError, match=match):
         find_periodic_orbit(rossler, MULTIFLAP_GUESS, 5.0, **kwargs)
+
+
+def test_the_test_fields_take_a_batch_of_states_as_solve_ivp_vectorized_passes():
+    from flapping.periodic.testproblems import lorenz, lorenz_jac, rossler
+
+    states = np.array([[1.0, -2.0, 0.5], [0.3, 4.0, -1.0], [2.0, 1.0, 25.0]]).T  # (3, m)
+    for field in (lorenz, rossler):
+        batch = field(0.0, states)
+        for j in range(states.shape[1]):
+            np.testing.assert_array_equal(batch[:, j], field(0.0, states[:, j]))
+    assert lorenz_jac(0.0, [1.0, 2.0, 3.0]).shape == (3, 3)  # a list, as before
