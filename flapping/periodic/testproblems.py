@@ -33,9 +33,12 @@ def _floats(x: Any) -> Any:
     # A float64 state of three: Python floats, the same IEEE arithmetic as NumPy scalars at a
     # fraction of the cost (these fields run at every stage of every integration of a
     # continuation). Anything else (a batch of states, other dtypes) is indexed as it comes.
-    if type(x) is np.ndarray and x.shape == (3,) and x.dtype == np.float64:
+    if type(x) is np.ndarray and x.dtype is _FLOAT64 and x.ndim == 1 and x.size == 3:
         return x.tolist()
     return x[0], x[1], x[2]
+
+
+_FLOAT64 = np.dtype(np.float64)  # NumPy's built-in dtypes are singletons: `is` compares them
 
 
 def lorenz(t: float, x: Any, sigma: float = 10.0, rho: float = 28.0,
