@@ -15,6 +15,10 @@ Rössler system (a = b = 0.2, c = 5.7) in two places, to different precision:
   multiplier to 10 (:data:`ROSSLER_T_WEB`, :data:`ROSSLER_MU_WEB`). That page's period differs
   from the course code's in its 11th digit.
 
+Viswanath (2003) computes the Lorenz system's periodic orbits (sigma = 10, r = 28, b = 8/3) to 14
+digits; the orbit AB's period and its point on the section z = r - 1 = 27 are
+:data:`VISWANATH_AB_T` and :data:`VISWANATH_AB_XY`.
+
 Dednam and Botha (2015), who introduced the optimized shooting method, report their own Rössler
 case (a = 0.15, b = 0.2, c = 3.5) in their Table 1: its period and the modulus of its largest
 non-trivial multiplier (:data:`DEDNAM_BOTHA_T`, :data:`DEDNAM_BOTHA_MU`).
@@ -35,6 +39,9 @@ __all__ = [
     "ROSSLER_MU_WEB",
     "DEDNAM_BOTHA_T",
     "DEDNAM_BOTHA_MU",
+    "VISWANATH_AB_T",
+    "VISWANATH_AB_XY",
+    "VISWANATH_AB_Z",
 ]
 
 #: The most digits a comparison of doubles can show: beyond about 16 significant digits the
@@ -102,6 +109,16 @@ ROSSLER_T_CODE = PrintedValue("5.881088455554846384", _CODE)
 ROSSLER_T_WEB = PrintedValue("5.88108845586", _WEB)
 #: The expanding Floquet multiplier of that orbit, as ChaosBook's web page prints it.
 ROSSLER_MU_WEB = PrintedValue("-2.403953527", _WEB)
+
+_VISWANATH = "Viswanath (2003), Nonlinearity 16, 1035-1056, orbit AB"
+
+#: Period of the Lorenz orbit AB, as printed.
+VISWANATH_AB_T = PrintedValue("1.5586522107162", _VISWANATH)
+#: (x, y) of the orbit AB on the section z = r - 1, as printed.
+VISWANATH_AB_XY = (PrintedValue("-13.763610682134", _VISWANATH),
+                   PrintedValue("-19.578751942452", _VISWANATH))
+#: The section's z = r - 1 (r = 28).
+VISWANATH_AB_Z = 27.0
 
 _DB = "Dednam and Botha (2015), Table 1"
 

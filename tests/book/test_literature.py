@@ -59,3 +59,35 @@ def test_dednam_and_botha_printed_their_orbit_to_the_digits_our_shooting_finds()
     assert agreement_digits(orbit.period, DEDNAM_BOTHA_T) > 12.0
     mu = float(np.max(np.abs(nontrivial_multipliers(mon))))
     assert abs(mu - DEDNAM_BOTHA_MU.value) <= 0.5e-6
+
+
+def test_viswanaths_orbit_ab_is_found_to_his_printed_digits():
+    # from his (x, y) on the section z = r - 1, rounded to one decimal, and his period rounded
+    import numpy as np
+
+    from flapping.book.literature import VISWANATH_AB_T, VISWANATH_AB_XY, VISWANATH_AB_Z
+    from flapping.periodic.shooting import find_periodic_orbit
+    from flapping.periodic.testproblems import lorenz, lorenz_jac
+
+    x_ab = np.array([*(v.value for v in VISWANATH_AB_XY), VISWANATH_AB_Z])
+    orbit = find_periodic_orbit(lorenz, np.round(x_ab, 1), round(VISWANATH_AB_T.value, 2),
+                                fixed=[2], jac=lorenz_jac)
+    assert agreement_digits(orbit.period, VISWANATH_AB_T) > 13.0
+    for ours, printed in zip(orbit.x0[:2], VISWANATH_AB_XY, strict=True):
+        assert abs(ours - printed.value) < 1e-10
+
+
+def test_no_page_types_a_literature_value():
+    # every page reads them from flapping.book.literature, so a source's digits live once
+    from pathlib import Path
+
+    from flapping.book import literature
+
+    printed = [getattr(literature, name) for name in literature.__all__
+               if isinstance(getattr(literature, name), PrintedValue)]
+    printed += list(literature.VISWANATH_AB_XY)
+    book = Path(__file__).resolve().parents[2] / "book"
+    for page in book.glob("*.md"):
+        text = page.read_text()
+        for value in printed:
+            assert value.text not in text, f"{page.name} types {value.text} ({value.source})"
