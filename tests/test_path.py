@@ -112,3 +112,19 @@ def test_order_three_keeps_four_points_and_predicts_a_cubic_exactly():
     warm = WarmStart(solve, lambda point, result: np.array([result**3]), secant=True, order=3)
     follow([(s, s) for s in (1.0, 2.0, 3.0, 4.0, 5.0)], warm)
     np.testing.assert_allclose(solve.calls[4][1], [125.0], rtol=1e-13)
+
+
+def test_a_number_line_is_positioned_as_the_general_case_positions_a_grid_line():
+    # 1-tuples take a fast path; a second axis held fixed sends the same values through the
+    # general one: the positions must be the same numbers
+    from flapping.studies._path import _line_positions
+
+    rng = np.random.default_rng(3)
+    for _ in range(2000):
+        n = int(rng.integers(3, 7))
+        values = list(rng.uniform(-5, 5) + rng.choice([0.1, 1e-3, 0.012, 3.0]) * np.arange(n))
+        if rng.random() < 0.2:
+            values[int(rng.integers(n))] += float(rng.uniform(-1, 1))
+        line = [(float(v),) for v in values]
+        grid = [(float(v), 0.7) for v in values]
+        assert _line_positions(line[:-1], line[-1]) == _line_positions(grid[:-1], grid[-1])

@@ -738,15 +738,13 @@ def _solve(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int, tol_am
             f"the compiled kernel could not meet the tolerances with {n} steps per half-stroke "
             f"(estimated errors: Phi {math.degrees(z_err[4]):.2e} deg, multipliers "
             f"{mu_err:.2e})", x=z, residual=float(np.linalg.norm(r)), iterations=total_nit)
-    period, errors = problem.period, z_err.tolist()
+    period = problem.period
     return HoverSolution(
         x0=_read_only(z[:4].copy()), amplitude=float(z[4]), alpha_m=problem.alpha_m,
         period=period, monodromy=_read_only(_monodromy(y)),
         multipliers=_read_only(eigenvalues), trace_integral=float(y[30]),
         residual=_read_only(r), nit=total_nit, nfev=nfev, n_steps=n,
-        amplitude_error=errors[4],
-        x0_error=max(errors[:4]) if not math.isnan(sum(errors[:4])) else math.nan,
-        multiplier_error=mu_err,
+        amplitude_error=float(z_err[4]), x0_error=float(z_err[:4].max()), multiplier_error=mu_err,
         mean_velocity=_read_only(np.array([y[31], -y[4]]) / period))
 
 

@@ -200,8 +200,8 @@ class HoverOrbit:
         (:attr:`~flapping.hover.stability.HoverStability.multiplier_error`).
     mean_velocity : ndarray or None
         (forward, climb) cycle means of the inertial velocities [m/s] from the solve's own
-        integration, where its path has them (the fixed-step path integrates the distances
-        flown on its mesh); None: from the kernel's result, or from the samples.
+        integration, where its path has them (the kernel's Newton integration; the fixed-step
+        path's mesh); None: :attr:`mean_inertial_velocity` takes them from the samples.
     """
 
     problem: HoverProblem | None
@@ -289,9 +289,8 @@ class HoverOrbit:
         On the compiled and fixed-step paths from their own integration (x_e(T) / T and
         -z(T) / T, integrated with the orbit); from the samples otherwise.
         """
-        if self.kernel is not None or self.mean_velocity is not None:
-            given = self.kernel.mean_velocity if self.mean_velocity is None else self.mean_velocity
-            forward, climb = given
+        if self.mean_velocity is not None:
+            forward, climb = self.mean_velocity
             return {"forward": float(forward), "climb": float(climb)}
         u, w, _, th = self.x[:, :-1]
         return {"forward": float(np.mean(u * np.cos(th) + w * np.sin(th))),
@@ -565,29 +564,27 @@ def _fixed_step_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, 
         funs, np.concatenate([x0, np.zeros(extra)]), 2.0, free_params=list(guess),
         fixed=tuple(range(4, 4 + extra)), breakpoints=(0.5,), switches=switches, tol=tol,
         **settings)
-    assert result.params is not None  # the trims are free parameters
-    trims = [float(v) for v in result.params]
-    _check_converged_trims(problem, result, trims)
-    velocity = _fixed_step_mean_velocity(problem, result.x0[:4], trims, result.n_steps)
-    orbit = _orbit_of(problem, result, "fixed-step", fixed_step=result, mean_velocity=velocity)
+    orbit = _orbit_of(problem, result, "fixed-step", fixed_step=result)  # the trims checked
+    object.__setattr__(orbit, "mean_velocity", readonly(_fixed_step_mean_velocity(orbit)))
     object.__setattr__(orbit, "samples",
                        _AdaptiveSamples(orbit.model, orbit.x0, n_samples, rtol, atol))
     return orbit
 
 
-def _fixed_step_mean_velocity(problem: HoverProblem, x0: np.ndarray, trims: list[float],
-                              n_steps: int) -> np.ndarray:
+def _fixed_step_mean_velocity(orbit: HoverOrbit) -> np.ndarray:
     """(forward, climb) cycle means of a fixed-step orbit: x_e(T) / T and -z(T) / T on the solve's
     mesh (the two-trim field carries x_e), instead of sampling the orbit adaptively."""
+    problem, solved = orbit.problem, orbit.fixed_step
+    assert problem is not None and solved is not None
     full = problem
     if problem.n_conditions == 1:  # the two-trim field carries x_e; on the problem's own model
         full = HoverProblem(problem.insect, problem.aerodynamics, problem.alpha_m, TRIMS[1],
                             trim_check=False)
         full.__dict__["model"] = problem.model  # the cached_property's slot (of_model's models)
-    params = trims if len(trims) == 2 else [trims[0], problem.insect.stroke_mean]
     funs, switches = full.graded_fields()
-    end = fixed_step_flow(funs, np.concatenate([x0, [0.0, 0.0]]), 2.0, n_steps=n_steps,
-                          free_params=params, breakpoints=(0.5,), switches=switches)
+    end = fixed_step_flow(funs, np.concatenate([orbit.x0, [0.0, 0.0]]), 2.0,
+                          n_steps=solved.n_steps, free_params=[orbit.amplitude, orbit.stroke_mean],
+                          breakpoints=(0.5,), switches=switches)
     return np.array([end[5], -end[4]]) / problem.period
 
 
@@ -670,6 +667,7 @@ def _kernel_orbit(problem: HoverProblem, amplitude: float, x0: np.ndarray, n_sam
     x_start = sol.x0  # read-only already
     return HoverOrbit(problem, x_start, sol.amplitude, problem.insect.stroke_mean, sol.z_drift,
                       "compiled", sol.nit, sol.nfev, sol.residual_norm, kernel=sol,
+                      mean_velocity=sol.mean_velocity,
                       samples=_KernelSamples(kp, x_start, sol.amplitude, n_samples))
 
 

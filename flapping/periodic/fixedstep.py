@@ -581,6 +581,28 @@ def _probe(pmap: PeriodMap, x: np.ndarray, params: np.ndarray | None) -> None:
             check.finite_output(name, out, t, x)
 
 
+def _checked_map(fun: Any, jac: Any, param_jac: Any, x0: Any, period: float, n_steps: int,
+                 free_params: Any, breakpoints: Sequence[float], switches: Sequence[Any],
+                 args: tuple[Any, ...], max_nfev: int | None, difference_scale: Any = 1.0
+                 ) -> tuple[PeriodMap, np.ndarray, np.ndarray | None, int]:
+    """The checked arguments of :func:`fixed_step_monodromy` and :func:`fixed_step_flow`: their
+    period map (each callable probed at x0), x0, the parameters and the step count."""
+    x = check.vector("x0", x0)
+    T = check.positive("period", period)
+    b = seg.check_breakpoints(breakpoints)
+    params = (None if free_params is None
+              else check.vector("free_params", np.atleast_1d(free_params)))
+    funs, jacs, pjacs = _callables(fun, jac, param_jac, len(b) + 1, params is not None)
+    n = check.integer("n_steps", n_steps, low=2, high=MAX_STEPS)
+    cap = MAX_NFEV if max_nfev is None else check.integer("max_nfev", max_nfev, low=1,
+                                                          high=MAX_NFEV_CAP)
+    scale = check.real("difference_scale", difference_scale, low=0.1, high=10.0)
+    pmap = PeriodMap(funs, jacs, pjacs, tuple(args), T, b, params is not None, cap,
+                     _switches(switches, len(b) + 1), difference_scale=scale)
+    _probe(pmap, x, params)
+    return pmap, x, params, n
+
+
 def fixed_step_monodromy(
     fun: Callable[..., Any] | Sequence[Callable[..., Any]],
     x0: Any,
@@ -631,19 +653,8 @@ def fixed_step_monodromy(
     ConvergenceError
         If the integration produces a non-finite value or exceeds ``max_nfev``.
     """
-    x = check.vector("x0", x0)
-    T = check.positive("period", period)
-    b = seg.check_breakpoints(breakpoints)
-    params = (None if free_params is None
-              else check.vector("free_params", np.atleast_1d(free_params)))
-    funs, jacs, pjacs = _callables(fun, jac, param_jac, len(b) + 1, params is not None)
-    n = check.integer("n_steps", n_steps, low=2, high=MAX_STEPS)
-    cap = MAX_NFEV if max_nfev is None else check.integer("max_nfev", max_nfev, low=1,
-                                                          high=MAX_NFEV_CAP)
-    scale = check.real("difference_scale", difference_scale, low=0.1, high=10.0)
-    pmap = PeriodMap(funs, jacs, pjacs, tuple(args), T, b, params is not None, cap,
-                     _switches(switches, len(b) + 1), difference_scale=scale)
-    _probe(pmap, x, params)
+    pmap, x, params, n = _checked_map(fun, jac, param_jac, x0, period, n_steps, free_params,
+                                      breakpoints, switches, args, max_nfev, difference_scale)
     try:
         _, D = pmap.derivative(x, params, n, range(x.size))
     except (NonFinite, OutOfWork) as exc:
@@ -693,18 +704,8 @@ def fixed_step_flow(
     ConvergenceError
         If the integration produces a non-finite value or exceeds ``max_nfev``.
     """
-    x = check.vector("x0", x0)
-    T = check.positive("period", period)
-    b = seg.check_breakpoints(breakpoints)
-    params = (None if free_params is None
-              else check.vector("free_params", np.atleast_1d(free_params)))
-    funs, jacs, pjacs = _callables(fun, None, None, len(b) + 1, params is not None)
-    n = check.integer("n_steps", n_steps, low=2, high=MAX_STEPS)
-    cap = MAX_NFEV if max_nfev is None else check.integer("max_nfev", max_nfev, low=1,
-                                                          high=MAX_NFEV_CAP)
-    pmap = PeriodMap(funs, jacs, pjacs, tuple(args), T, b, params is not None, cap,
-                     _switches(switches, len(b) + 1))
-    _probe(pmap, x, params)
+    pmap, x, params, n = _checked_map(fun, None, None, x0, period, n_steps, free_params,
+                                      breakpoints, switches, args, max_nfev)
     try:
         end = pmap.flow(x[None, :], None if params is None else params[None, :], n)[0]
     except (NonFinite, OutOfWork) as exc:
