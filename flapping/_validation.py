@@ -155,12 +155,7 @@ def vector(name: str, value: Any, *, size: int | None = None) -> np.ndarray:
     Bools and strings are refused, as in :func:`array` (``[True, False]`` or ``["1", "2"]`` would
     otherwise pass as numbers through ``float()``).
     """
-    if type(value) is np.ndarray and value.dtype == np.float64 and value.ndim == 1:
-        x = value.copy()  # the common case (a previous answer): no conversion to check
-        if not np.isfinite(x).all():
-            raise ValueError(f"`{name}` must be finite; got {value!r}")
-    else:
-        x = array(name, value)
+    x = array(name, value)
     if x.ndim != 1 or x.size == 0 or (size is not None and x.size != size):
         shape = "a non-empty 1-D array" if size is None else f"an array of shape ({size},)"
         raise ValueError(f"`{name}` must be {shape}; got shape {x.shape}")
@@ -197,14 +192,18 @@ def array(name: str, value: Any) -> np.ndarray:
     For arguments that broadcast (times, states, radii); bools and strings are refused as in
     :func:`real`.
     """
-    try:
-        x = np.asarray(value)
-    except (TypeError, ValueError):  # ragged nested sequences
-        raise ValueError(f"`{name}` must be an array of real numbers; got {value!r}") from None
-    if x.dtype.kind not in "iuf":
-        raise ValueError(
-            f"`{name}` must be an array of real numbers; got {value!r} (dtype {x.dtype})")
-    x = x.astype(float)
+    if type(value) is np.ndarray and value.dtype == np.float64:
+        x = value.copy()  # the common case (a previous answer): nothing to convert or refuse
+    else:
+        try:
+            x = np.asarray(value)
+        except (TypeError, ValueError):  # ragged nested sequences
+            raise ValueError(f"`{name}` must be an array of real numbers; got {value!r}"
+                             ) from None
+        if x.dtype.kind not in "iuf":
+            raise ValueError(
+                f"`{name}` must be an array of real numbers; got {value!r} (dtype {x.dtype})")
+        x = x.astype(float)
     if not np.isfinite(x).all():
         raise ValueError(f"`{name}` must be finite; got {value!r}")
     return x
