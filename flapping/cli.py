@@ -36,6 +36,7 @@ from typing import Any, NoReturn
 import numpy as np
 
 from flapping import __version__
+from flapping.backends import Adaptive
 from flapping.errors import ConvergenceError, PlausibilityWarning
 from flapping.hover import HoverOrbit, find_hover_orbit
 from flapping.hover.stability import HoverStability, hover_stability
@@ -296,9 +297,13 @@ def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str = "linear"
     """
     if isinstance(insect, str):
         insect = PRESETS[insect]() if insect in PRESETS else resolve_insect(insect)
-    shooting = _defaults(find_hover_orbit, "method", "rtol", "atol", "tol", "backend")
-    stability = _defaults(hover_stability, "method", "rtol", "atol", "rk4_steps", "n_average",
-                          "backend")
+    # The defaults are the backend objects' fields (flapping.backends): what a call runs with.
+    adaptive = Adaptive()
+    shooting = {"method": adaptive.method, "rtol": adaptive.rtol, "atol": adaptive.atol,
+                "tol": adaptive.tol, **_defaults(find_hover_orbit, "backend")}
+    stability = {"method": adaptive.method, "rtol": adaptive.analysis_rtol,
+                 "atol": adaptive.analysis_atol, "rk4_steps": adaptive.rk4_steps,
+                 **_defaults(hover_stability, "n_average", "backend")}
     # A hinge ahead of or behind the CG drifts unless the mean stroke angle is trimmed too.
     trims = ("amplitude",) if insect.hinge_offset == 0.0 else ("amplitude", "stroke_mean")
     # From the default guess, or by continuation from the same insect hinged at its CG with
@@ -308,8 +313,9 @@ def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str = "linear"
         plain = insect.with_(name=f"{insect.name} hinged at its CG, massless wings",
                              hinge_offset=0.0, hinge_height=0.0, wing_mass=0.0, stroke_mean=0.0)
     orbit, homotopy = robust_hover_orbit(insect, start=plain, aerodynamics=aerodynamics,
-                                         trims=trims, **shooting)
-    stab = hover_stability(orbit, **stability)
+                                         trims=trims, backend=shooting["backend"])
+    stab = hover_stability(orbit, n_average=stability["n_average"],
+                           backend=stability["backend"])
     report = {"version": __version__, "insect": insect.name,
               "insect_parameters": _insect_parameters(insect), "aerodynamics": aerodynamics,
               "trims": list(trims), "stroke_mean_deg": math.degrees(orbit.stroke_mean),

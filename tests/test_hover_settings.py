@@ -5,19 +5,16 @@ even one equal to the default), and an empty or absent settings object changes n
 from __future__ import annotations
 
 import inspect
-import json
 
 import numpy as np
 import pytest
 
 import flapping
-from flapping.hover import find_hover_orbit
-from flapping.hover import orbit as orbit_module
-from flapping.hover import stability as stability_module
+from flapping.backends import Adaptive
+from flapping.hover import ANALYSIS_ATOL, ANALYSIS_RTOL, find_hover_orbit
 from flapping.hover.branch import continue_hover
 from flapping.hover.stability import hover_stability
 from flapping.periodic import SolverSettings
-from flapping.periodic.settings import default, given
 
 LOOSE = SolverSettings(rtol=1e-8, atol=1e-9, tol=1e-7)
 
@@ -37,22 +34,22 @@ def _same_orbit(a, b) -> bool:
             and a.backend == b.backend)
 
 
-def test_marked_defaults_are_the_numbers_the_signature_shows():
-    # The book and the CLI read these defaults from the signature (and the CLI prints them as
-    # JSON): they must stay the plain numbers, while `given` tells them from explicit ones.
-    for function, defaults in ((find_hover_orbit, orbit_module.DEFAULTS),
-                               (hover_stability, stability_module.DEFAULTS)):
+def test_the_signatures_hold_no_default_number_the_backend_objects_do():
+    # One place for every default: the backend objects' fields. The hover layer's signatures
+    # say None for a tolerance (the object's field then applies).
+    for function in (find_hover_orbit, hover_stability):
         parameters = inspect.signature(function).parameters
-        for name, value in defaults.items():
-            if value is None:
-                continue
-            shown = parameters[name].default
-            assert shown == value and repr(shown) == repr(value), (function, name)
-            assert json.dumps(shown) == json.dumps(value)
-            assert given(shown) is None and given(value) == value
-    assert given(default(3)) is None and given(3) == 3 and given("DOP853") == "DOP853"
-    with pytest.raises(TypeError):
-        default(True)
+        for name in ("method", "rtol", "atol"):
+            assert parameters[name].default is None, (function, name)
+    assert inspect.signature(find_hover_orbit).parameters["tol"].default is None
+    assert (Adaptive.rtol, Adaptive.atol, Adaptive.tol) == (1e-11, 1e-12, 1e-10)
+    assert Adaptive.analysis_rtol == ANALYSIS_RTOL and Adaptive.analysis_atol == ANALYSIS_ATOL
+
+
+def test_the_default_solve_is_the_default_object_s(insect, adaptive):
+    assert _same_orbit(adaptive, find_hover_orbit(insect, backend=Adaptive()))
+    explicit = Adaptive(rtol=1e-11, atol=1e-12, tol=1e-10)
+    assert _same_orbit(adaptive, find_hover_orbit(insect, backend=explicit))
 
 
 def test_empty_settings_change_nothing(insect, adaptive):

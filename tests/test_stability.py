@@ -113,17 +113,20 @@ def test_perturbation_growth_validates_its_arguments(stability):
 
 
 def test_default_tolerances_are_the_ones_results_were_computed_with():
-    # The tolerances used to be written into each function (rtol 1e-12; atol 1e-12, or 1e-14
-    # for the perturbed simulations); as defaults they must not change any result.
+    # The analysis tolerances (rtol 1e-12; atol 1e-12, or 1e-14 for the perturbed simulations)
+    # live in one place, the Adaptive backend's fields and PERTURBATION_ATOL; the signatures say
+    # None, and a call without them is the call with them.
     assert (ANALYSIS_RTOL, ANALYSIS_ATOL, PERTURBATION_ATOL) == (1e-12, 1e-12, 1e-14)
     from flapping.hover import force_budget
 
-    expected = {hover_stability: (1e-12, 1e-12), mode_response: (1e-12, 1e-12),
-                perturbation_growth: (1e-12, 1e-14), simulate_perturbation: (1e-12, 1e-14),
-                force_budget: (1e-12, 1e-12)}
-    for function, (rtol, atol) in expected.items():
+    for function in (hover_stability, mode_response, perturbation_growth, simulate_perturbation,
+                     force_budget):
         parameters = inspect.signature(function).parameters
-        assert (parameters["rtol"].default, parameters["atol"].default) == (rtol, atol), function
+        assert (parameters["rtol"].default, parameters["atol"].default) == (None, None), function
+    adaptive = find_hover_orbit(flapping.hawkmoth(), backend="adaptive")
+    explicit = hover_stability(adaptive, rtol=1e-12, atol=1e-12)
+    assert np.array_equal(hover_stability(adaptive).monodromy, explicit.monodromy)
+    assert force_budget(adaptive, 64) == force_budget(adaptive, 64, rtol=1e-12, atol=1e-12)
 
 
 def test_tolerances_reach_the_integrations(stability):

@@ -1,8 +1,9 @@
 """The hover application: the insect model joined to the periodic-orbit tools.
 
 - :mod:`flapping.hover.problem`: :class:`HoverProblem`, the hover problem of one insect (its
-  right-hand sides, Jacobians and trim sensitivities, the kernel's packing, and the one place
-  that decides which backend runs);
+  right-hand sides, Jacobians and trim sensitivities, the kernel's packing), and
+  :func:`~flapping.hover.problem.choose_backend`, the one function that decides which backend
+  runs;
 - :mod:`flapping.hover.orbit`: :func:`find_hover_orbit` and :class:`HoverOrbit`, the orbit at a
   prescribed amplitude (:func:`forced_orbit`), the paper's own hover condition
   (:func:`paper_hover_problem`) and the force budget;
@@ -19,6 +20,7 @@ from flapping.hover.orbit import (
     ANALYSIS_ATOL,
     ANALYSIS_RTOL,
     HALF_PERIOD_SYMMETRY,
+    HOVER_SPEED_ATOL,
     HOVER_SPEED_RTOL,
     HoverOrbit,
     HoverStatus,
@@ -28,7 +30,7 @@ from flapping.hover.orbit import (
     paper_hover_problem,
     use_kernel,
 )
-from flapping.hover.problem import BACKENDS, DEFAULT_BACKEND, TRIMS, HoverProblem
+from flapping.hover.problem import BACKENDS, DEFAULT_BACKEND, TRIMS, HoverProblem, choose_backend
 
 __all__ = [
     "ANALYSIS_ATOL",
@@ -36,11 +38,13 @@ __all__ = [
     "BACKENDS",
     "DEFAULT_BACKEND",
     "HALF_PERIOD_SYMMETRY",
+    "HOVER_SPEED_ATOL",
     "HOVER_SPEED_RTOL",
     "TRIMS",
     "HoverOrbit",
     "HoverProblem",
     "HoverStatus",
+    "choose_backend",
     "find_hover_orbit",
     "force_budget",
     "forced_orbit",

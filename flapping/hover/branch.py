@@ -26,6 +26,8 @@ from typing import Any
 
 import numpy as np
 
+from flapping import _validation
+from flapping.backends import Adaptive, as_backend
 from flapping.hover.orbit import find_hover_orbit
 from flapping.hover.problem import HoverProblem
 from flapping.model.dynamics import LongitudinalDynamics
@@ -33,7 +35,7 @@ from flapping.model.morphology import Insect
 from flapping.periodic.continuation import Branch, continue_orbit
 from flapping.periodic.settings import SolverSettings
 
-__all__ = ["continue_hover", "HoverFields"]
+__all__ = ["CONTINUATION", "continue_hover", "HoverFields"]
 
 #: Insect models kept per parameter value (the variational equations difference in p).
 _CACHE = 8
@@ -100,9 +102,15 @@ class HoverFields:
         return f
 
 
+#: The continuation's default path: the adaptive one, with a decade looser ``rtol`` than a single
+#: solve (every branch point is corrected by Newton on the variational equations, a few hundred
+#: integrations a branch) and ``tol`` the corrector's relative residual.
+CONTINUATION = Adaptive(rtol=1e-10, tol=1e-9)
+
+
 def continue_hover(insect: Insect, parameter_name: str, end: float, *,
-                   aerodynamics: str = "linear", settings: SolverSettings | None = None,
-                   **options: Any) -> Branch:
+                   aerodynamics: str = "linear", backend: Adaptive | str = CONTINUATION,
+                   settings: SolverSettings | None = None, **options: Any) -> Branch:
     """Continue the hover orbit and its stroke amplitude in one insect field.
 
     Parameters
@@ -116,16 +124,19 @@ def continue_hover(insect: Insect, parameter_name: str, end: float, *,
         Where to stop.
     aerodynamics : str, optional
         Loads model (``"linear"``: eq. 29).
+    backend : "adaptive" or Adaptive
+        The continuation runs on the adaptive path (:func:`~flapping.periodic.continuation.
+        continue_orbit`); its ``method``, ``rtol``, ``atol``, ``max_steps`` and ``tol`` (the
+        corrector's, relative to the states' size) are taken from this object, by default
+        :data:`CONTINUATION`. ``"adaptive"`` or ``"auto"`` mean :data:`CONTINUATION`.
     **options
         Passed to :func:`~flapping.periodic.continuation.continue_orbit` (``ds``, ``ds_max``,
-        ``max_points``, tolerances, ...). Defaults here: ``rtol`` 1e-10, ``atol`` 1e-12,
-        ``tol`` 1e-9.
+        ``max_points``, tolerances, ...); a tolerance given here overrides ``backend``'s.
     settings : SolverSettings, optional
-        The continuation's ``method``, ``rtol``, ``atol``, ``max_steps``, ``tol`` and
-        ``max_newton`` as one object (:class:`~flapping.periodic.SolverSettings`, as
-        :func:`~flapping.periodic.continuation.continue_orbit` reads it); a field set there
-        replaces the default above, and an option given as a keyword overrides the field. The
-        hover orbit at the start is found with :func:`~flapping.hover.find_hover_orbit`'s own
+        The continuation's options as one object (:class:`~flapping.periodic.SolverSettings`,
+        as :func:`~flapping.periodic.continuation.continue_orbit` reads it); a field set there
+        replaces ``backend``'s, and an option given as a keyword overrides the field. The hover
+        orbit at the start is found with :func:`~flapping.hover.find_hover_orbit`'s own
         defaults.
 
     Returns
@@ -142,13 +153,21 @@ def continue_hover(insect: Insect, parameter_name: str, end: float, *,
     ConvergenceError
         If the hover orbit cannot be found at the start.
     """
+    path = _continuation_path(backend)
     problem = HoverFields(insect, parameter_name, aerodynamics)
     p0 = float(getattr(insect, parameter_name))
+    end = _validation.real("end", end)
+    try:  # the field's own range: a branch towards a value no insect has would run for ever
+        insect.with_(**{parameter_name: end})
+    except ValueError as exc:
+        raise ValueError(f"`end` = {end!r} is outside the range of {parameter_name!r}: {exc}"
+                         ) from None
     start = find_hover_orbit(problem.problem(p0))
-    # The defaults are passed as keywords (which win over settings): only those settings
-    # leaves unset.
-    defaults = {k: v for k, v in DEFAULTS.items()
-                if settings is None or getattr(settings, k) is None}
+    # The backend's options are passed as keywords (which win over settings): only those
+    # settings leaves unset.
+    defaults = {k: getattr(path, k) for k in ("method", "rtol", "atol", "tol", "max_steps")
+                if getattr(path, k) is not None
+                and (settings is None or getattr(settings, k) is None)}
     return continue_orbit(
         problem.funs, np.append(start.x0, 0.0), problem.period, p0, end, autonomous=False,
         jac=problem.jacs, breakpoints=problem.breakpoints, fixed=(4,),
@@ -156,7 +175,11 @@ def continue_hover(insect: Insect, parameter_name: str, end: float, *,
         **{**defaults, **options})
 
 
-#: What :func:`continue_hover` passes to :func:`~flapping.periodic.continuation.continue_orbit`
-#: for each of these :class:`~flapping.periodic.SolverSettings` fields when neither a keyword
-#: nor ``settings`` gives it (continue_orbit's own defaults otherwise).
-DEFAULTS: dict[str, Any] = {"rtol": 1e-10, "atol": 1e-12, "tol": 1e-9}
+def _continuation_path(backend: Any) -> Adaptive:
+    """The continuation's Adaptive backend (:data:`CONTINUATION` for a name)."""
+    spec = as_backend(backend)
+    if isinstance(spec, str):
+        return CONTINUATION
+    if not isinstance(spec, Adaptive):
+        raise ValueError(f"continue_hover runs on the adaptive path only; got backend={backend!r}")
+    return spec

@@ -32,9 +32,11 @@ from __future__ import annotations
 import enum
 import logging
 import math
+import time
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from dataclasses import fields as dataclass_fields
 from functools import cached_property
 from typing import Any
 
@@ -42,6 +44,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from flapping import _validation
+from flapping.backends import (
+    AUTO,
+    Adaptive,
+    Backend,
+    Compiled,
+    FixedStep,
+    as_backend,
+    warn_unused,
+)
 from flapping.errors import ConvergenceError, HoverDriftWarning, require_success
 from flapping.fast import kernel as _kernel
 from flapping.hover.problem import (
@@ -49,6 +60,7 @@ from flapping.hover.problem import (
     TRIMS,
     HoverProblem,
     check_trims,
+    choose_backend,
     even_samples,
     state_guess,
 )
@@ -62,15 +74,18 @@ from flapping.periodic.fixedstep import (
     fixed_step_flow,
 )
 from flapping.periodic.integrate import flow, variational_flow
-from flapping.periodic.settings import SolverSettings, default, given, resolve
+from flapping.periodic.settings import SolverSettings
 from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
+from flapping.results import Stats, Status
 
 __all__ = [
     "ANALYSIS_ATOL",
     "ANALYSIS_RTOL",
     "HALF_PERIOD_SYMMETRY",
+    "HOVER_SPEED_ATOL",
     "HOVER_SPEED_RTOL",
     "HoverOrbit",
+    "HOVER_METHODS",
     "HoverStatus",
     "find_hover_orbit",
     "forced_orbit",
@@ -90,13 +105,18 @@ HALF_PERIOD_SYMMETRY = np.diag([-1.0, 1.0, -1.0, -1.0])
 #: 1 mm off the centre of gravity makes it fly at ~0.4 m/s.
 HOVER_SPEED_RTOL = 1e-6
 
+#: Largest cycle-mean inertial speed of an orbit still called hover, in absolute terms [m/s]
+#: (10 um/s, under a body length an hour for any insect): the relative test alone would call an
+#: orbit hover whatever its speed for an absurd wingtip speed.
+HOVER_SPEED_ATOL = 1e-5
+
 #: Default tolerances (relative; absolute in the states' SI units) of the integrations that
 #: analyse a found orbit (its force budget here; its averaged Jacobian, Floquet modes and
-#: perturbations in :mod:`flapping.hover.stability`): a decade tighter than the orbit's own (rtol
-#: 1e-11), so that the analysis adds no error of its own.
-ANALYSIS_RTOL = 1e-12
+#: perturbations in :mod:`flapping.hover.stability`): :class:`~flapping.backends.Adaptive`'s
+#: ``analysis_rtol`` and ``analysis_atol``, a decade tighter than the orbit's own.
+ANALYSIS_RTOL: float = Adaptive.analysis_rtol
 #: Default absolute tolerance of those analysis integrations (see :data:`ANALYSIS_RTOL`).
-ANALYSIS_ATOL = 1e-12
+ANALYSIS_ATOL: float = Adaptive.analysis_atol
 
 
 
@@ -113,6 +133,9 @@ class HoverStatus(enum.IntEnum):
     HOVER = 0
     DRIFTING = 1
     CLIMBING = 2
+
+    def __str__(self) -> str:
+        return self.name.lower()
 
 
 @dataclass(frozen=True)
@@ -142,16 +165,18 @@ class _KernelSamples:
 
 @dataclass(frozen=True)
 class _AdaptiveSamples:
-    """Samples integrated by the adaptive path on first use (the fixed-step path's orbit)."""
+    """Samples integrated by the adaptive path on first use (the adaptive and fixed-step paths'
+    orbits)."""
 
     model: LongitudinalDynamics
     x0: np.ndarray
     n_samples: int
+    method: str
     rtol: float
     atol: float
 
     def __call__(self) -> tuple[np.ndarray, np.ndarray]:
-        t, x, _ = _sample(self.model, self.x0, self.n_samples, "DOP853", rtol=self.rtol,
+        t, x, _ = _sample(self.model, self.x0, self.n_samples, self.method, rtol=self.rtol,
                           atol=self.atol)
         return t, x
 
@@ -202,6 +227,21 @@ class HoverOrbit:
         (forward, climb) cycle means of the inertial velocities [m/s] from the solve's own
         integration, where its path has them (the kernel's Newton integration; the fixed-step
         path's mesh); None: :attr:`mean_inertial_velocity` takes them from the samples.
+    solver : Compiled, FixedStep or Adaptive, or None
+        The backend object that solved it, with its options (:mod:`flapping.backends`).
+    stats : Stats or None
+        The solve's work: iterations, evaluations, wall-clock time
+        (:class:`~flapping.results.Stats`).
+    amplitude_error, x0_error, multiplier_error : float
+        The solve's error estimates, whatever path produced it: of Phi [rad], of x0 (largest
+        over the components, SI) and of the Floquet multipliers (largest absolute), on the
+        compiled and fixed-step paths from their Richardson estimates (see :attr:`kernel` and
+        :attr:`fixed_step` for what they were measured to be). NaN on the adaptive path, which
+        has none (``rtol`` bounds each step's local error, not the unknowns').
+    solve_status : Status
+        The solve's outcome (:class:`~flapping.results.Status`): ``SUCCESS`` for a returned
+        orbit (a failed solve raises :class:`~flapping.errors.ConvergenceError`). :attr:`status`
+        says what the orbit is (hover, drifting or climbing).
     """
 
     problem: HoverProblem | None
@@ -214,11 +254,18 @@ class HoverOrbit:
     nfev: int
     residual_norm: float
     shooting: PeriodicOrbit | None = field(default=None, repr=False)
-    kernel: Any = field(default=None, repr=False)
-    samples: Any = field(default=None, repr=False)
+    kernel: _kernel.HoverSolution | None = field(default=None, repr=False)
+    samples: _Sampled | _KernelSamples | _AdaptiveSamples | None = field(default=None,
+                                                                         repr=False)
     model_given: LongitudinalDynamics | None = field(default=None, repr=False)
     fixed_step: FixedStepOrbit | None = field(default=None, repr=False)
     mean_velocity: np.ndarray | None = field(default=None, repr=False)
+    solver: Backend | None = field(default=None, repr=False)
+    stats: Stats | None = field(default=None, repr=False)
+    amplitude_error: float = field(default=math.nan, repr=False)
+    x0_error: float = field(default=math.nan, repr=False)
+    multiplier_error: float = field(default=math.nan, repr=False)
+    solve_status: Status = field(default=Status.SUCCESS, repr=False)
 
     def __post_init__(self) -> None:
         freeze(self)  # an analysis of the orbit must be an analysis of what was solved
@@ -312,20 +359,26 @@ class HoverOrbit:
         """:class:`HoverStatus`: hover, drifting horizontally, or climbing/sinking.
 
         A mean speed counts if it exceeds :data:`HOVER_SPEED_RTOL` times the
-        :attr:`wingtip_speed`.
+        :attr:`wingtip_speed` or :data:`HOVER_SPEED_ATOL`.
         """
         v = self.mean_inertial_velocity
-        limit = HOVER_SPEED_RTOL * self.wingtip_speed
+        limit = self.hover_speed_tol
         if abs(v["climb"]) > limit:
             return HoverStatus.CLIMBING
         return HoverStatus.DRIFTING if abs(v["forward"]) > limit else HoverStatus.HOVER
+
+    @property
+    def hover_speed_tol(self) -> float:
+        """The largest cycle-mean speed of a hover orbit [m/s]: :data:`HOVER_SPEED_RTOL` times
+        the :attr:`wingtip_speed`, at most :data:`HOVER_SPEED_ATOL`."""
+        return min(HOVER_SPEED_RTOL * self.wingtip_speed, HOVER_SPEED_ATOL)
 
     @property
     def is_hover(self) -> bool:
         """True if the orbit stays in place on average (:attr:`status` is ``HOVER``).
 
         That is, if both cycle-mean inertial speeds (:attr:`mean_inertial_velocity`) are at most
-        :data:`HOVER_SPEED_RTOL` times the :attr:`wingtip_speed`. False for an orbit that drifts
+        :attr:`hover_speed_tol`. False for an orbit that drifts
         horizontally (a hinge offset, see :class:`~flapping.errors.HoverDriftWarning`) or climbs
         or sinks (an orbit of :func:`forced_orbit` away from the hover amplitude).
         """
@@ -375,14 +428,14 @@ def find_hover_orbit(
     alpha_m: float | None = None,
     amplitude_guess: float | None = None,
     x0_guess: ArrayLike | None = None,
-    method: str = default("DOP853"),
-    jacobian: str | None = None,
-    rtol: float = default(1e-11),
-    atol: float = default(1e-12),
-    tol: float = default(1e-10),
-    n_samples: int = 512,
-    backend: str = DEFAULT_BACKEND,
+    backend: Backend | str = DEFAULT_BACKEND,
     trims: Sequence[str] = ("amplitude",),
+    n_samples: int = 512,
+    method: str | None = None,
+    jacobian: str | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    tol: float | None = None,
     kernel_options: Mapping[str, Any] | None = None,
     fixed_step_options: Mapping[str, Any] | None = None,
     settings: SolverSettings | None = None,
@@ -407,48 +460,31 @@ def find_hover_orbit(
         Initial guess of Phi [rad]; default ``insect.stroke_amplitude``.
     x0_guess : sequence of 4 floats, optional
         Initial guess of (u, w, q, theta); default zeros.
-    jacobian : {"variational", "finite-difference"}, optional
-        Jacobian of the shooting residual on the adaptive path. Default: ``"variational"`` for
-        the linear model (its Jacobian is analytic), ``"finite-difference"`` for the
-        blade-element models (their Jacobian would itself be differenced at every step, which
-        costs more, and the variational system's step sequence then varies enough between
-        iterates to hold the residual at the integration-noise floor ~1e-10).
-    method, rtol, atol, tol
-        Passed to :func:`flapping.periodic.shooting.find_periodic_orbit` on the adaptive path
-        (``tol``: largest accepted residual norm).
-    n_samples : int
-        Samples of the orbit over one period in the result (even, >= 2; integrated when first
-        used on the compiled path).
-    backend : {"auto", "compiled", "adaptive", "fixed-step"}
-        The integration path (see :data:`BACKENDS`): by default the compiled kernel where it
-        applies, the fixed-step path for the blade-element models; ``method``, ``jacobian``,
-        ``rtol`` and ``atol`` belong to the adaptive one (setting ``method`` or ``jacobian``
-        selects it under ``"auto"``; ``rtol`` and ``atol`` also sample the fixed-step path's
-        orbit). Under ``"auto"`` a kernel or a fixed-step solve that fails hands over to the
-        adaptive path.
+    backend : "auto", "compiled", "fixed-step", "adaptive", or a backend object
+        How the solve runs (:mod:`flapping.backends`: :class:`~flapping.backends.Compiled`,
+        :class:`~flapping.backends.FixedStep`, :class:`~flapping.backends.Adaptive`, each with
+        its options and their defaults). ``"auto"`` (:func:`~flapping.hover.problem.
+        choose_backend`): the compiled kernel where it applies, the fixed-step path for the
+        blade-element loads, the adaptive path otherwise; under ``"auto"`` a compiled or
+        fixed-step solve that fails hands over to the adaptive path.
     trims : ("amplitude",) or ("amplitude", "stroke_mean")
         The trim unknowns (:data:`TRIMS`). With ``"stroke_mean"`` the mean stroke angle phi_bar
         of phi = phi_bar + Phi cos(2 pi f t) is solved for too (guess: ``insect.stroke_mean``),
         and the forward distance flown over a period joins the equations: zero mean vertical and
-        horizontal speed, a true hover orbit for any hinge offset. Adaptive path only.
-    kernel_options : mapping, optional
-        Options of the compiled path, passed to :func:`flapping.fast.kernel.solve_hover`:
-        ``n_steps`` (steps per half-stroke to start with), ``amplitude_tol_deg``,
-        ``multiplier_tol``.
-    fixed_step_options : mapping, optional
-        Options of the fixed-step path, passed to
-        :func:`flapping.periodic.fixedstep.find_periodic_orbit_fixed_step`: ``n_steps`` (steps
-        per half-stroke to start with, default 64), ``error_tol`` (every unknown's Richardson
-        error estimate relative to max(1, abs(value)), default 1e-10), ``multiplier_tol``
-        (default None: estimated, not enforced) and ``max_nfev``; ``tol`` is the residual's.
-    settings : SolverSettings, optional
-        ``method``, ``rtol``, ``atol`` and ``tol`` as one object
-        (:class:`~flapping.periodic.SolverSettings`), with the same meaning as the keywords; the
-        adaptive path also takes its ``max_steps``, ``rk4_steps`` and ``max_nfev`` (passed to
-        :func:`~flapping.periodic.shooting.find_periodic_orbit`). A keyword given explicitly
-        overrides the same field; a field left at None keeps the default shown here. A
-        ``method`` other than ``"DOP853"`` selects the adaptive path under ``"auto"``, as the
-        keyword does.
+        horizontal speed, a true hover orbit for any hinge offset.
+    n_samples : int
+        Samples of the orbit over one period in the result (even, >= 2; integrated when first
+        used).
+    method, jacobian, rtol, atol, tol, kernel_options, fixed_step_options, settings
+        Shorthands for the options of the backend objects: ``method``, ``jacobian``, ``rtol``,
+        ``atol`` and ``settings`` (a :class:`~flapping.periodic.SolverSettings`) are
+        :class:`~flapping.backends.Adaptive`'s (another ``method`` or ``jacobian`` selects the
+        adaptive path under ``"auto"``); ``kernel_options`` (a mapping) are
+        :class:`~flapping.backends.Compiled`'s; ``fixed_step_options`` are
+        :class:`~flapping.backends.FixedStep`'s; ``tol`` (the residual's) is both the adaptive
+        and the fixed-step path's. An option for a path that does not run warns
+        (:class:`~flapping.backends.OptionWarning`); every option is checked whether or not its
+        path runs.
 
     Returns
     -------
@@ -467,53 +503,136 @@ def find_hover_orbit(
     Warns
     -----
     HoverDriftWarning
-        If the orbit's mean horizontal speed exceeds :data:`HOVER_SPEED_RTOL` times the mean
-        wingtip speed (the orbit holds its altitude but is not hover; see
-        :attr:`HoverOrbit.is_hover`).
+        If the orbit's mean horizontal speed exceeds the hover tolerance (:attr:`HoverOrbit.
+        is_hover`): the orbit holds its altitude but is not hover.
+    OptionWarning
+        If an option was given for a path that does not run.
     """
-    o = resolve(settings, DEFAULTS, method=given(method), rtol=given(rtol), atol=given(atol),
-                tol=given(tol))
-    method, rtol, atol, tol = o["method"], o["rtol"], o["atol"], o["tol"]
     problem = _problem(insect, aerodynamics, alpha_m, trims)
     guess = problem.guess(amplitude_guess)
     x0 = state_guess(x0_guess)
     n_samples = even_samples(n_samples)
-    adaptive_options = method != "DOP853" or jacobian not in (None, "variational")
+    options = Options.of(backend, method=method, jacobian=jacobian, rtol=rtol, atol=atol,
+                         tol=tol, kernel_options=kernel_options,
+                         fixed_step_options=fixed_step_options, settings=settings)
+    path = options.choose(problem)
     orbit = None
-    path = problem.backend(backend, adaptive_options=adaptive_options)
-    if path == "fixed-step":
+    started = time.perf_counter()
+    if not isinstance(path, Adaptive):
         try:
-            orbit = _fixed_step_orbit(problem, guess, x0, n_samples, fixed_step_options or {},
-                                      tol=tol, rtol=rtol, atol=atol)
+            if isinstance(path, Compiled):
+                orbit = _kernel_orbit(problem, path, float(guess[0]), x0, n_samples, started)
+            else:
+                orbit = _fixed_step_orbit(problem, path, guess, x0, n_samples, started)
         except ConvergenceError as exc:
-            if backend != "auto":
-                raise
-            _LOG.info("the fixed-step path failed (%s); trying the adaptive path", exc)
-    elif fixed_step_options:
-        raise ValueError("`fixed_step_options` belong to the fixed-step path, which does not "
-                         f"run here (backend={backend!r})")
-    if path == "compiled":
-        try:
-            orbit = _kernel_orbit(problem, float(guess[0]), x0, n_samples, kernel_options or {})
-        except ConvergenceError as exc:
-            if backend != "auto":
+            if not options.auto:
                 raise
             # "auto" promises an answer where either path has one: the adaptive path's
-            # step control survives stiff insects the fixed-step kernel does not.
-            _LOG.info("the compiled kernel failed (%s); trying the adaptive path", exc)
+            # step control survives insects the fixed-step paths do not.
+            _LOG.info("the %s path failed (%s); trying the adaptive path", path.name, exc)
     if orbit is None:
-        if jacobian is None:
-            jacobian = "variational" if problem.aerodynamics == "linear" else "finite-difference"
-        orbit = _adaptive_orbit(problem, guess, x0, n_samples, method=method,
-                                jacobian=jacobian, rtol=rtol, atol=atol, tol=tol,
-                                settings=settings)
+        orbit = _adaptive_orbit(problem, options.adaptive, guess, x0, n_samples, started)
     _warn_if_drifting(orbit)
     return orbit
 
 
-#: What :func:`find_hover_orbit` uses for each :class:`~flapping.periodic.SolverSettings` field
-#: it reads when neither the keyword nor ``settings`` gives it (the signature's defaults).
-DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": 1e-11, "atol": 1e-12, "tol": 1e-10}
+@dataclass(frozen=True)
+class Options:
+    """A hover entry point's backend argument and its keyword shorthands, as backend objects.
+
+    ``backend`` is the object or name the caller passed; the keywords build candidate objects
+    of every path (each checked, whether or not its path runs), and :meth:`choose` asks
+    :func:`~flapping.hover.problem.choose_backend` which path runs, warning about the options
+    that belong to another.
+    """
+
+    requested: Backend | str
+    adaptive: Adaptive
+    compiled: Compiled
+    fixed_step: FixedStep
+    given: Mapping[str, Mapping[str, Any]]
+
+    @property
+    def auto(self) -> bool:
+        """True if the caller let :func:`~flapping.hover.problem.choose_backend` decide."""
+        return self.requested == AUTO
+
+    @classmethod
+    def of(cls, backend: Any, *, method: Any = None, jacobian: Any = None, rtol: Any = None,
+           atol: Any = None, tol: Any = None, rk4_steps: Any = None,
+           kernel_options: Any = None, fixed_step_options: Any = None, settings: Any = None,
+           analysis: bool = False) -> Options:
+        """The options of a call (``analysis``: ``rtol``/``atol`` are the analysis's)."""
+        requested = as_backend(backend)
+        adaptive = _adaptive_keywords(settings, method=method, jacobian=jacobian, rtol=rtol,
+                                      atol=atol, tol=tol, rk4_steps=rk4_steps,
+                                      analysis=analysis)
+        compiled = _mapping("kernel_options", kernel_options, Compiled)
+        fixed = _mapping("fixed_step_options", fixed_step_options, FixedStep)
+        if tol is not None:
+            fixed = {**fixed, "tol": tol}
+        given = {Adaptive.name: adaptive, Compiled.name: compiled, FixedStep.name: fixed}
+        objects = {name: (requested if isinstance(requested, kind) else kind()).with_options(
+                   **given[name]) for name, kind in _KINDS.items()}
+        return cls(requested, objects[Adaptive.name], objects[Compiled.name],
+                   objects[FixedStep.name], given)
+
+    def choose(self, problem: HoverProblem, solved: Backend | None = None,
+               shared: Sequence[str] = ()) -> Backend:
+        """The path that runs, with the caller's options; warns about options of other paths
+        (except ``shared`` ones, which the caller uses whatever the path)."""
+        requested: Backend | str = self.requested
+        if self.auto and self.adaptive.chosen_by_options:
+            requested = self.adaptive
+        path = choose_backend(problem, requested, solved=solved)
+        chosen = {Adaptive.name: self.adaptive, Compiled.name: self.compiled,
+                  FixedStep.name: self.fixed_step}[path.name]
+        if path is not solved:
+            path = chosen
+        elif self.given[path.name]:
+            path = path.with_options(**self.given[path.name])
+        unused = {k: v for name, opts in self.given.items() if name != path.name
+                  for k, v in opts.items()
+                  if k not in shared and not (k == "tol" and "tol" in self.given[path.name])}
+        warn_unused(unused, path.name, stacklevel=4)
+        return path
+
+
+_KINDS: dict[str, type[Adaptive] | type[Compiled] | type[FixedStep]] = {
+    Adaptive.name: Adaptive, Compiled.name: Compiled, FixedStep.name: FixedStep}
+
+
+def _mapping(name: str, value: Any, kind: type[Compiled] | type[FixedStep]) -> dict[str, Any]:
+    """The options of ``kind`` given as the mapping keyword ``name`` (keys checked)."""
+    if value is None:
+        return {}
+    if not isinstance(value, Mapping):
+        raise ValueError(f"`{name}` must be a mapping of option names to values; got "
+                         f"{_validation._show(value)}")
+    known = sorted(f.name for f in dataclass_fields(kind))
+    unknown = sorted(map(str, set(value) - set(known)))
+    if unknown:
+        raise ValueError(f"`{name}` accepts {', '.join(known)} (the {kind.name} path's "
+                         f"options); got {unknown}")
+    return dict(value)
+
+
+def _adaptive_keywords(settings: Any, *, analysis: bool, **keywords: Any) -> dict[str, Any]:
+    """The adaptive path's options from its keywords and a SolverSettings (keywords win)."""
+    if settings is not None and not isinstance(settings, SolverSettings):
+        raise ValueError(f"`settings` must be a SolverSettings; got {settings!r} "
+                         f"({type(settings).__name__})")
+    out: dict[str, Any] = {}
+    if settings is not None:
+        out = {f: getattr(settings, f) for f in ("method", "rtol", "atol", "tol", "rk4_steps",
+                                                  "max_steps", "max_nfev")
+               if getattr(settings, f) is not None}
+    out.update({k: v for k, v in keywords.items() if v is not None})
+    if analysis:  # hover_stability's rtol and atol are its own integrations'
+        for name in ("rtol", "atol"):
+            if name in out:
+                out[f"analysis_{name}"] = out.pop(name)
+    return out
 
 
 def _problem(insect: Insect | HoverProblem, aerodynamics: str, alpha_m: float | None,
@@ -527,86 +646,113 @@ def _problem(insect: Insect | HoverProblem, aerodynamics: str, alpha_m: float | 
     return insect
 
 
-def _adaptive_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, n_samples: int,
-                    **options: Any) -> HoverOrbit:
+#: The integrators the adaptive hover path accepts: the explicit ones. The hover dynamics are
+#: not stiff (DOP853 takes ~10^3 steps a period at rtol 1e-11); an implicit method (Radau, BDF,
+#: LSODA) there spends minutes per period on Jacobian factorisations for no gain.
+HOVER_METHODS: tuple[str, ...] = ("DOP853", "RK45", "RK23", "RK4")
+
+
+def explicit_method(path: Adaptive) -> Adaptive:
+    """``path``, if its method is one of :data:`HOVER_METHODS` (else a ValueError)."""
+    if path.method not in HOVER_METHODS:
+        raise ValueError(f"`method` must be one of {HOVER_METHODS} for the hover problem (it is "
+                         f"not stiff: an implicit method only costs time); got {path.method!r}")
+    return path
+
+
+def _adaptive_orbit(problem: HoverProblem, path: Adaptive, guess: np.ndarray, x0: np.ndarray,
+                    n_samples: int, started: float) -> HoverOrbit:
     """find_hover_orbit on the scipy path: LM shooting with the trims free."""
+    explicit_method(path)
     rhs, jac, pjac = problem.fields()
     extra = problem.n_conditions
+    jacobian = path.jacobian or ("variational" if problem.aerodynamics == "linear"
+                                 else "finite-difference")
     result = find_periodic_orbit(
         rhs, np.concatenate([x0, np.zeros(extra)]), problem.period, autonomous=False, jac=jac,
         param_jac=pjac, free_params=list(guess), fixed=tuple(range(4, 4 + extra)),
-        breakpoints=problem.model.breakpoints, **options)
-    orbit = _orbit_of(problem, result, "adaptive", shooting=result)
-    tol = {"rtol": options["rtol"], "atol": options["atol"]}
-    t, x, _ = _sample(orbit.model, orbit.x0, n_samples, options["method"], **tol)
-    object.__setattr__(orbit, "samples", _Sampled(t, x))
-    return orbit
+        breakpoints=problem.model.breakpoints, method=path.method, jacobian=jacobian,
+        rtol=path.rtol, atol=path.atol, tol=path.tol, rk4_steps=path.rk4_steps,
+        max_steps=path.max_steps, max_nfev=path.max_nfev)
+    trims = _checked_trims(problem, result)
+    model = _model_at(problem, trims)
+    return _orbit_of(problem, result, trims, model, path, started, shooting=result,
+                     samples=_AdaptiveSamples(model, np.array(result.x0[:4], dtype=float),
+                                              n_samples, path.method, path.rtol, path.atol),
+                     njev=int(result.njev))
 
 
-#: Options of the fixed-step path (``fixed_step_options``) and its default start step count.
-_FIXED_STEP_OPTIONS = ("n_steps", "error_tol", "multiplier_tol", "max_nfev")
-FIXED_STEP_START = 64
-
-
-def _fixed_step_orbit(problem: HoverProblem, guess: np.ndarray, x0: np.ndarray, n_samples: int,
-                      options: Mapping[str, Any], *, tol: float, rtol: float,
-                      atol: float) -> HoverOrbit:
+def _fixed_step_orbit(problem: HoverProblem, path: FixedStep, guess: np.ndarray,
+                      x0: np.ndarray, n_samples: int, started: float) -> HoverOrbit:
     """find_hover_orbit on the fixed-step path: Newton on the graded fixed-step period map."""
-    unknown = set(options) - set(_FIXED_STEP_OPTIONS)
-    if unknown:
-        raise ValueError(f"`fixed_step_options` accepts {', '.join(_FIXED_STEP_OPTIONS)}; got "
-                         f"{sorted(unknown)}")
-    rtol, atol = _validation.tolerances(rtol, atol)
     funs, switches = problem.graded_fields()
     extra = problem.n_conditions
-    settings = {"n_steps": FIXED_STEP_START, **options}
     result = find_periodic_orbit_fixed_step(
         funs, np.concatenate([x0, np.zeros(extra)]), 2.0, free_params=list(guess),
-        fixed=tuple(range(4, 4 + extra)), breakpoints=(0.5,), switches=switches, tol=tol,
-        **settings)
-    orbit = _orbit_of(problem, result, "fixed-step", fixed_step=result)  # the trims checked
-    object.__setattr__(orbit, "mean_velocity", readonly(_fixed_step_mean_velocity(orbit)))
-    object.__setattr__(orbit, "samples",
-                       _AdaptiveSamples(orbit.model, orbit.x0, n_samples, rtol, atol))
-    return orbit
+        fixed=tuple(range(4, 4 + extra)), breakpoints=(0.5,), switches=switches,
+        **path.fixed_step_options())
+    trims = _checked_trims(problem, result)
+    model = _model_at(problem, trims)
+    x_start = np.array(result.x0[:4], dtype=float)
+    # The samples are a by-product, integrated on first use at the adaptive path's tolerances.
+    samples = _AdaptiveSamples(model, x_start, n_samples, "DOP853", Adaptive.rtol, Adaptive.atol)
+    error = np.asarray(result.unknowns_error)
+    return _orbit_of(problem, result, trims, model, path, started, fixed_step=result,
+                     samples=samples,
+                     mean_velocity=readonly(_fixed_step_mean_velocity(problem, model, result,
+                                                                      trims)),
+                     njev=int(result.njev), amplitude_error=float(error[4]),
+                     x0_error=float(np.max(error[:4])),
+                     multiplier_error=float(result.multiplier_error))
 
 
-def _fixed_step_mean_velocity(orbit: HoverOrbit) -> np.ndarray:
+def _fixed_step_mean_velocity(problem: HoverProblem, model: LongitudinalDynamics,
+                              solved: FixedStepOrbit, trims: list[float]) -> np.ndarray:
     """(forward, climb) cycle means of a fixed-step orbit: x_e(T) / T and -z(T) / T on the solve's
     mesh (the two-trim field carries x_e), instead of sampling the orbit adaptively."""
-    problem, solved = orbit.problem, orbit.fixed_step
-    assert problem is not None and solved is not None
     full = problem
     if problem.n_conditions == 1:  # the two-trim field carries x_e; on the problem's own model
         full = HoverProblem(problem.insect, problem.aerodynamics, problem.alpha_m, TRIMS[1],
                             trim_check=False)
         full.__dict__["model"] = problem.model  # the cached_property's slot (of_model's models)
     funs, switches = full.graded_fields()
-    end = fixed_step_flow(funs, np.concatenate([orbit.x0, [0.0, 0.0]]), 2.0,
-                          n_steps=solved.n_steps, free_params=[orbit.amplitude, orbit.stroke_mean],
+    phi_bar = trims[1] if len(trims) == 2 else problem.insect.stroke_mean
+    end = fixed_step_flow(funs, np.concatenate([solved.x0[:4], [0.0, 0.0]]), 2.0,
+                          n_steps=solved.n_steps, free_params=[trims[0], phi_bar],
                           breakpoints=(0.5,), switches=switches)
     return np.array([end[5], -end[4]]) / problem.period
 
 
-def _orbit_of(problem: HoverProblem, result: PeriodicOrbit | FixedStepOrbit, backend: str,
-              **solver: Any) -> HoverOrbit:
-    """The HoverOrbit of a converged adaptive or fixed-step solve (its trims checked)."""
+def _model_at(problem: HoverProblem, trims: list[float]) -> LongitudinalDynamics:
+    """The dynamics at the solved trims."""
+    model = problem.model
+    if len(trims) == 2 and trims[1] != model.insect.stroke_mean:
+        model = model.with_stroke_mean(trims[1])
+    return model if trims[0] == model.amplitude else model.with_amplitude(trims[0])
+
+
+def _orbit_of(problem: HoverProblem, result: PeriodicOrbit | FixedStepOrbit,
+              trims: list[float], model: LongitudinalDynamics, path: Backend, started: float,
+              *, njev: int = 0, **fields: Any) -> HoverOrbit:
+    """The HoverOrbit of a converged adaptive or fixed-step solve."""
+    phi_bar = trims[1] if len(trims) == 2 else problem.insect.stroke_mean
+    stats = Stats(int(result.nit), int(result.nfev), njev, time.perf_counter() - started)
+    return HoverOrbit(problem, np.array(result.x0[:4], dtype=float), trims[0], phi_bar,
+                      float(result.residual[4]), path.name, int(result.nit), int(result.nfev),
+                      float(result.residual_norm), model_given=model,
+                      solver=path, stats=stats, **fields)
+
+
+def _checked_trims(problem: HoverProblem, result: PeriodicOrbit | FixedStepOrbit
+                   ) -> list[float]:
+    """The trims of a converged solve; a ConvergenceError if they left their ranges (then no
+    hover orbit was found)."""
     assert result.params is not None  # the trims are free parameters
     trims = [float(v) for v in result.params]
-    _check_converged_trims(problem, result, trims)
-    phi_bar = trims[1] if len(trims) == 2 else problem.insect.stroke_mean
-    return HoverOrbit(problem, np.array(result.x0[:4], dtype=float), trims[0], phi_bar,
-                      float(result.residual[4]), backend, int(result.nit), int(result.nfev),
-                      float(result.residual_norm), **solver)
-
-
-def _check_converged_trims(problem: HoverProblem, result: PeriodicOrbit | FixedStepOrbit,
-                           trims: list[float]) -> None:
-    """A converged solve whose trims left their ranges found no hover orbit: raise."""
     phi = trims[0]
     phi_bar = trims[1] if len(trims) == 2 else 0.0
     if 0.0 < phi <= math.pi / 2 and -math.pi / 2 < phi_bar < math.pi / 2:
-        return
+        return trims
     found = f"Phi = {math.degrees(phi):.4g} deg"
     if len(trims) == 2:
         found += f", phi_bar = {math.degrees(phi_bar):.4g} deg"
@@ -625,7 +771,7 @@ def _warn_if_drifting(orbit: HoverOrbit) -> None:
             f"the orbit found for {insect.name} holds its altitude but is not hover: it flies "
             f"{'forwards' if orbit.mean_inertial_velocity['forward'] > 0 else 'backwards'} at a "
             f"mean {orbit.mean_horizontal_speed:.3g} m/s (tolerance "
-            f"{HOVER_SPEED_RTOL:g} x the wingtip speed {orbit.wingtip_speed:.3g} m/s), as the "
+            f"{orbit.hover_speed_tol:.3g} m/s), as the "
             f"hinge offset x_h = {insect.hinge_offset:g} m (or a mean stroke angle phi_bar = "
             f"{insect.stroke_mean:g} rad) breaks the half-period symmetry; "
             "trims=('amplitude', 'stroke_mean') finds a true hover orbit",
@@ -633,14 +779,14 @@ def _warn_if_drifting(orbit: HoverOrbit) -> None:
 
 
 # =========================================================================== compiled backend
-def use_kernel(backend: str, model: LongitudinalDynamics, default_settings: bool = True) -> bool:
-    """Whether ``backend`` means the compiled kernel for this model (see :data:`BACKENDS`).
-
-    Kept for callers that hold a model; :meth:`HoverProblem.backend` decides.
+def use_kernel(backend: Backend | str, model: LongitudinalDynamics,
+               default_settings: bool = True) -> bool:
+    """Whether ``backend`` means the compiled kernel for this model
+    (:func:`~flapping.hover.problem.choose_backend` decides).
 
     Parameters
     ----------
-    backend : {"auto", "compiled", "adaptive"}
+    backend : "auto", "compiled", "adaptive", "fixed-step" or a backend object
     model : LongitudinalDynamics
     default_settings : bool
         False if the caller asked for adaptive-path settings: then ``"auto"`` means adaptive.
@@ -648,27 +794,30 @@ def use_kernel(backend: str, model: LongitudinalDynamics, default_settings: bool
     Raises
     ------
     ValueError, ImportError
-        As :meth:`HoverProblem.backend`.
+        As :func:`~flapping.hover.problem.choose_backend`.
     """
     problem = HoverProblem.of_model(model)
     return problem.backend(backend, adaptive_options=not default_settings) == "compiled"
 
 
-def _kernel_orbit(problem: HoverProblem, amplitude: float, x0: np.ndarray, n_samples: int,
-                  options: Mapping[str, Any]) -> HoverOrbit:
+def _kernel_orbit(problem: HoverProblem, path: Compiled, amplitude: float, x0: np.ndarray,
+                  n_samples: int, started: float) -> HoverOrbit:
     """find_hover_orbit on the compiled kernel: the orbit, its monodromy, its mean velocities."""
     kp = problem.kernel_problem
-    unknown = set(options) - {"n_steps", "amplitude_tol_deg", "multiplier_tol"}
-    if unknown:
-        raise ValueError(f"`kernel_options` accepts n_steps, amplitude_tol_deg and "
-                         f"multiplier_tol; got {sorted(unknown)}")
     # x0 (state_guess) and the amplitude (problem.guess) are checked already
-    sol = _kernel.solve_checked(kp, np.append(x0, amplitude), *_kernel.checked_options(**options))
+    options = _kernel.checked_options(n_steps=path.n_steps,
+                                      amplitude_tol_deg=path.amplitude_tol_deg,
+                                      multiplier_tol=path.multiplier_tol)
+    sol = _kernel.solve_checked(kp, np.append(x0, amplitude), *options)
     x_start = sol.x0  # read-only already
     return HoverOrbit(problem, x_start, sol.amplitude, problem.insect.stroke_mean, sol.z_drift,
                       "compiled", sol.nit, sol.nfev, sol.residual_norm, kernel=sol,
                       mean_velocity=sol.mean_velocity,
-                      samples=_KernelSamples(kp, x_start, sol.amplitude, n_samples))
+                      samples=_KernelSamples(kp, x_start, sol.amplitude, n_samples),
+                      solver=path, stats=Stats(sol.nit, sol.nfev, 0,
+                                               time.perf_counter() - started),
+                      amplitude_error=sol.amplitude_error, x0_error=sol.x0_error,
+                      multiplier_error=sol.multiplier_error)
 
 
 def forced_orbit(
@@ -678,11 +827,12 @@ def forced_orbit(
     aerodynamics: str = "linear",
     alpha_m: float | None = None,
     x0_guess: Sequence[float] | None = None,
-    method: str = "DOP853",
-    rtol: float = 1e-11,
-    atol: float = 1e-12,
-    tol: float = 1e-10,
+    method: str | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    tol: float | None = None,
     n_samples: int = 512,
+    backend: Adaptive | str = Adaptive.name,
 ) -> HoverOrbit:
     """The periodic orbit at a *prescribed* stroke amplitude (periodicity of the states only).
 
@@ -696,6 +846,9 @@ def forced_orbit(
         Stroke amplitude Phi [rad] in (0, pi/2]; default ``insect.stroke_amplitude``.
     aerodynamics, alpha_m, x0_guess, method, rtol, atol, tol, n_samples
         As for :func:`find_hover_orbit`.
+    backend : "adaptive" or Adaptive
+        The adaptive path is the only one that solves a forced orbit (no trim); ``method``,
+        ``rtol``, ``atol`` and ``tol`` are shorthands for its options.
 
     Returns
     -------
@@ -709,19 +862,39 @@ def forced_orbit(
     ConvergenceError
         If the shooting does not converge.
     """
+    path = explicit_method(adaptive_only("forced_orbit", backend, method=method, rtol=rtol,
+                                         atol=atol, tol=tol))
     model = LongitudinalDynamics(insect, amplitude=amplitude, alpha_m=alpha_m,
                                  aerodynamics=aerodynamics)
     x0 = state_guess(x0_guess)
     n_samples = even_samples(n_samples)
+    started = time.perf_counter()
     rhs, jac = model.segment_functions()
     result = find_periodic_orbit(rhs, x0, model.period, autonomous=False, jac=jac,
-                                 breakpoints=model.breakpoints, method=method, rtol=rtol,
-                                 atol=atol, tol=tol)
+                                 breakpoints=model.breakpoints, method=path.method,
+                                 rtol=path.rtol, atol=path.atol, tol=path.tol,
+                                 rk4_steps=path.rk4_steps, max_steps=path.max_steps,
+                                 max_nfev=path.max_nfev)
     x0 = np.array(result.x0, dtype=float)
-    t, x, z_drift = _sample(model, x0, n_samples, method, rtol=rtol, atol=atol)
+    t, x, z_drift = _sample(model, x0, n_samples, path.method, rtol=path.rtol, atol=path.atol)
+    stats = Stats(int(result.nit), int(result.nfev), int(result.njev),
+                  time.perf_counter() - started)
     return HoverOrbit(None, x0, float(model.amplitude), insect.stroke_mean, z_drift, "adaptive",
                       int(result.nit), int(result.nfev), float(result.residual_norm),
-                      shooting=result, samples=_Sampled(t, x), model_given=model)
+                      shooting=result, samples=_Sampled(t, x), model_given=model, solver=path,
+                      stats=stats)
+
+
+def adaptive_only(function: str, backend: Any, **keywords: Any) -> Adaptive:
+    """The Adaptive backend of a function that runs on the adaptive path only, with its keyword
+    shorthands laid over it (a ValueError for another path)."""
+    spec = as_backend(backend)
+    if spec == AUTO:
+        spec = Adaptive()
+    if not isinstance(spec, Adaptive):
+        raise ValueError(f"{function} runs on the adaptive path only; got backend="
+                         f"{_validation._show(backend)}")
+    return spec.with_options(**{k: v for k, v in keywords.items() if v is not None})
 
 
 def paper_hover_problem(
@@ -731,10 +904,11 @@ def paper_hover_problem(
     h0_guess: float = 2.0,
     amplitude_guess: float | None = None,
     aerodynamics: str = "linear",
-    method: str = "DOP853",
-    rtol: float = 1e-11,
-    atol: float = 1e-12,
-    tol: float = 1e-10,
+    method: str | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    tol: float | None = None,
+    backend: Adaptive | str = Adaptive.name,
 ) -> tuple[PeriodicOrbit, np.ndarray]:
     """The paper's hover problem (Sec. IV): the virtual state h = w sin(theta) - u cos(theta).
 
@@ -753,6 +927,9 @@ def paper_hover_problem(
         Guess of Phi [rad]; default ``insect.stroke_amplitude``.
     aerodynamics, method, rtol, atol, tol
         As for :func:`find_hover_orbit`.
+    backend : "adaptive" or Adaptive
+        The path that solves it (the adaptive one only); ``method``, ``rtol``, ``atol`` and
+        ``tol`` are shorthands for its options.
 
     Returns
     -------
@@ -765,6 +942,9 @@ def paper_hover_problem(
         dimensional -- h0 never feeds back, and h(T) - h(0) repeats the other residuals. Phi is
         therefore not determined by this problem.
     """
+    path = adaptive_only("paper_hover_problem", backend, method=method, rtol=rtol, atol=atol,
+                         tol=tol)
+    method, rtol, atol, tol = path.method, path.rtol, path.atol, path.tol
     model = LongitudinalDynamics(insect, aerodynamics=aerodynamics)
     amplitude = insect.stroke_amplitude if amplitude_guess is None else amplitude_guess
     base = model.segment_functions()[0]
@@ -799,12 +979,16 @@ def paper_hover_problem(
 
 
 # =========================================================================== stability
+#: Most samples of :func:`force_budget` (each evaluates the derivatives in Python).
+_MAX_BUDGET_SAMPLES = 1 << 17
+
+
 def force_budget(
     orbit: HoverOrbit,
     n_samples: int = 4096,
     *,
-    rtol: float = ANALYSIS_RTOL,
-    atol: float = ANALYSIS_ATOL,
+    rtol: float | None = None,
+    atol: float | None = None,
 ) -> dict[str, dict[str, float]]:
     """Cycle means of every term of the linear model's equations (2)/(29) along the orbit.
 
@@ -817,10 +1001,11 @@ def force_budget(
     orbit : HoverOrbit
         An orbit of the linear model.
     n_samples : int
-        Uniform samples over one period (>= 2) for the cycle means (trapezoid rule).
-    rtol, atol : float
-        Tolerances of the integration of the orbit (default :data:`ANALYSIS_RTOL`,
-        :data:`ANALYSIS_ATOL`).
+        Uniform samples over one period, in [2, 2**17], for the cycle means (trapezoid rule;
+        the terms are smooth within a half-stroke, so a few thousand resolve them).
+    rtol, atol : float, optional
+        Tolerances of the integration of the orbit (default :class:`~flapping.backends.
+        Adaptive`'s ``analysis_rtol`` and ``analysis_atol``).
 
     Returns
     -------
@@ -835,8 +1020,11 @@ def force_budget(
         If the orbit's model is not the linear one (the budget is of eq. 29's terms).
     """
     orbit = _validation.instance("orbit", orbit, HoverOrbit)
-    n_samples = _validation.integer("n_samples", n_samples, low=2)
-    rtol, atol = _validation.tolerances(rtol, atol)
+    n_samples = _validation.integer("n_samples", n_samples, low=2, high=_MAX_BUDGET_SAMPLES)
+    path = Adaptive().with_options(**{k: v for k, v in (("analysis_rtol", rtol),
+                                                           ("analysis_atol", atol))
+                                      if v is not None})
+    rtol, atol = path.analysis_rtol, path.analysis_atol
     model = orbit.model
     if model.aerodynamics != "linear":
         raise ValueError("force_budget needs an orbit of the linear model (aerodynamics='linear')")

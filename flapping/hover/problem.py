@@ -26,6 +26,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from flapping import _validation
+from flapping.backends import (
+    AUTO,
+    BACKEND_NAMES,
+    Adaptive,
+    Backend,
+    Compiled,
+    FixedStep,
+    as_backend,
+)
 from flapping.errors import DomainError
 from flapping.fast import blade as _blade
 from flapping.fast import kernel as _kernel
@@ -39,22 +48,15 @@ from flapping.model.dynamics import (
 from flapping.model.kinematics import check_alpha_m, check_amplitude, segment_stroke_sign
 from flapping.model.morphology import Insect
 
-__all__ = ["BACKENDS", "DEFAULT_BACKEND", "GRADING_POWER", "TRIMS", "HoverProblem", "grading",
-           "grading_derivative"]
+__all__ = ["BACKENDS", "DEFAULT_BACKEND", "GRADING_POWER", "TRIMS", "HoverProblem",
+           "choose_backend", "grading", "grading_derivative"]
 
-#: How the orbit and the monodromy are integrated: ``"compiled"``, the numba kernel of
-#: :mod:`flapping.fast` (eq. 29's linear loads only: fixed-step 8th-order Runge-Kutta per
-#: half-stroke, Newton, Phi to 1e-9 deg and the multipliers to 1e-8, ~1 ms); ``"adaptive"``, the
-#: scipy path (adaptive DOP853, the reference and the cross-check, ~0.3 s); ``"fixed-step"``,
-#: Newton on a fixed-step 8th-order period map on a time mesh graded towards the stroke
-#: reversals, with the loads' kinks as switching functions and a Richardson error estimate
-#: (:meth:`HoverProblem.graded_fields`; any loads model, made for the blade-element ones: 1.5-2.5 s
-#: per hawkmoth or monarch solve with the compiled loads of :mod:`flapping.fast.blade`, 15-25 s
-#: with the Python ones); ``"auto"``, the kernel where it applies (linear
-#: loads, one trim, the default ``method`` and ``jacobian``, numba installed), the fixed-step
-#: path for the blade-element models (with the default ``method`` and ``jacobian``), else
-#: adaptive.
-BACKENDS: tuple[str, ...] = ("auto", "compiled", "adaptive", "fixed-step")
+#: The string forms of ``backend`` (:mod:`flapping.backends`): ``"compiled"``, the numba kernel
+#: of :mod:`flapping.fast` (eq. 29's linear loads only, ~1 ms); ``"fixed-step"``, Newton on a
+#: fixed-step 8th-order period map on a time mesh graded towards the stroke reversals (any loads
+#: model, made for the blade-element ones); ``"adaptive"``, the scipy path (adaptive DOP853, the
+#: reference and the cross-check); ``"auto"``, chosen by :func:`choose_backend`.
+BACKENDS: tuple[str, ...] = BACKEND_NAMES
 
 #: The time mesh of the fixed-step path: on each half-stroke t = t_k + (T/2) g(s), s uniform in
 #: [0, 1], with g' = sin^4(pi s) / (3/8): steps shrink as s^4 towards the stroke reversals. There
@@ -67,10 +69,9 @@ BACKENDS: tuple[str, ...] = ("auto", "compiled", "adaptive", "fixed-step")
 GRADING_POWER = 4
 
 #: The default backend of every hover path (:func:`~flapping.hover.find_hover_orbit`,
-#: :func:`~flapping.hover.hover_stability`, sweeps): the fast one where it applies. The kernel
-#: agrees with the adaptive path to 1e-10 deg in Phi and 1e-10 in the multipliers; the book asks
-#: for ``backend="adaptive"`` where it shows that path's own diagnostics.
-DEFAULT_BACKEND = "auto"
+#: :func:`~flapping.hover.hover_stability`, sweeps): the fast one where it applies
+#: (:func:`choose_backend`).
+DEFAULT_BACKEND = AUTO
 
 #: The trim sets: the stroke amplitude alone (zero mean vertical speed, the paper's hover), or the
 #: amplitude and the mean stroke angle phi_bar together (zero mean vertical *and* horizontal
@@ -225,56 +226,24 @@ class HoverProblem:
                               "amplitude_guess")
         return np.array([amp, self.insect.stroke_mean][: self.n_conditions], dtype=float)
 
-    def backend(self, backend: str = DEFAULT_BACKEND, *, adaptive_options: bool = False) -> str:
-        """Which path runs: ``"compiled"``, ``"fixed-step"`` or ``"adaptive"`` (the one place
-        that decides).
-
-        ``"auto"`` is the compiled kernel where it applies, the fixed-step path for the
-        blade-element models (the adaptive path's residual stalls at its integration noise,
-        ~3e-8, at some hinge heights), the adaptive path otherwise.
+    def backend(self, backend: Backend | str = DEFAULT_BACKEND, *,
+                adaptive_options: bool = False) -> str:
+        """The name of the path that runs (:func:`choose_backend` decides).
 
         Parameters
         ----------
-        backend : {"auto", "compiled", "adaptive", "fixed-step"}
-            What the user asked for (:data:`BACKENDS`).
+        backend : "auto", "compiled", "fixed-step", "adaptive" or a backend object
         adaptive_options : bool
             True if the caller set options of the adaptive path only (another ``method`` or
             ``jacobian``): ``"auto"`` then means the adaptive path.
 
-        Raises
-        ------
-        ValueError
-            For an unknown backend, or ``"compiled"`` where the kernel does not apply (a
-            blade-element model, two trims, a non-zero mean stroke angle).
-        ImportError
-            For ``"compiled"`` without numba.
-
-        Warns
-        -----
-        RuntimeWarning
-            ``"auto"`` where the kernel applies but numba is missing: the adaptive path runs.
+        Returns
+        -------
+        {"compiled", "fixed-step", "adaptive"}
         """
-        backend = _validation.choice("backend", backend, BACKENDS)
-        if backend in ("adaptive", "fixed-step"):
-            return backend
-        if backend == "auto" and self.aerodynamics != "linear":
-            return "adaptive" if adaptive_options else "fixed-step"
-        why_not = self._kernel_refusal()
-        if backend == "compiled":
-            if why_not:
-                raise ValueError(f"backend='compiled' does not apply: {why_not}; use "
-                                 "backend='adaptive' (or 'auto', which falls back)")
-            if not _kernel.numba_available():
-                raise ImportError("backend='compiled' needs numba: pip install flapping[fast]")
-            return "compiled"
-        if why_not or adaptive_options:
-            return "adaptive"
-        if not _kernel.numba_available():
-            warnings.warn("numba is not installed: the hover orbit is computed by the adaptive "
-                          "scipy path (~300 times slower; pip install flapping[fast])",
-                          RuntimeWarning, stacklevel=3)
-            return "adaptive"
-        return "compiled"
+        spec = Adaptive(jacobian="finite-difference") if (
+            adaptive_options and as_backend(backend) == AUTO) else backend
+        return choose_backend(self, spec).name
 
     def _kernel_refusal(self) -> str:
         """Why the compiled kernel cannot solve this problem ('' if it can)."""
@@ -287,6 +256,67 @@ class HoverProblem:
             return (f"the kernel has no mean stroke angle: stroke_mean = "
                     f"{self.insect.stroke_mean!r} rad must be 0")
         return _kernel.unsupported_field(self.insect)
+
+
+def choose_backend(problem: HoverProblem, backend: Backend | str = DEFAULT_BACKEND, *,
+                   solved: Backend | None = None) -> Backend:
+    """The path that runs for ``problem``: the one function that decides it.
+
+    ``"auto"`` is, for an orbit already solved (``solved``), the path that solved it (its
+    analysis then reuses that path's last integration and reports its error estimates);
+    otherwise the compiled kernel where it applies (linear loads, one trim, no mean stroke
+    angle, numba installed), the fixed-step path for the blade-element loads (the adaptive
+    path's residual stalls at its integration noise, ~3e-8, at some hinge heights), the
+    adaptive path otherwise. A backend object, or a name, is that path (checked to apply).
+
+    Parameters
+    ----------
+    problem : HoverProblem
+    backend : "auto", "compiled", "fixed-step", "adaptive", or a backend object
+        :mod:`flapping.backends`; a name means that path's default options.
+    solved : Compiled, FixedStep or Adaptive, optional
+        The path that solved the orbit being analysed.
+
+    Returns
+    -------
+    Compiled, FixedStep or Adaptive
+
+    Raises
+    ------
+    ValueError
+        For an unknown backend, or the compiled path where the kernel does not apply (a
+        blade-element model, two trims, a non-zero mean stroke angle).
+    ImportError
+        For the compiled path without numba.
+
+    Warns
+    -----
+    RuntimeWarning
+        ``"auto"`` where the kernel applies but numba is missing: the adaptive path runs.
+    """
+    spec = as_backend(backend)
+    if isinstance(spec, (FixedStep, Adaptive)):
+        return spec
+    why_not = problem._kernel_refusal()
+    if isinstance(spec, Compiled):
+        if why_not:
+            raise ValueError(f"backend='compiled' does not apply: {why_not}; use "
+                             "backend='adaptive' (or 'auto', which falls back)")
+        if not _kernel.numba_available():
+            raise ImportError("backend='compiled' needs numba: pip install flapping[fast]")
+        return spec
+    if solved is not None:
+        return solved
+    if problem.aerodynamics != "linear":
+        return FixedStep()
+    if why_not:
+        return Adaptive()
+    if not _kernel.numba_available():
+        warnings.warn("numba is not installed: the hover orbit is computed by the adaptive "
+                      "scipy path (~300 times slower; pip install flapping[fast])",
+                      RuntimeWarning, stacklevel=3)
+        return Adaptive()
+    return Compiled()
 
 
 # =========================================================================== right-hand sides
@@ -457,11 +487,24 @@ def check_trim(insect: Insect, alpha_m: float) -> None:
             f"(mass {insect.mass!r} kg); raise alpha_m towards 45 deg or lower the mass")
 
 
+#: Largest magnitudes of an initial-state guess (u, w [m/s], q [rad/s], theta [rad]): far beyond
+#: any hover orbit (the hawkmoth's swings by ~0.1 m/s, ~5 rad/s, ~0.1 rad), yet a guess beyond
+#: them is a typo that would blow the integration up, not a start.
+STATE_GUESS_LIMITS = (100.0, 100.0, 1e4, 2.0 * math.pi)
+
+
 def state_guess(x0_guess: ArrayLike | None) -> np.ndarray:
-    """The initial-state guess (u, w, q, theta): zeros by default."""
+    """The initial-state guess (u, w, q, theta): zeros by default; a ValueError naming the
+    component beyond :data:`STATE_GUESS_LIMITS`."""
     if x0_guess is None:
         return np.zeros(4)
-    return _validation.vector("x0_guess", x0_guess, size=4)
+    x0 = _validation.vector("x0_guess", x0_guess, size=4)
+    for i, (value, limit) in enumerate(zip(x0, STATE_GUESS_LIMITS, strict=True)):
+        if abs(value) > limit:
+            name, unit = (("u", "m/s"), ("w", "m/s"), ("q", "rad/s"), ("theta", "rad"))[i]
+            raise ValueError(f"`x0_guess[{i}]` ({name}) must be in [-{limit:g}, {limit:g}] "
+                             f"{unit} (no hover orbit is near it); got {value!r}")
+    return x0
 
 
 def even_samples(n_samples: Any) -> int:

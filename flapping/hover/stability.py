@@ -22,15 +22,16 @@ from typing import Any
 import numpy as np
 
 from flapping import _validation
+from flapping.backends import Backend, Compiled, FixedStep
 from flapping.errors import HoverDriftWarning, require_success
 from flapping.fast import kernel as _kernel
 from flapping.hover.orbit import (
     ANALYSIS_ATOL,
     ANALYSIS_RTOL,
-    FIXED_STEP_START,
     HoverOrbit,
+    Options,
+    explicit_method,
     find_hover_orbit,
-    use_kernel,
 )
 from flapping.hover.problem import DEFAULT_BACKEND, HoverProblem
 from flapping.model.morphology import Insect
@@ -38,7 +39,7 @@ from flapping.periodic._readonly import freeze
 from flapping.periodic.fixedstep import fixed_step_monodromy
 from flapping.periodic.floquet import monodromy
 from flapping.periodic.integrate import flow, variational_flow
-from flapping.periodic.settings import SolverSettings, default, given, resolve
+from flapping.periodic.settings import SolverSettings
 
 __all__ = [
     "HoverStability",
@@ -61,6 +62,14 @@ __all__ = [
 #: decades below :data:`~flapping.hover.ANALYSIS_ATOL`, so that perturbations down to 1e-8 are
 #: followed accurately from the first step.
 PERTURBATION_ATOL = 1e-14
+
+#: Largest perturbation of :func:`simulate_perturbation` (Euclidean, SI: 1 m/s, 1 rad/s or 1 rad
+#: is already far outside the linear range the simulations compare with the multipliers).
+MAX_EPSILON = 1.0
+
+#: Most periods a perturbation is followed (each an adaptive integration at atol 1e-14), and most
+#: output samples per period: caps on the work of one call.
+MAX_PERIODS, MAX_SAMPLES_PER_PERIOD = 10_000, 1 << 14
 
 
 @dataclass(frozen=True)
@@ -183,12 +192,12 @@ class PerturbationGrowth:
 def hover_stability(
     orbit: HoverOrbit,
     *,
-    method: str = default("DOP853"),
-    rtol: float = default(ANALYSIS_RTOL),
-    atol: float = default(ANALYSIS_ATOL),
-    rk4_steps: int = default(1024),
+    backend: Backend | str = DEFAULT_BACKEND,
     n_average: int = 64,
-    backend: str = DEFAULT_BACKEND,
+    method: str | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    rk4_steps: int | None = None,
     settings: SolverSettings | None = None,
 ) -> HoverStability:
     """Monodromy matrix, Floquet multipliers and the averaged system of a periodic orbit.
@@ -200,32 +209,26 @@ def hover_stability(
     Parameters
     ----------
     orbit : HoverOrbit
-    method : str
-        ``"DOP853"`` (default) or ``"RK4"`` (the paper's fixed step, ``rk4_steps`` per period).
-    rtol, atol : float
-        Tolerances of the adaptive integrations (the monodromy and the orbit for the averaged
-        Jacobian).
-    rk4_steps : int
-        Steps per period when ``method="RK4"``.
+    backend : "auto", "compiled", "fixed-step", "adaptive", or a backend object
+        The integration path of the monodromy (:mod:`flapping.backends`). ``"auto"`` (the
+        default) analyses the orbit on the path that solved it
+        (:func:`~flapping.hover.problem.choose_backend`): the compiled kernel gives every
+        multiplier to 1e-8 (reusing the monodromy of the orbit's last Newton integration); the
+        fixed-step path integrates the period map on the graded mesh at n and 2n steps per
+        half-stroke (n the step count the orbit was solved with, else
+        :class:`~flapping.backends.FixedStep`'s ``n_steps``) and reports the 2n multipliers
+        with their change as :attr:`HoverStability.multiplier_error`; the adaptive path
+        integrates the variational equations at :class:`~flapping.backends.Adaptive`'s
+        ``analysis_rtol`` and ``analysis_atol``.
     n_average : int
         Gauss-Legendre nodes per half-stroke for the cycle-averaged Jacobian (the integrand is
         smooth within a half-stroke, so the rule converges spectrally).
-    backend : {"auto", "compiled", "adaptive", "fixed-step"}
-        The integration path of the monodromy (:data:`flapping.hover.BACKENDS`): the compiled
-        kernel gives it to 1e-8 in every multiplier (reusing the one of the orbit's last Newton
-        integration when the kernel found the orbit); ``"fixed-step"`` integrates the
-        fixed-step period map on the graded mesh (any loads model) at n and 2n steps per
-        half-stroke, n the step count the orbit was solved with (64 for an orbit not found on
-        that path), and reports the 2n multipliers with their change as
-        :attr:`HoverStability.multiplier_error`; ``method``, ``rtol``, ``atol`` and
-        ``rk4_steps`` belong to the adaptive path. ``"auto"`` (the default) analyses an
-        orbit of the compiled path there and every other orbit on the adaptive path (the
-        reference, also for a fixed-step orbit).
-    settings : SolverSettings, optional
-        ``method``, ``rtol``, ``atol``, ``rk4_steps`` and ``max_steps`` of the adaptive path's
-        monodromy as one object (:class:`~flapping.periodic.SolverSettings`; ``rtol`` and
-        ``atol`` also integrate the orbit for the averaged Jacobian). A keyword given
-        explicitly overrides the same field; a field left at None keeps the default shown here.
+    method, rtol, atol, rk4_steps, settings
+        Shorthands for the adaptive path's options: ``rtol`` and ``atol`` are its
+        ``analysis_rtol`` and ``analysis_atol`` (the monodromy's integration, and the orbit's
+        for the averaged Jacobian off the compiled path); ``method`` ``"RK4"`` is the paper's
+        fixed step, ``rk4_steps`` per period (another ``method`` selects the adaptive path under
+        ``"auto"``); ``settings`` as for :func:`~flapping.hover.find_hover_orbit`.
 
     Returns
     -------
@@ -237,30 +240,41 @@ def hover_stability(
         For bad arguments.
     ConvergenceError
         If an integration fails.
+
+    Warns
+    -----
+    OptionWarning
+        If an option was given for a path that does not run.
     """
     orbit = _validation.instance("orbit", orbit, HoverOrbit)
     n_average = _validation.integer("n_average", n_average, low=1, high=1 << 16)
-    o = resolve(settings, DEFAULTS, method=given(method), rtol=given(rtol), atol=given(atol),
-                rk4_steps=given(rk4_steps))
-    method, rk4_steps = o["method"], o["rk4_steps"]
-    rtol, atol = _validation.tolerances(o["rtol"], o["atol"])
-    path = _analysis_path(orbit, backend, method)
-    if path == "fixed-step":
-        return _fixed_step_stability(orbit, n_average, rtol, atol)
-    compiled, error = path == "compiled", math.nan
-    if compiled:
+    options = Options.of(backend, method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps,
+                         settings=settings, analysis=True)
+    problem = orbit.problem if orbit.problem is not None else HoverProblem.of_model(orbit.model)
+    # The averaged Jacobian off the compiled path integrates the orbit at the analysis
+    # tolerances: they apply to the fixed-step path too.
+    path = options.choose(problem, solved=orbit.solver,
+                          shared=("analysis_rtol", "analysis_atol"))
+    adaptive = options.adaptive
+    rtol, atol = adaptive.analysis_rtol, adaptive.analysis_atol
+    if isinstance(path, FixedStep):
+        return _fixed_step_stability(orbit, problem, path, n_average, rtol, atol)
+    if isinstance(path, Compiled):
         matrix, values, det, liouville, trace, error = _kernel_monodromy(orbit)
-    else:
-        model = orbit.model
-        rhs, jac = model.segment_functions()
-        mon = monodromy(rhs, orbit.x0, orbit.period, jac=jac, breakpoints=model.breakpoints,
-                        method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps,
-                        max_steps=o["max_steps"])
-        # Multipliers from the monodromy's product-QR iteration (accurate even when small).
-        matrix, values = mon.matrix, np.asarray(mon.multipliers, dtype=complex)
-        det, liouville, trace = mon.det, mon.liouville_det, mon.trace_integral
-    averaged = _averaged_jacobian(orbit, n_average, rtol, atol, compiled)
-    return _stability(orbit, matrix, values, det, liouville, averaged, trace, error)
+        averaged = _averaged_jacobian(orbit, n_average, rtol, atol, compiled=True)
+        return _stability(orbit, matrix, values, det, liouville, averaged, trace, error)
+    explicit_method(path)
+    model = orbit.model
+    rhs, jac = model.segment_functions()
+    rtol, atol = path.analysis_rtol, path.analysis_atol
+    mon = monodromy(rhs, orbit.x0, orbit.period, jac=jac, breakpoints=model.breakpoints,
+                    method=path.method, rtol=rtol, atol=atol, rk4_steps=path.rk4_steps,
+                    max_steps=path.max_steps)
+    # Multipliers from the monodromy's product-QR iteration (accurate even when small).
+    values = np.asarray(mon.multipliers, dtype=complex)
+    averaged = _averaged_jacobian(orbit, n_average, rtol, atol)
+    return _stability(orbit, mon.matrix, values, mon.det, mon.liouville_det, averaged,
+                      mon.trace_integral, math.nan)
 
 
 def _stability(orbit: HoverOrbit, matrix: np.ndarray, values: np.ndarray, det: float,
@@ -279,38 +293,14 @@ def _stability(orbit: HoverOrbit, matrix: np.ndarray, values: np.ndarray, det: f
                           float(trace), float(error))
 
 
-#: What :func:`hover_stability` uses for each :class:`~flapping.periodic.SolverSettings` field
-#: it reads when neither the keyword nor ``settings`` gives it (the signature's defaults;
-#: ``max_steps`` None: the monodromy's own budget).
-DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": ANALYSIS_RTOL, "atol": ANALYSIS_ATOL,
-                            "rk4_steps": 1024, "max_steps": None}
-
-
-def _analysis_path(orbit: HoverOrbit, backend: str, method: str) -> str:
-    """Where the monodromy is integrated: "compiled", "adaptive" or "fixed-step"."""
-    # "auto" analyses an orbit on the path that solved it (an adaptive orbit keeps the adaptive
-    # path's accuracy and diagnostics); the kernel where it applies otherwise. A fixed-step
-    # orbit is analysed on the adaptive path under "auto": the reference. "fixed-step" only
-    # when asked for by name.
-    if backend == "auto" and orbit.backend == "adaptive":
-        return "adaptive"
-    if backend == "fixed-step":
-        return "fixed-step"
-    if orbit.problem is None:
-        return "compiled" if use_kernel(backend, orbit.model, method == "DOP853") else "adaptive"
-    path = orbit.problem.backend(backend, adaptive_options=method != "DOP853")
-    return "compiled" if path == "compiled" else "adaptive"
-
-
-def _fixed_step_stability(orbit: HoverOrbit, n_average: int, rtol: float,
-                          atol: float) -> HoverStability:
+def _fixed_step_stability(orbit: HoverOrbit, problem: HoverProblem, path: FixedStep,
+                          n_average: int, rtol: float, atol: float) -> HoverStability:
     """The analysis on the fixed-step path: the monodromy at n and 2n steps per half-stroke."""
-    problem = orbit.problem if orbit.problem is not None else HoverProblem.of_model(orbit.model)
     params = np.array([orbit.amplitude, orbit.stroke_mean][: problem.n_conditions])
     y0 = np.concatenate([orbit.x0, np.zeros(problem.n_conditions)])
     funs, switches = problem.graded_fields()
     solved = orbit.fixed_step
-    n = FIXED_STEP_START if solved is None else solved.n_steps
+    n = path.n_steps if solved is None else solved.n_steps
 
     def physical(n_steps: int, difference_scale: float = 1.0) -> np.ndarray:
         # The augmented state's monodromy is block-triangular (z and x_e do not feed back):
@@ -429,8 +419,8 @@ def mode_response(
     mode: int = 0,
     n_periods: int = 1,
     samples_per_period: int = 48,
-    rtol: float = ANALYSIS_RTOL,
-    atol: float = ANALYSIS_ATOL,
+    rtol: float | None = None,
+    atol: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Time history of a Floquet mode along the orbit: delta x(t) = Phi(t, 0) v_k.
 
@@ -443,8 +433,9 @@ def mode_response(
         Number of periods to follow (>= 1).
     samples_per_period : int
         Output samples per period (>= 2).
-    rtol, atol : float
-        Tolerances of the variational equations' integration.
+    rtol, atol : float, optional
+        Tolerances of the variational equations' integration (default
+        :data:`~flapping.hover.ANALYSIS_RTOL` and :data:`~flapping.hover.ANALYSIS_ATOL`).
 
     Returns
     -------
@@ -461,10 +452,12 @@ def mode_response(
         If the integration fails.
     """
     stability = _validation.instance("stability", stability, HoverStability)
-    n_periods = _validation.integer("n_periods", n_periods, low=1)
-    samples_per_period = _validation.integer("samples_per_period", samples_per_period, low=2)
+    n_periods = _validation.integer("n_periods", n_periods, low=1, high=MAX_PERIODS)
+    samples_per_period = _validation.integer("samples_per_period", samples_per_period, low=2,
+                                             high=MAX_SAMPLES_PER_PERIOD)
     mode = _validation.integer("mode", mode, low=0, high=stability.multipliers.size - 1)
-    rtol, atol = _validation.tolerances(rtol, atol)
+    rtol, atol = _validation.tolerances(ANALYSIS_RTOL if rtol is None else rtol,
+                                        ANALYSIS_ATOL if atol is None else atol)
     orbit = stability.orbit
     model = orbit.model
     v = stability.eigenvectors[:, mode]
@@ -499,8 +492,8 @@ def perturbation_growth(
     epsilon: float = 1e-6,
     n_periods: int = 30,
     direction: np.ndarray | None = None,
-    rtol: float = ANALYSIS_RTOL,
-    atol: float = PERTURBATION_ATOL,
+    rtol: float | None = None,
+    atol: float | None = None,
 ) -> PerturbationGrowth:
     """Simulate the full nonlinear dynamics from the orbit plus a small perturbation.
 
@@ -517,8 +510,9 @@ def perturbation_growth(
         Periods simulated (>= 3).
     direction : array_like of 4 floats, optional
         Direction of the perturbation in (u, w, q, theta); default :data:`DEFAULT_PERTURBATION`.
-    rtol, atol : float
-        Tolerances of the simulation (default atol :data:`PERTURBATION_ATOL`).
+    rtol, atol : float, optional
+        Tolerances of the simulation (default :data:`~flapping.hover.ANALYSIS_RTOL` and
+        :data:`PERTURBATION_ATOL`).
 
     Returns
     -------
@@ -536,8 +530,9 @@ def perturbation_growth(
     model = orbit.model
     scale = float(np.abs(orbit.x).max())
     epsilon = _validation.real("epsilon", epsilon, low=0.0, low_open=True, high=1e-3 * scale)
-    n_periods = _validation.integer("n_periods", n_periods, low=3)
-    rtol, atol = _validation.tolerances(rtol, atol)
+    n_periods = _validation.integer("n_periods", n_periods, low=3, high=MAX_PERIODS)
+    rtol, atol = _validation.tolerances(ANALYSIS_RTOL if rtol is None else rtol,
+                                        PERTURBATION_ATOL if atol is None else atol)
     direction = _unit_direction(direction)
     rhs, _ = model.segment_functions()
     times = orbit.period * np.arange(n_periods + 1)
@@ -560,8 +555,8 @@ def simulate_perturbation(
     n_periods: int = 30,
     direction=None,
     samples_per_period: int = 64,
-    rtol: float = ANALYSIS_RTOL,
-    atol: float = PERTURBATION_ATOL,
+    rtol: float | None = None,
+    atol: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The full nonlinear dynamics from x0 + epsilon * direction, beside the unperturbed orbit.
 
@@ -576,8 +571,9 @@ def simulate_perturbation(
         As for :func:`perturbation_growth`.
     samples_per_period : int
         Output samples per period (>= 1).
-    rtol, atol : float
-        Tolerances of both simulations (default atol :data:`PERTURBATION_ATOL`).
+    rtol, atol : float, optional
+        Tolerances of both simulations (default :data:`~flapping.hover.ANALYSIS_RTOL` and
+        :data:`PERTURBATION_ATOL`).
 
     Returns
     -------
@@ -595,10 +591,12 @@ def simulate_perturbation(
         If an integration fails.
     """
     orbit = _validation.instance("orbit", orbit, HoverOrbit)
-    epsilon = _validation.positive("epsilon", epsilon)
-    n_periods = _validation.integer("n_periods", n_periods, low=1)
-    samples_per_period = _validation.integer("samples_per_period", samples_per_period, low=1)
-    rtol, atol = _validation.tolerances(rtol, atol)
+    epsilon = _validation.real("epsilon", epsilon, low=0.0, low_open=True, high=MAX_EPSILON)
+    n_periods = _validation.integer("n_periods", n_periods, low=1, high=MAX_PERIODS)
+    samples_per_period = _validation.integer("samples_per_period", samples_per_period, low=1,
+                                             high=MAX_SAMPLES_PER_PERIOD)
+    rtol, atol = _validation.tolerances(ANALYSIS_RTOL if rtol is None else rtol,
+                                        PERTURBATION_ATOL if atol is None else atol)
     start = orbit.x0 + epsilon * _unit_direction(direction)
     model = orbit.model
     rhs, _ = model.segment_functions()

@@ -39,9 +39,10 @@ from scipy import optimize
 from scipy.integrate import solve_ivp
 
 from flapping import _validation
+from flapping.backends import AUTO, Backend, Compiled, FixedStep, as_backend
 from flapping.errors import ConvergenceError, HoverDriftWarning
-from flapping.fast import kernel
-from flapping.hover import HoverOrbit, find_hover_orbit
+from flapping.hover import DEFAULT_BACKEND, HoverOrbit, HoverProblem, find_hover_orbit
+from flapping.hover.problem import choose_backend
 from flapping.hover.stability import hover_stability
 from flapping.model.dynamics import LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
@@ -137,26 +138,28 @@ def _pair(name: str, value: Any) -> np.ndarray:
 
 # =========================================================================== passive stability
 def hover_multipliers(insect: Insect, *, guess: HoverOrbit | None = None,
-                      backend: str = "adaptive") -> tuple[HoverOrbit, np.ndarray]:
+                      backend: Backend | str = DEFAULT_BACKEND
+                      ) -> tuple[HoverOrbit, np.ndarray]:
     """The hover orbit of ``insect`` and its Floquet multipliers (sorted by modulus, descending).
 
     The orbit is solved with both trims, Phi and phi_bar (:func:`~flapping.hover.find_hover_orbit`
-    with ``trims=("amplitude", "stroke_mean")``, adaptive path). Where a real multiplier of the
-    symmetric orbit passes +1 the one-trim hover problem is singular (the symmetry-breaking
-    mode, which flies forwards or backwards, costs no altitude), and past it that solve may land
-    on a drifting orbit; the horizontal equation of the two-trim problem removes both.
+    with ``trims=("amplitude", "stroke_mean")``). Where a real multiplier of the symmetric orbit
+    passes +1 the one-trim hover problem is singular (the symmetry-breaking mode, which flies
+    forwards or backwards, costs no altitude), and past it that solve may land on a drifting
+    orbit; the horizontal equation of the two-trim problem removes both.
 
-    With ``backend="auto"`` or ``"compiled"`` and no hinge offset (phi_bar = 0 by symmetry) the
-    compiled kernel's one-trim solve is tried first (~1 ms); it is kept if it converges to a hover
-    orbit, else the two-trim adaptive solve runs.
+    Where the compiled kernel applies to the one-trim problem (no hinge offset, so phi_bar = 0 by
+    symmetry; ``backend`` ``"auto"`` or ``"compiled"``), its solve is tried first (~1 ms); it is
+    kept if it converges to a hover orbit, else the two-trim solve runs (on the path
+    :func:`~flapping.hover.problem.choose_backend` gives it: the adaptive one).
 
     Parameters
     ----------
     insect : Insect
     guess : HoverOrbit, optional
         A nearby orbit: its amplitude, mean stroke angle and initial state start the solve.
-    backend : {"adaptive", "auto", "compiled"}
-        ``"adaptive"``: the two-trim solve only; otherwise the kernel first (see above).
+    backend : "auto", "compiled", "adaptive", or a backend object
+        :mod:`flapping.backends`; ``"adaptive"``: the two-trim adaptive solve only.
 
     Returns
     -------
@@ -176,21 +179,25 @@ def hover_multipliers(insect: Insect, *, guess: HoverOrbit | None = None,
     if guess is not None:
         _validation.instance("guess", guess, HoverOrbit)
         kwargs = {"amplitude_guess": guess.amplitude, "x0_guess": guess.x0}
-    backend = _validation.choice("backend", backend, ("adaptive", "auto", "compiled"))
-    if backend != "adaptive" and insect.hinge_offset == 0.0 and kernel.numba_available():
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", HoverDriftWarning)
-            try:
-                fast = find_hover_orbit(insect.with_(stroke_mean=0.0), backend="compiled",
-                                        **kwargs)
-            except ConvergenceError:  # near a +1 multiplier the one-trim problem is singular
-                fast = None
-        if fast is not None and fast.is_hover:
-            mu = np.asarray(fast.kernel.multipliers)
-            return fast, mu[np.argsort(-np.abs(mu), kind="stable")]
+    spec = as_backend(backend)
+    if not isinstance(spec, FixedStep) and insect.hinge_offset == 0.0:
+        one_trim = HoverProblem(insect.with_(stroke_mean=0.0))
+        path = choose_backend(one_trim, AUTO if spec == AUTO else spec)
+        if isinstance(path, Compiled):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", HoverDriftWarning)
+                try:
+                    fast = find_hover_orbit(one_trim, backend=path, **kwargs)
+                except ConvergenceError:  # near a +1 multiplier the one-trim problem is singular
+                    fast = None
+            if fast is not None and fast.is_hover and fast.kernel is not None:
+                mu = np.asarray(fast.kernel.multipliers)
+                return fast, mu[np.argsort(-np.abs(mu), kind="stable")]
     if guess is not None:
         insect = insect.with_(stroke_mean=guess.stroke_mean)
-    orbit = find_hover_orbit(insect, trims=("amplitude", "stroke_mean"), **kwargs)
+    two_trims = HoverProblem(insect, trims=("amplitude", "stroke_mean"))
+    orbit = find_hover_orbit(two_trims, backend=AUTO if isinstance(spec, Compiled) else spec,
+                             **kwargs)
     if not orbit.is_hover:
         raise ConvergenceError(
             f"the orbit found for {insect.name} at h_w = {insect.hinge_height:g} m flies at "
@@ -214,7 +221,7 @@ class PassiveSweep:
     multipliers : ndarray, shape (n, 4), complex
         Floquet multipliers per point, by modulus (descending).
     orbits : tuple of HoverOrbit
-    backend : str
+    backend : "auto" or a backend object
         The backend of the sweep, used again by the functions that refine it.
     """
 
@@ -223,7 +230,7 @@ class PassiveSweep:
     amplitudes: np.ndarray
     multipliers: np.ndarray
     orbits: tuple[HoverOrbit, ...]
-    backend: str = "auto"
+    backend: Backend | str = DEFAULT_BACKEND
 
     @property
     def max_modulus(self) -> np.ndarray:
@@ -236,7 +243,8 @@ class PassiveSweep:
         return [(i, i + 1) for i in range(len(s) - 1) if s[i] * s[i + 1] < 0]
 
 
-def passive_sweep(insect: Insect, hinge_heights: Any, *, backend: str = "auto") -> PassiveSweep:
+def passive_sweep(insect: Insect, hinge_heights: Any, *,
+                  backend: Backend | str = DEFAULT_BACKEND) -> PassiveSweep:
     """Hover orbit and multipliers at each hinge height, each solve warm-started from the last.
 
     Parameters
@@ -244,7 +252,7 @@ def passive_sweep(insect: Insect, hinge_heights: Any, *, backend: str = "auto") 
     insect : Insect
     hinge_heights : array_like
         Increasing hinge heights h_w [m] (e.g. 0 to half a body length).
-    backend : {"auto", "compiled", "adaptive"}
+    backend : "auto", "compiled", "adaptive", or a backend object
         As for :func:`hover_multipliers`.
 
     Returns
@@ -261,7 +269,7 @@ def passive_sweep(insect: Insect, hinge_heights: Any, *, backend: str = "auto") 
     """
     _validation.instance("insect", insect, Insect)
     h = _hinge_heights(hinge_heights)
-    backend = _validation.choice("backend", backend, ("adaptive", "auto", "compiled"))
+    backend = as_backend(backend)
 
     def solve(member: Insect, guess: Guess[tuple[HoverOrbit, np.ndarray]] | None
               ) -> tuple[HoverOrbit, np.ndarray]:
@@ -405,7 +413,7 @@ def _locate(sweep: PassiveSweep, lo: float, hi: float, guess: HoverOrbit,
     """brentq on max ``|mu|`` - 1 in [lo, hi] (the sweep's backend), classified, and checked on
     its defining condition (two-trim adaptive solves)."""
 
-    def at(h: float, backend: str = sweep.backend) -> np.ndarray:
+    def at(h: float, backend: Backend | str = sweep.backend) -> np.ndarray:
         return hover_multipliers(sweep.insect.with_(hinge_height=h), guess=guess,
                                  backend=backend)[1]
 
@@ -516,7 +524,7 @@ class PassiveMap:
 
 
 def passive_map(insect: Insect, hinge_heights: Any, centers_of_pressure: Any, *,
-                backend: str = "auto") -> PassiveMap:
+                backend: Backend | str = DEFAULT_BACKEND) -> PassiveMap:
     """``max |mu|`` of the hover orbit on a grid of hinge heights and centres of pressure.
 
     Each row is a :func:`passive_sweep` in h_w (warm-started; the kernel's one-trim orbits are
@@ -531,7 +539,7 @@ def passive_map(insect: Insect, hinge_heights: Any, centers_of_pressure: Any, *,
         Increasing h_w [m].
     centers_of_pressure : array_like
         x_hat values in [0, 1].
-    backend : {"auto", "compiled", "adaptive"}
+    backend : "auto", "compiled", "adaptive", or a backend object
         As for :func:`hover_multipliers`.
 
     Returns
@@ -551,7 +559,7 @@ def passive_map(insect: Insect, hinge_heights: Any, centers_of_pressure: Any, *,
         raise ValueError("`centers_of_pressure` must be a non-empty 1-d array in [0, 1]; got "
                          f"{x!r}")
     _hinge_heights(hinge_heights, solves=x.size)
-    backend = _validation.choice("backend", backend, ("adaptive", "auto", "compiled"))
+    backend = as_backend(backend)
     rows = [passive_sweep(insect.with_(center_of_pressure=float(v)), hinge_heights,
                           backend=backend) for v in x]
     return PassiveMap(insect, rows[0].hinge_heights, x,

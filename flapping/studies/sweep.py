@@ -12,13 +12,15 @@ How it runs:
   :func:`~flapping.hover.stability.hover_stability`; a warning says so: it is ~1000 times slower);
   the blade-element loads (``aerodynamics``) on the fixed-step path, as
   :func:`~flapping.hover.find_hover_orbit` runs them (or on any path named by ``backend``);
-- the points are visited in a boustrophedon ("snake") order through the grid, split into chunks
-  of consecutive points; within a chunk each solve starts from its neighbour's step count and
-  from (x0, Phi) predicted by the cubic through the last four answers on its grid line (the
-  last answer at a corner of the snake), so most take two Newton iterations instead of five;
+- the points are visited along the grid's lines (the last field varies fastest), each line cut
+  into segments of at most :data:`SEGMENT` points; a segment's first point starts cold, and
+  each later one from its neighbour's step count and from (x0, Phi) predicted by the cubic
+  through the last four answers of the segment, so most take two Newton iterations instead of
+  five. The segments depend on the grid alone, so the table is the same, bit for bit, however
+  the segments are grouped into chunks (``chunk_size``) and whichever executor runs them;
 - the chunks run in this process by default, or on any :class:`concurrent.futures.Executor`:
   a ``ProcessPoolExecutor`` for local cores, or ``dask.distributed.Client.get_executor()`` for a
-  cluster. The chunks are the same whichever runs them, so the table is identical.
+  cluster.
 
 pandas and tqdm (the ``sweep`` extra) are imported when a sweep runs, not with this module.
 """
@@ -37,20 +39,22 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 import flapping._validation as _validation
+from flapping.backends import Backend, OptionWarning, backend_name
 from flapping.errors import ConvergenceError, HoverDriftWarning
-from flapping.fast import kernel
-from flapping.hover import BACKENDS, HoverOrbit, HoverProblem, HoverStatus, find_hover_orbit
+from flapping.hover import DEFAULT_BACKEND, HoverOrbit, HoverProblem, HoverStatus, find_hover_orbit
+from flapping.hover.orbit import Options
 from flapping.hover.stability import hover_stability
 from flapping.model.dynamics import AERODYNAMIC_MODELS
 from flapping.model.morphology import Insect
 from flapping.model.presets import preset_names
 from flapping.periodic.settings import SolverSettings
+from flapping.results import Status, status_of
 from flapping.studies._path import Guess, Step, WarmStart, follow
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas
 
-__all__ = ["SWEEPABLE", "COLUMNS", "MAX_GRID_POINTS", "sweep_hover", "grid_points"]
+__all__ = ["SWEEPABLE", "COLUMNS", "MAX_GRID_POINTS", "SEGMENT", "sweep_hover", "grid_points"]
 
 #: Insect fields a grid may vary (the numeric ones).
 SWEEPABLE: tuple[str, ...] = tuple(
@@ -63,10 +67,16 @@ COLUMNS: tuple[str, ...] = (
     "mu1_real", "mu1_imag", "mu2_real", "mu2_imag", "mu3_real", "mu3_imag", "mu4_real",
     "mu4_imag", "max_abs_mu", "stable", "converged", "status", "forward_speed", "climb_speed",
     "amplitude_error_deg", "multiplier_error", "nit", "n_steps", "backend", "message",
+    "solve_status",
 )
 
-#: Points per chunk: the unit of work sent to an executor (warm starts run within a chunk).
+#: Points per chunk at least: the unit of work sent to an executor (whole segments).
 DEFAULT_CHUNK = 50
+
+#: Most points of a segment: the run of consecutive points on one grid line (or of a list of
+#: insects) within which each solve is warm-started from the ones before. A constant, so that
+#: every point's start, and so the table, depends on the grid alone.
+SEGMENT = 50
 
 #: Largest number of points of a grid (the product of its axes' lengths): ~30 min of solves on
 #: one core with the compiled kernel, and the table's rows fill a few GB. A larger grid is refused
@@ -81,9 +91,8 @@ _POINT_FAILURES = (ValueError, ConvergenceError, ArithmeticError, np.linalg.LinA
 class _Settings:
     """What every chunk needs besides its points (picklable)."""
 
-    backend: str
-    amplitude_tol_deg: float
-    multiplier_tol: float
+    backend: Backend | str
+    kernel_options: dict[str, float]
     solver: SolverSettings | None = None
     aerodynamics: str = "linear"
 
@@ -131,30 +140,29 @@ def _axes(grid: Mapping[str, Sequence[float]]) -> dict[str, list[float]]:
     return axes
 
 
-def _snake(shape: tuple[int, ...]) -> list[int]:
-    """Flat C-order indices of a grid visited so that consecutive points are neighbours."""
-    if len(shape) == 1:
-        return list(range(shape[0]))
-    inner = _snake(shape[1:])
-    size = len(inner)
-    order = []
-    for i in range(shape[0]):
-        order += [i * size + j for j in (inner if i % 2 == 0 else inner[::-1])]
-    return order
+def _segments(shape: tuple[int, ...]) -> list[list[int]]:
+    """Flat C-order indices of the grid's points, cut into segments: runs of at most
+    :data:`SEGMENT` consecutive points on one line of the last axis."""
+    size = math.prod(shape)
+    line = shape[-1]
+    return [list(range(start + i, start + min(i + SEGMENT, line)))
+            for start in range(0, size, line) for i in range(0, line, SEGMENT)]
 
 
 # =========================================================================== one point
 def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
-         backend: str, mu_error: float = math.nan) -> dict[str, Any]:
+         backend: str, mu_error: float = math.nan,
+         failure: Status = Status.SUCCESS) -> dict[str, Any]:
     """The result columns of one point (NaN where there is no answer).
 
     ``converged`` is true only for a hover orbit: a periodic orbit that drifts (a hinge off the
     centre of gravity with the amplitude as the only trim) is a row with its drift speeds,
-    ``status`` and a message, never a converged hover.
+    ``status`` and a message, never a converged hover. ``solve_status`` is the solve's
+    :class:`~flapping.results.Status` as a word (``failure`` for a point without an orbit).
     """
     row: dict[str, Any] = dict.fromkeys(COLUMNS, math.nan)
     row.update(converged=False, stable=False, status=-1, nit=0, n_steps=0, backend=backend,
-               message=message)
+               message=message, solve_status=str(failure))
     if orbit is None or mu is None:
         return row
     v = orbit.mean_inertial_velocity
@@ -168,14 +176,13 @@ def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
                max_abs_mu=max(modulus), stable=all(m < 1.0 for m in modulus),
                converged=hover, status=int(status), forward_speed=v["forward"],
                climb_speed=v["climb"], nit=orbit.nit, backend=orbit.backend,
-               message="" if hover else orbit.message)
+               message="" if hover else orbit.message,
+               amplitude_error_deg=math.degrees(orbit.amplitude_error), multiplier_error=mu_error,
+               solve_status=str(orbit.solve_status))
     if orbit.kernel is not None:
-        row.update(amplitude_error_deg=math.degrees(orbit.kernel.amplitude_error),
-                   multiplier_error=orbit.kernel.multiplier_error, n_steps=orbit.kernel.n_steps)
+        row.update(n_steps=orbit.kernel.n_steps)
     elif orbit.fixed_step is not None:
-        fs = orbit.fixed_step
-        row.update(amplitude_error_deg=math.degrees(float(fs.unknowns_error[4])),
-                   multiplier_error=mu_error, n_steps=fs.n_steps)
+        row.update(n_steps=orbit.fixed_step.n_steps)
     row.update(zip(("u0", "w0", "q0", "theta0"), orbit.x0.tolist(), strict=True))
     for i, m in enumerate(mus[:4], start=1):
         row[f"mu{i}_real"], row[f"mu{i}_imag"] = m.real, m.imag
@@ -188,9 +195,8 @@ def _multipliers(orbit: HoverOrbit, solver: SolverSettings | None = None
     integration), or those of :func:`~flapping.hover.stability.hover_stability`, on the
     fixed-step path for an orbit found there (its estimate: the change from n to 2n steps)."""
     if orbit.kernel is not None:
-        return np.asarray(orbit.kernel.multipliers), orbit.kernel.multiplier_error
-    backend = "fixed-step" if orbit.backend == "fixed-step" else "auto"
-    stability = hover_stability(orbit, backend=backend, settings=solver)
+        return np.asarray(orbit.kernel.multipliers), orbit.multiplier_error
+    stability = hover_stability(orbit, settings=solver)
     return stability.multipliers, stability.multiplier_error
 
 
@@ -214,8 +220,7 @@ def _solve_point(point: _Point, guess: Guess[tuple[HoverOrbit, np.ndarray, float
                  settings: _Settings) -> tuple[HoverOrbit, np.ndarray, float]:
     """One point: from the previous orbit's x0, Phi and step count, or cold without a guess."""
     problem = HoverProblem(point.insect, settings.aerodynamics)
-    kernel_options = {"amplitude_tol_deg": settings.amplitude_tol_deg,
-                      "multiplier_tol": settings.multiplier_tol}
+    kernel_options = dict(settings.kernel_options)
     if guess is None:
         orbit = find_hover_orbit(problem, backend=settings.backend,
                                  kernel_options=kernel_options, settings=settings.solver)
@@ -249,13 +254,27 @@ def _unknowns(point: _Point, result: tuple[HoverOrbit, np.ndarray, float]) -> np
 _PREDICTION_ORDER = 3
 
 
-def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insect],
+def _solve_chunk(base: Insect | None, segments: Sequence[Sequence[Mapping[str, Any] | Insect]],
                  settings: _Settings) -> list[dict[str, Any]]:
+    """Solve the segments of a chunk, one after the other; one row per point, in order.
+
+    Module-level (picklable) so that executors can run it.
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", HoverDriftWarning)  # the row records the drift
+        # checked once for the sweep (sweep_hover warns there): a warm start's step count is
+        # an option of the path that solved the neighbour, which this point may not run
+        warnings.simplefilter("ignore", OptionWarning)
+        return [row for segment in segments for row in _solve_segment(base, segment, settings)]
+
+
+def _solve_segment(base: Insect | None, points: Sequence[Mapping[str, Any] | Insect],
+                   settings: _Settings) -> list[dict[str, Any]]:
     """Solve consecutive points, each warm-started from the previous answers; one row each.
 
-    A warm start that fails (a neighbour across a fold) is retried cold. Module-level
-    (picklable) so that executors can run it. A point's failure (bad parameters, no
-    convergence) is its row's message, and the next point starts cold.
+    The first point starts cold. A warm start that fails (a neighbour across a fold) is retried
+    cold. A point's failure (bad parameters, no convergence) is its row's message, and the next
+    point starts cold.
     """
     if base is None:  # a list of insects: no line to predict along
         warm = WarmStart(partial(_solve_point, settings=settings), restart=(ConvergenceError,))
@@ -266,48 +285,56 @@ def _solve_chunk(base: Insect | None, points: Sequence[Mapping[str, Any] | Insec
                          order=_PREDICTION_ORDER, restart=(ConvergenceError,))
         path = ((tuple(map(float, point.values())), _Point(base, point))  # type: ignore[union-attr]
                 for point in points)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", HoverDriftWarning)  # the row records the drift
-        steps = follow(path, warm, record=_POINT_FAILURES)
-    return [_row_of(step, settings.backend) for step in steps]
+    steps = follow(path, warm, record=_POINT_FAILURES)
+    return [_row_of(step, backend_name(settings.backend)) for step in steps]
 
 
 def _row_of(step: Step[Any, tuple[HoverOrbit, np.ndarray, float]], backend: str
             ) -> dict[str, Any]:
     """The row of a solved or failed point."""
     if step.result is None:
-        return _row(None, None, f"{type(step.error).__name__}: {step.error}", backend)
+        assert step.error is not None
+        return _row(None, None, f"{type(step.error).__name__}: {step.error}", backend,
+                    failure=status_of(step.error))
     orbit, mu, mu_error = step.result
     return _row(orbit, mu, "", backend, mu_error)
 
 
 # =========================================================================== the sweep
-def _backend(backend: str, aerodynamics: str) -> str:
-    backend = _validation.choice("backend", backend, BACKENDS)
-    if backend in ("adaptive", "fixed-step"):
-        return backend
-    if aerodynamics != "linear":
-        if backend == "compiled":
-            raise ValueError(f"backend='compiled' does not apply: the kernel has eq. (29)'s "
-                             f"linear loads only, not aerodynamics={aerodynamics!r}; use "
-                             "backend='fixed-step' or 'auto'")
-        return backend  # "auto": the fixed-step path, as find_hover_orbit runs it
-    if kernel.numba_available():
-        return backend  # each point's HoverProblem decides where "auto" runs
-    if backend == "compiled":
-        raise ImportError("backend='compiled' needs numba: pip install flapping[fast]")
-    warnings.warn("numba is not installed: the sweep uses the adaptive scipy path, ~1000 times "
-                  "slower per point (pip install flapping[fast] for the compiled kernel)",
-                  RuntimeWarning, stacklevel=3)
-    return "adaptive"
+def _checked_backend(backend: Any, aerodynamics: str, base: Insect,
+                     kernel_options: dict[str, float], solver: SolverSettings | None
+                     ) -> Backend | str:
+    """The sweep's backend argument, checked once: the path the first point would run is
+    chosen as every point's is (:func:`~flapping.hover.problem.choose_backend`), which refuses a
+    path that does not apply and warns about options of another path."""
+    options = Options.of(backend, kernel_options=kernel_options, settings=solver)
+    try:
+        problem = HoverProblem(base, aerodynamics)
+    except ValueError:
+        return options.requested  # an insect that cannot hover is a point (its row says why)
+    options.choose(problem)
+    return options.requested
 
 
-def _chunks(order: list[int], size: int) -> Iterator[list[int]]:
-    for i in range(0, len(order), size):
-        yield order[i:i + size]
+def _tasks(segments: list[list[int]], points: list[Any], size: int
+           ) -> list[tuple[list[int], list[list[Any]]]]:
+    """Whole segments grouped into chunks of at least ``size`` points (the last may be less)."""
+    tasks: list[tuple[list[int], list[list[Any]]]] = []
+    idx: list[int] = []
+    group: list[list[Any]] = []
+    for segment in segments:
+        idx += segment
+        group.append([points[i] for i in segment])
+        if len(idx) >= size:
+            tasks.append((idx, group))
+            idx, group = [], []
+    if idx:
+        tasks.append((idx, group))
+    return tasks
 
 
-def _run(tasks: list[tuple[list[int], list[Any]]], base: Insect | None, settings: _Settings,
+def _run(tasks: list[tuple[list[int], list[list[Any]]]], base: Insect | None,
+         settings: _Settings,
          executor: Executor | None, progress: bool) -> dict[int, dict[str, Any]]:
     """Solve every chunk (in process or on the executor); rows by flat point index."""
     from tqdm import tqdm  # the text bar (tqdm.auto's notebook bar needs ipywidgets)
@@ -336,9 +363,9 @@ def sweep_hover(
     executor: Executor | None = None,
     progress: bool = True,
     chunk_size: int = DEFAULT_CHUNK,
-    backend: str = "auto",
-    amplitude_tol_deg: float = kernel.AMPLITUDE_TOL_DEG,
-    multiplier_tol: float = kernel.MULTIPLIER_TOL,
+    backend: Backend | str = DEFAULT_BACKEND,
+    amplitude_tol_deg: float | None = None,
+    multiplier_tol: float | None = None,
     settings: SolverSettings | None = None,
     aerodynamics: str = "linear",
 ) -> pandas.DataFrame:
@@ -358,23 +385,23 @@ def sweep_hover(
     progress : bool
         Show a tqdm progress bar.
     chunk_size : int
-        Consecutive points per task (warm starts run within a chunk), >= 1.
-    backend : {"auto", "compiled", "adaptive", "fixed-step"}
-        ``"auto"``: for the linear loads the compiled kernel if numba is installed, else the
-        adaptive path (with a warning); for the blade-element loads the fixed-step path (as
-        :func:`~flapping.hover.find_hover_orbit` decides, with its fallback to the adaptive
-        path). ``"adaptive"``: the scipy reference path; ``"fixed-step"``: Newton on the
-        fixed-step period map (:data:`flapping.hover.BACKENDS`), any loads model, each point
-        warm-started with its neighbour's step count. The row's ``backend`` says which path
-        solved it.
-    amplitude_tol_deg, multiplier_tol : float
-        The kernel's accuracy targets for Phi [deg] and every multiplier (absolute).
+        Points per task at least (whole segments of :data:`SEGMENT` points), >= 1. The table
+        does not depend on it.
+    backend : "auto", "compiled", "fixed-step", "adaptive", or a backend object
+        How every point is solved (:mod:`flapping.backends`), as
+        :func:`~flapping.hover.find_hover_orbit` runs it: ``"auto"`` is the compiled kernel for
+        the linear loads if numba is installed, else the adaptive path (with a warning), and
+        the fixed-step path for the blade-element loads, each with its fallback to the adaptive
+        path. A point is warm-started with its neighbour's step count. The row's ``backend``
+        says which path solved it.
+    amplitude_tol_deg, multiplier_tol : float, optional
+        Shorthands for :class:`~flapping.backends.Compiled`'s accuracy targets for Phi [deg]
+        and every multiplier (absolute).
     settings : SolverSettings, optional
-        Solver options of the points solved off the kernel, passed to
+        Shorthand for the adaptive path's options (:class:`~flapping.backends.Adaptive`), as
         :func:`~flapping.hover.find_hover_orbit` and
-        :func:`~flapping.hover.stability.hover_stability` (each reads the fields it uses, with
-        its own default for a field left at None). A ``method`` other than ``"DOP853"`` sends
-        every point to the adaptive path.
+        :func:`~flapping.hover.stability.hover_stability` read it. A ``method`` other than
+        ``"DOP853"`` sends every point to the adaptive path.
     aerodynamics : {"linear", "small-angle", "exact"}
         Loads model of every point (:class:`~flapping.model.dynamics.LongitudinalDynamics`;
         ``"linear"`` is eq. 29).
@@ -387,6 +414,7 @@ def sweep_hover(
         ``mu1..mu4`` (real and imaginary parts, by descending modulus); ``max_abs_mu``;
         ``stable``; ``converged`` (a hover orbit was found: false for one that drifts);
         ``status`` (:class:`~flapping.hover.HoverStatus`, -1 for a failed point);
+        ``solve_status`` (the solve's :class:`~flapping.results.Status`, as a word);
         ``forward_speed`` and ``climb_speed`` (cycle means of the inertial velocities [m/s]);
         the error estimates ``amplitude_error_deg`` and ``multiplier_error`` (largest absolute
         error of a multiplier: the kernel's estimate, or on the fixed-step path
@@ -406,19 +434,16 @@ def sweep_hover(
     import pandas
 
     chunk_size = _validation.integer("chunk_size", chunk_size, low=1)
-    if settings is not None and not isinstance(settings, SolverSettings):
-        raise ValueError(f"`settings` must be a SolverSettings; got {settings!r} "
-                         f"({type(settings).__name__})")
     aerodynamics = _validation.choice("aerodynamics", aerodynamics, AERODYNAMIC_MODELS)
-    settings_ = _Settings(_backend(backend, aerodynamics),
-                          _validation.positive("amplitude_tol_deg", amplitude_tol_deg),
-                          _validation.positive("multiplier_tol", multiplier_tol), settings,
-                          aerodynamics)
+    kernel_options = {k: v for k, v in (("amplitude_tol_deg", amplitude_tol_deg),
+                                        ("multiplier_tol", multiplier_tol)) if v is not None}
     if executor is not None and not isinstance(executor, Executor):
         raise ValueError(f"`executor` must be a concurrent.futures.Executor; got {executor!r}")
     base, points, params, shape = _points(insect, grid)
-    order = _snake(shape)
-    tasks = [(idx, [points[i] for i in idx]) for idx in _chunks(order, chunk_size)]
+    requested = _checked_backend(backend, aerodynamics, points[0] if base is None else base,
+                                 kernel_options, settings)
+    settings_ = _Settings(requested, kernel_options, settings, aerodynamics)
+    tasks = _tasks(_segments(shape), points, chunk_size)
     rows = _run(tasks, base, settings_, executor, progress)
     table = pandas.DataFrame([rows[i] for i in range(len(points))], columns=list(COLUMNS))
     return pandas.concat([pandas.DataFrame(params), table], axis=1)

@@ -1,0 +1,305 @@
+"""How a solve runs: one object per integration path, holding its own options and defaults.
+
+After scipy's solver classes (``solve_ivp(method=RK45)``) and diffrax's solver and step-size
+controller objects: every hover entry point (:func:`~flapping.hover.find_hover_orbit`,
+:func:`~flapping.hover.stability.hover_stability`, :func:`~flapping.hover.branch.continue_hover`,
+:func:`~flapping.studies.sweep.sweep_hover`, the :mod:`~flapping.studies.control` functions)
+takes ``backend=`` as one of
+
+- :class:`Compiled`: the numba hover kernel of :mod:`flapping.fast` (eq. 29's linear loads,
+  one trim), Newton on a fixed-step 8th-order period map with Richardson error estimates;
+- :class:`FixedStep`: Newton on a fixed-step 8th-order period map on a time mesh graded towards
+  the stroke reversals (any loads model), with Richardson error estimates;
+- :class:`Adaptive`: Levenberg-Marquardt shooting on scipy's adaptive integrators, as in the
+  paper: the reference and the cross-check;
+- ``"auto"`` (the default): the fastest of them that applies, decided by one function,
+  :func:`flapping.hover.problem.choose_backend`.
+
+The string forms ``"compiled"``, ``"fixed-step"`` and ``"adaptive"`` mean the objects with their
+default options. Each object's defaults are its dataclass field defaults, and nowhere else::
+
+    from flapping import find_hover_orbit, hawkmoth
+    from flapping.backends import Adaptive, FixedStep
+
+    find_hover_orbit(hawkmoth(), backend=Adaptive(rtol=1e-10))
+    find_hover_orbit(hawkmoth(), aerodynamics="exact", backend=FixedStep(n_steps=32))
+
+Every field is checked when the object is built (a ValueError names the field and its range),
+so an absurd tolerance is refused on every path, whether or not that path runs. An option given
+for a path that does not run (say ``rtol`` while the compiled kernel runs) is not dropped in
+silence: the entry points warn with :class:`OptionWarning`.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, fields, replace
+from typing import Any, ClassVar, Union
+
+import flapping._validation as check
+
+__all__ = ["AUTO", "BACKEND_NAMES", "Adaptive", "Backend", "Compiled", "FixedStep",
+           "OptionWarning", "as_backend", "backend_name"]
+
+#: The shorthand that lets :func:`~flapping.hover.problem.choose_backend` pick the path.
+AUTO = "auto"
+
+#: Smallest relative tolerance float64 can deliver (scipy's ``100 * eps``).
+RTOL_FLOOR = 100 * 2.220446049250313e-16
+
+#: Loosest accepted tolerance of any kind (relative or absolute integration tolerance, residual
+#: norm, error target): beyond 1 % nothing the solves report means anything (a multiplier known to
+#: 1e-2 cannot tell a stable orbit from an unstable one near the unit circle). A coarse, quick
+#: solve is still possible; ``rtol=1`` or ``1e300`` is a typo, refused.
+LOOSEST_TOL = 1e-2
+
+#: Largest step count per half-stroke a fixed-step solve may start with (the fixed-step and
+#: kernel paths refine at most to 4096).
+MAX_START_STEPS = 4096
+
+
+class OptionWarning(UserWarning):
+    """An option was given for an integration path that does not run, and is ignored."""
+
+
+def _tol(name: str, value: Any, *, floor: float = 0.0) -> float:
+    """A tolerance in (floor, LOOSEST_TOL], or a ValueError naming ``name`` and the range."""
+    return check.real(name, value, low=floor, high=LOOSEST_TOL, low_open=floor == 0.0)
+
+
+def _rtol(name: str, value: Any) -> float:
+    """A relative tolerance in [100 eps, LOOSEST_TOL]: raised to the floor with a warning, as
+    scipy's solve_ivp does."""
+    rtol = _tol(name, value)
+    if rtol < RTOL_FLOOR:
+        from flapping.errors import ToleranceWarning
+
+        warnings.warn(f"`{name}` = {rtol:.3g} is below what float64 can deliver (100 * eps = "
+                      f"{RTOL_FLOOR:.3g}, as in scipy's solve_ivp): raised to {RTOL_FLOOR:.3g}",
+                      ToleranceWarning, stacklevel=5)
+        rtol = RTOL_FLOOR
+    return rtol
+
+
+def _steps(name: str, value: Any, low: int) -> int:
+    return check.integer(name, value, low=low, high=MAX_START_STEPS)
+
+
+@dataclass(frozen=True)
+class _Backend:
+    """What every backend object has: its name and the options a caller gave explicitly."""
+
+    name: ClassVar[str]
+
+    def given(self) -> dict[str, Any]:
+        """The options that differ from the defaults (what a caller chose)."""
+        default = type(self)()
+        return {f.name: getattr(self, f.name) for f in fields(self)
+                if getattr(self, f.name) != getattr(default, f.name)}
+
+    def with_options(self, **options: Any) -> Any:
+        """A copy with ``options`` replaced (each checked), a ValueError naming an unknown one."""
+        known = {f.name for f in fields(self)}
+        unknown = sorted(set(options) - known)
+        if unknown:
+            raise ValueError(f"the {self.name} path has no option {', '.join(unknown)}; its "
+                             f"options are {', '.join(sorted(known))}")
+        return replace(self, **options)
+
+
+@dataclass(frozen=True)
+class Compiled(_Backend):
+    """The compiled hover kernel (numba; eq. 29's linear loads, one trim).
+
+    Attributes
+    ----------
+    n_steps : int, optional
+        Steps per half-stroke to start with (refined until the tolerances hold); None: the
+        kernel's own start (12), in [4, 4096].
+    amplitude_tol_deg : float
+        Target of the stroke amplitude's Richardson error estimate [deg], in (0, 1e-2].
+    multiplier_tol : float
+        Target of every Floquet multiplier's error estimate (absolute), in (0, 1e-2].
+    """
+
+    name: ClassVar[str] = "compiled"
+    n_steps: int | None = None
+    amplitude_tol_deg: float = 1e-9
+    multiplier_tol: float = 1e-8
+
+    def __post_init__(self) -> None:
+        if self.n_steps is not None:
+            object.__setattr__(self, "n_steps", _steps("n_steps", self.n_steps, 4))
+        object.__setattr__(self, "amplitude_tol_deg",
+                           _tol("amplitude_tol_deg", self.amplitude_tol_deg))
+        object.__setattr__(self, "multiplier_tol", _tol("multiplier_tol", self.multiplier_tol))
+
+
+@dataclass(frozen=True)
+class FixedStep(_Backend):
+    """Newton on a fixed-step 8th-order period map on the graded time mesh (any loads model).
+
+    Attributes
+    ----------
+    n_steps : int
+        Steps per half-stroke to start with, in [2, 4096] (doubled until the error estimates
+        meet ``error_tol``).
+    error_tol : float
+        Target of every unknown's Richardson error estimate, relative to max(1, |value|), in
+        (0, 1e-2].
+    multiplier_tol : float, optional
+        Target of the multipliers' error estimate (None: estimated, not enforced).
+    tol : float
+        Largest accepted norm of the periodicity residual, in (0, 1e-2].
+    max_nfev : int, optional
+        Cap on the evaluations of the right-hand side of one solve (None: the solver's own).
+    """
+
+    name: ClassVar[str] = "fixed-step"
+    n_steps: int = 64
+    error_tol: float = 1e-10
+    multiplier_tol: float | None = None
+    tol: float = 1e-10
+    max_nfev: int | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "n_steps", _steps("n_steps", self.n_steps, 2))
+        object.__setattr__(self, "error_tol", _tol("error_tol", self.error_tol))
+        if self.multiplier_tol is not None:
+            object.__setattr__(self, "multiplier_tol",
+                               _tol("multiplier_tol", self.multiplier_tol))
+        object.__setattr__(self, "tol", _tol("tol", self.tol))
+        if self.max_nfev is not None:
+            object.__setattr__(self, "max_nfev",
+                               check.integer("max_nfev", self.max_nfev, low=1, high=10**8))
+
+    def fixed_step_options(self) -> dict[str, Any]:
+        """The keywords of :func:`~flapping.periodic.fixedstep.find_periodic_orbit_fixed_step`."""
+        out = {"n_steps": self.n_steps, "error_tol": self.error_tol,
+               "multiplier_tol": self.multiplier_tol, "tol": self.tol}
+        if self.max_nfev is not None:
+            out["max_nfev"] = self.max_nfev
+        return out
+
+
+#: The Jacobians of the adaptive path's shooting residual.
+JACOBIANS = ("variational", "finite-difference")
+
+
+@dataclass(frozen=True)
+class Adaptive(_Backend):
+    """Levenberg-Marquardt shooting on scipy's adaptive integrators (the reference path).
+
+    Attributes
+    ----------
+    method : str
+        ``"DOP853"``, another :func:`scipy.integrate.solve_ivp` method, or ``"RK4"`` (the
+        paper's fixed step, ``rk4_steps`` per period).
+    rtol, atol : float
+        Tolerances of the orbit's integrations, rtol in [100 eps, 1e-2], atol in (0, 1e-2].
+    analysis_rtol, analysis_atol : float
+        Tolerances of the integrations that analyse a found orbit (its monodromy, averaged
+        Jacobian, samples' force budget, perturbations): a decade tighter than the orbit's, so
+        that the analysis adds no error of its own.
+    tol : float
+        Largest accepted norm of the shooting residual, in (0, 1e-2].
+    jacobian : {"variational", "finite-difference"}, optional
+        Jacobian of the shooting residual. None: variational for the linear loads (analytic),
+        finite differences for the blade-element loads.
+    rk4_steps : int
+        RK4 steps per period (``method="RK4"`` only), in [1, 2**22].
+    max_steps : int, optional
+        Step budget of one integration (None: the integrator's own, 100 000).
+    max_nfev : int, optional
+        Residual evaluations of Levenberg-Marquardt (None: 100 (unknowns + 1)).
+    """
+
+    name: ClassVar[str] = "adaptive"
+    method: str = "DOP853"
+    rtol: float = 1e-11
+    atol: float = 1e-12
+    analysis_rtol: float = 1e-12
+    analysis_atol: float = 1e-12
+    tol: float = 1e-10
+    jacobian: str | None = None
+    rk4_steps: int = 1024
+    max_steps: int | None = None
+    max_nfev: int | None = None
+
+    def __post_init__(self) -> None:
+        from flapping.periodic.settings import check_method
+
+        object.__setattr__(self, "method", check_method(self.method))
+        for name in ("rtol", "analysis_rtol"):
+            object.__setattr__(self, name, _rtol(name, getattr(self, name)))
+        for name in ("atol", "analysis_atol", "tol"):
+            object.__setattr__(self, name, _tol(name, getattr(self, name)))
+        if self.jacobian is not None:
+            check.choice("jacobian", self.jacobian, JACOBIANS)
+        object.__setattr__(self, "rk4_steps",
+                           check.integer("rk4_steps", self.rk4_steps, low=1, high=2**22))
+        if self.max_steps is not None:
+            object.__setattr__(self, "max_steps",
+                               check.integer("max_steps", self.max_steps, low=1, high=10**7))
+        if self.max_nfev is not None:
+            object.__setattr__(self, "max_nfev",
+                               check.integer("max_nfev", self.max_nfev, low=1, high=10**5))
+
+    @property
+    def chosen_by_options(self) -> bool:
+        """True if the options ask for this path by name: another ``method`` or ``jacobian``
+        than the default (``"auto"`` then means the adaptive path, as scipy's ``method``)."""
+        return self.method != "DOP853" or self.jacobian not in (None, "variational")
+
+
+#: Any backend object.
+Backend = Union[Compiled, FixedStep, Adaptive]  # noqa: UP007 (a runtime alias, used in isinstance)
+
+#: The backend classes by name (the string forms).
+_BY_NAME: dict[str, type[Compiled] | type[FixedStep] | type[Adaptive]] = {
+    Compiled.name: Compiled, FixedStep.name: FixedStep, Adaptive.name: Adaptive}
+
+#: Every accepted string form.
+BACKEND_NAMES: tuple[str, ...] = (AUTO, *_BY_NAME)
+
+
+def as_backend(backend: Any) -> Backend | str:
+    """``backend`` as a backend object, or ``"auto"``.
+
+    Parameters
+    ----------
+    backend : "auto", "compiled", "fixed-step", "adaptive", or a backend object
+        A string means that path with its default options.
+
+    Returns
+    -------
+    Compiled, FixedStep, Adaptive or "auto"
+
+    Raises
+    ------
+    ValueError
+        For anything else, naming the accepted forms.
+    """
+    if isinstance(backend, (Compiled, FixedStep, Adaptive)):
+        return backend
+    if isinstance(backend, str) and backend in BACKEND_NAMES:
+        return AUTO if backend == AUTO else _BY_NAME[backend]()
+    if isinstance(backend, type) and backend in _BY_NAME.values():
+        return backend()
+    raise ValueError(f"`backend` must be one of {BACKEND_NAMES} or a Compiled, FixedStep or "
+                     f"Adaptive object; got {check._show(backend)}")
+
+
+def backend_name(backend: Backend | str) -> str:
+    """The string form of a backend object (``"auto"`` stays ``"auto"``)."""
+    return backend if isinstance(backend, str) else backend.name
+
+
+def warn_unused(options: dict[str, Any], running: str, stacklevel: int = 3) -> None:
+    """Warn (:class:`OptionWarning`) that ``options`` do not apply to the path that runs."""
+    if options:
+        names = ", ".join(f"{k}={v!r}" for k, v in sorted(options.items()))
+        warnings.warn(f"{names} {'does' if len(options) == 1 else 'do'} not apply to the "
+                      f"{running} path, which runs here: ignored (pass backend=... to choose "
+                      "the path that uses it)", OptionWarning, stacklevel=stacklevel + 1)
+

@@ -1,0 +1,112 @@
+"""What every solve reports: one status enumeration with one message table, and its statistics.
+
+After scipy's integer ``status`` beside ``message`` and diffrax's ``RESULTS``: the compiled
+kernel, the fixed-step solver, the adaptive shooting and the sweeps' rows all report a
+:class:`Status` from this one table, so a batch can record a failure row by row and a single
+call can raise. ``str(status)`` reads as a word (``"success"``, ``"singular"``), and
+``status.message`` says what it means.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+
+__all__ = ["MESSAGES", "Status", "Stats", "status_of"]
+
+
+class Status(enum.IntEnum):
+    """The outcome of a solve (one table for every path; :attr:`message` says it in words)."""
+
+    SUCCESS = 0
+    MAX_ITERATIONS = 1
+    LEFT_DOMAIN = 2
+    NON_FINITE = 3
+    SINGULAR = 4
+    TOLERANCE_NOT_MET = 5
+    MAX_EVALUATIONS = 6
+    RESIDUAL_ABOVE_TOL = 7
+    INTEGRATION_FAILED = 8
+    INVALID_INPUT = 9
+    INTERRUPTED = 10
+    FAILED = 11
+
+    def __str__(self) -> str:
+        return self.name.lower()
+
+    @property
+    def message(self) -> str:
+        """What the status means, in words."""
+        return MESSAGES[self]
+
+    @property
+    def success(self) -> bool:
+        """True for :attr:`SUCCESS`."""
+        return self is Status.SUCCESS
+
+
+#: The one message table.
+MESSAGES: dict[Status, str] = {
+    Status.SUCCESS: "converged: the residual and the error estimates within their tolerances",
+    Status.MAX_ITERATIONS: "Newton's method reached its iteration cap",
+    Status.LEFT_DOMAIN: "an iterate left the unknowns' domain (a stroke amplitude outside "
+                        "(0, 90] deg or a mean stroke angle outside (-90, 90) deg)",
+    Status.NON_FINITE: "the integration produced a non-finite value",
+    Status.SINGULAR: "the Jacobian of the periodicity residual is singular",
+    Status.TOLERANCE_NOT_MET: "the error tolerances were not met with the largest step count",
+    Status.MAX_EVALUATIONS: "the solve reached its cap on evaluations of the right-hand side",
+    Status.RESIDUAL_ABOVE_TOL: "the iteration stopped with a residual norm above `tol`",
+    Status.INTEGRATION_FAILED: "an integration failed (step size below its floor or step "
+                               "budget exhausted)",
+    Status.INVALID_INPUT: "the input was refused (a parameter outside its range)",
+    Status.INTERRUPTED: "interrupted (Ctrl-C)",
+    Status.FAILED: "the solve did not converge (its message says why)",
+}
+
+
+def status_of(error: BaseException) -> Status:
+    """The :class:`Status` of a solve that raised ``error``.
+
+    A :class:`~flapping.errors.ConvergenceError` carries its own (``error.status``); otherwise:
+    a :class:`~flapping.errors.DomainError` left the domain, a ValueError is refused input, a
+    LinAlgError a singular matrix, an ArithmeticError a non-finite value, KeyboardInterrupt an
+    interruption.
+    """
+    from flapping.errors import DomainError  # errors imports nothing of this module's users
+
+    status = getattr(error, "status", None)
+    if isinstance(status, Status):
+        return status
+    if isinstance(error, DomainError):
+        return Status.LEFT_DOMAIN
+    if isinstance(error, KeyboardInterrupt):
+        return Status.INTERRUPTED
+    if isinstance(error, ValueError):
+        return Status.INVALID_INPUT
+    if type(error).__name__ == "LinAlgError":  # numpy.linalg's, without importing numpy here
+        return Status.SINGULAR
+    if isinstance(error, ArithmeticError):
+        return Status.NON_FINITE
+    return Status.FAILED
+
+
+@dataclass(frozen=True)
+class Stats:
+    """The work a solve did (scipy's counter names).
+
+    Attributes
+    ----------
+    nit : int
+        Newton (or Levenberg-Marquardt) iterations.
+    nfev : int
+        Evaluations of the right-hand side (or of the residual, on the adaptive path).
+    njev : int
+        Evaluations of the residual's Jacobian (0 where it is not counted apart).
+    time : float
+        Wall-clock time of the solve [s].
+    """
+
+    nit: int
+    nfev: int
+    njev: int = 0
+    time: float = 0.0
