@@ -81,10 +81,10 @@ def status_of(error: BaseException) -> Status:
         return Status.LEFT_DOMAIN
     if isinstance(error, KeyboardInterrupt):
         return Status.INTERRUPTED
+    if type(error).__name__ == "LinAlgError":  # numpy.linalg's (a ValueError), without numpy
+        return Status.SINGULAR
     if isinstance(error, ValueError):
         return Status.INVALID_INPUT
-    if type(error).__name__ == "LinAlgError":  # numpy.linalg's, without importing numpy here
-        return Status.SINGULAR
     if isinstance(error, ArithmeticError):
         return Status.NON_FINITE
     return Status.FAILED

@@ -13,7 +13,7 @@ pytest.importorskip("numba")
 pandas = pytest.importorskip("pandas")
 pytest.importorskip("tqdm")
 from flapping.fast.kernel import solve_hover  # noqa: E402
-from flapping.studies.sweep import COLUMNS, grid_points, sweep_hover  # noqa: E402
+from flapping.studies.sweep import COLUMNS, SEGMENT, grid_points, sweep_hover  # noqa: E402
 
 GRID = {"frequency": np.linspace(22.0, 30.0, 5), "center_of_pressure": [0.1, 0.25, 0.4]}
 
@@ -65,6 +65,27 @@ def test_process_pool_gives_the_same_table(table):
     with ProcessPoolExecutor(2) as pool:
         df = sweep_hover(flapping.hawkmoth(), GRID, progress=False, chunk_size=4, executor=pool)
     pandas.testing.assert_frame_equal(df, table)
+
+
+@pytest.mark.parametrize(("chunk_size", "workers"), [(1, None), (7, 2), (1000, None)])
+def test_the_table_does_not_depend_on_how_the_grid_is_cut(chunk_size, workers):
+    # Reproducer: Phi moved 7e-10 deg between chunks of 50 and 250 (a chunk's first point started
+    # cold wherever the chunk began). Segments of SEGMENT points on a grid line start cold,
+    # whatever the chunks: bit-identical tables. A line longer than a segment is cut too.
+    grid = {"frequency": [24.0, 27.0], "hinge_height": np.linspace(0.0, 4e-3, SEGMENT + 7)}
+    reference = sweep_hover(flapping.hawkmoth(), grid, progress=False)
+    if workers is None:
+        df = sweep_hover(flapping.hawkmoth(), grid, progress=False, chunk_size=chunk_size)
+    else:
+        with ProcessPoolExecutor(workers) as pool:
+            df = sweep_hover(flapping.hawkmoth(), grid, progress=False, chunk_size=chunk_size,
+                             executor=pool)
+    pandas.testing.assert_frame_equal(df, reference, check_exact=True)
+
+
+def test_a_failed_point_s_status_is_a_word_from_the_one_table():
+    df = sweep_hover(flapping.hawkmoth(), {"frequency": [8.0, 26.3]}, progress=False)
+    assert df.solve_status.tolist() == ["invalid_input", "success"]
 
 
 def test_dask_cluster_gives_the_same_table(table):

@@ -578,9 +578,9 @@ class Options:
                    objects[FixedStep.name], given)
 
     def choose(self, problem: HoverProblem, solved: Backend | None = None,
-               shared: Sequence[str] = ()) -> Backend:
+               shared: Mapping[str, Sequence[str]] | None = None) -> Backend:
         """The path that runs, with the caller's options; warns about options of other paths
-        (except ``shared`` ones, which the caller uses whatever the path)."""
+        (except ``shared[name]``, options the caller uses too when path ``name`` runs)."""
         requested: Backend | str = self.requested
         if self.auto and self.adaptive.chosen_by_options:
             requested = self.adaptive
@@ -593,7 +593,8 @@ class Options:
             path = path.with_options(**self.given[path.name])
         unused = {k: v for name, opts in self.given.items() if name != path.name
                   for k, v in opts.items()
-                  if k not in shared and not (k == "tol" and "tol" in self.given[path.name])}
+                  if k not in (shared or {}).get(path.name, ())
+                  and not (k == "tol" and "tol" in self.given[path.name])}
         warn_unused(unused, path.name, stacklevel=4)
         return path
 

@@ -254,7 +254,7 @@ def hover_stability(
     # The averaged Jacobian off the compiled path integrates the orbit at the analysis
     # tolerances: they apply to the fixed-step path too.
     path = options.choose(problem, solved=orbit.solver,
-                          shared=("analysis_rtol", "analysis_atol"))
+                          shared={FixedStep.name: ("analysis_rtol", "analysis_atol")})
     adaptive = options.adaptive
     rtol, atol = adaptive.analysis_rtol, adaptive.analysis_atol
     if isinstance(path, FixedStep):
