@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, fields, replace
-from typing import Any, ClassVar, Union
+from typing import Any, ClassVar, Self, Union
 
 import flapping._validation as check
 
@@ -97,7 +97,7 @@ class _Backend:
         return {f.name: getattr(self, f.name) for f in fields(self)
                 if getattr(self, f.name) != getattr(default, f.name)}
 
-    def with_options(self, **options: Any) -> Any:
+    def with_options(self, **options: Any) -> Self:
         """A copy with ``options`` replaced (each checked), a ValueError naming an unknown one."""
         known = {f.name for f in fields(self)}
         unknown = sorted(set(options) - known)

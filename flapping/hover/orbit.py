@@ -35,10 +35,10 @@ import math
 import time
 import warnings
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from dataclasses import fields as dataclass_fields
 from functools import cached_property
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -300,6 +300,8 @@ class HoverOrbit:
 
     @cached_property
     def _sampled(self) -> tuple[np.ndarray, np.ndarray]:
+        if self.samples is None:
+            raise ValueError("this orbit was built without its samples (samples=None)")
         t, x = self.samples()
         return readonly(np.asarray(t, dtype=float)), readonly(np.asarray(x, dtype=float))
 
@@ -572,10 +574,11 @@ class Options:
         if tol is not None:
             fixed = {**fixed, "tol": tol}
         given = {Adaptive.name: adaptive, Compiled.name: compiled, FixedStep.name: fixed}
-        objects = {name: (requested if isinstance(requested, kind) else kind()).with_options(
-                   **given[name]) for name, kind in _KINDS.items()}
-        return cls(requested, objects[Adaptive.name], objects[Compiled.name],
-                   objects[FixedStep.name], given)
+        def built(kind: type[_B]) -> _B:
+            base = requested if isinstance(requested, kind) else kind()
+            return base.with_options(**given[kind.name])
+
+        return cls(requested, built(Adaptive), built(Compiled), built(FixedStep), given)
 
     def choose(self, problem: HoverProblem, solved: Backend | None = None,
                shared: Mapping[str, Sequence[str]] | None = None) -> Backend:
@@ -585,12 +588,12 @@ class Options:
         if self.auto and self.adaptive.chosen_by_options:
             requested = self.adaptive
         path = choose_backend(problem, requested, solved=solved)
-        chosen = {Adaptive.name: self.adaptive, Compiled.name: self.compiled,
-                  FixedStep.name: self.fixed_step}[path.name]
+        chosen: Backend = (self.adaptive if isinstance(path, Adaptive) else
+                           self.compiled if isinstance(path, Compiled) else self.fixed_step)
         if path is not solved:
             path = chosen
         elif self.given[path.name]:
-            path = path.with_options(**self.given[path.name])
+            path = replace(path, **self.given[path.name])  # keys checked by the objects
         unused = {k: v for name, opts in self.given.items() if name != path.name
                   for k, v in opts.items()
                   if k not in (shared or {}).get(path.name, ())
@@ -599,8 +602,7 @@ class Options:
         return path
 
 
-_KINDS: dict[str, type[Adaptive] | type[Compiled] | type[FixedStep]] = {
-    Adaptive.name: Adaptive, Compiled.name: Compiled, FixedStep.name: FixedStep}
+_B = TypeVar("_B", Adaptive, Compiled, FixedStep)
 
 
 def _mapping(name: str, value: Any, kind: type[Compiled] | type[FixedStep]) -> dict[str, Any]:
