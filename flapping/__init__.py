@@ -25,7 +25,7 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
-from flapping._moved import MOVED_MODULES as MOVED_MODULES  # the old paths, each a forwarder
+from flapping._moved import MOVED_MODULES as MOVED_MODULES  # deprecated paths: forwarders
 
 if TYPE_CHECKING:  # what mypy and editors see; at run time __getattr__ imports on first use
     from flapping.errors import ConvergenceError, HoverDriftWarning

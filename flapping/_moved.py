@@ -1,9 +1,9 @@
-"""The module paths that moved into the layers, kept importable by thin forwarding modules.
+"""Deprecated module paths: thin modules that forward to the layers' modules and warn.
 
-Each old path (``flapping/stability.py``, ...) is a module of three lines: it warns when
-imported, and its module-level ``__getattr__`` (PEP 562) hands out every attribute of the new
-module, warning each time, so that ``import flapping.stability`` and ``from flapping.stability
-import hover_stability`` both work and both say where the name lives now.
+Each deprecated path (``flapping/stability.py``, ...) is a module of three statements: it warns
+when imported, and its module-level ``__getattr__`` (PEP 562) hands out every attribute of the
+module that holds the code, warning each time, so that ``import flapping.stability`` and ``from
+flapping.stability import hover_stability`` both work and both name the path to import from.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ import importlib
 import warnings
 from typing import Any
 
-#: Each old module path, and the module that holds its code.
+#: Each deprecated module path, and the module that holds its code.
 MOVED_MODULES = {
     "flapping.stability": "flapping.hover.stability",
     "flapping.hover_branch": "flapping.hover.branch",
@@ -23,7 +23,7 @@ MOVED_MODULES = {
 
 
 def warn_import(old: str) -> None:
-    """Warn that module ``old`` is imported by its old path (call it from that module's body)."""
+    """Warn that the deprecated module ``old`` is imported (call it from that module's body)."""
     # stacklevel 3: this function, the old module's body, then (past the import machinery's
     # frames, which warnings skips) the line that imported it.
     warnings.warn(f"{old} is deprecated: import from {MOVED_MODULES[old]}", DeprecationWarning,
@@ -31,24 +31,24 @@ def warn_import(old: str) -> None:
 
 
 def forward(old: str, name: str) -> Any:
-    """The attribute ``name`` of the module that replaced ``old``, with a DeprecationWarning.
+    """The attribute ``name`` of the module behind ``old``, with a DeprecationWarning.
 
     Parameters
     ----------
     old : str
-        The old module path, a key of :data:`MOVED_MODULES`.
+        The deprecated module path, a key of :data:`MOVED_MODULES`.
     name : str
-        The attribute asked of the old module.
+        The attribute asked of the deprecated module.
 
     Returns
     -------
     object
-        The new module's attribute itself (same object, so the same patch target).
+        The attribute of the module behind ``old`` itself (same object, same patch target).
 
     Raises
     ------
     AttributeError
-        If the new module has no such attribute.
+        If that module has no such attribute.
     """
     new = MOVED_MODULES[old]
     if name.startswith("__") and name.endswith("__") and name != "__all__":
@@ -59,5 +59,5 @@ def forward(old: str, name: str) -> Any:
 
 
 def names(old: str) -> list[str]:
-    """The names the old module ``old`` forwards (for ``dir()``): the new module's."""
+    """The names the deprecated module ``old`` forwards (for ``dir()``)."""
     return dir(importlib.import_module(MOVED_MODULES[old]))
