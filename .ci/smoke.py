@@ -2,7 +2,7 @@
 
 ``python smoke.py``: the core install works (import, a periodic orbit, its multipliers).
 ``python smoke.py --extra derive``: SymPy regenerates exactly the derivative code the wheel ships.
-``python smoke.py --extra plot``: the book's plotting helpers draw with matplotlib.
+``python smoke.py --extra plot``: a continuation branch draws itself with matplotlib.
 ``python smoke.py --extra fast``: the compiled kernel agrees with the adaptive path.
 ``python smoke.py --extra sweep``: a three-point sweep gives a pandas table.
 ``python smoke.py --extra distributed``: the same sweep on a dask LocalCluster gives the same table.
@@ -10,6 +10,8 @@
 
 from __future__ import annotations
 
+import importlib.util
+import math
 import sys
 from pathlib import Path
 
@@ -19,9 +21,11 @@ import flapping
 
 
 def core() -> None:
+    assert "site-packages" in flapping.__file__, f"not the installed wheel: {flapping.__file__}"
+    assert "scipy.integrate" not in sys.modules, "import flapping loaded the solvers"
+    assert importlib.util.find_spec("flapping_book") is None, "the book's helpers are installed"
     from flapping.periodic.testproblems import lorenz, lorenz_jac
 
-    assert "site-packages" in flapping.__file__, f"not the installed wheel: {flapping.__file__}"
     orbit = flapping.find_periodic_orbit(lorenz, [-13.76, -19.58, 27.0], 1.56, jac=lorenz_jac,
                                          fixed=[2])
     assert orbit.success and abs(orbit.period - 1.5586522) < 1e-6, orbit
@@ -39,14 +43,22 @@ def derive() -> None:
     print("derive: SymPy regenerates the shipped derivative code exactly")
 
 
+def _hopf(t, x, p):
+    """Hopf normal form: the circle r = sqrt(p), period 2 pi."""
+    r2 = x[0] ** 2 + x[1] ** 2
+    return np.array([p * x[0] - x[1] - x[0] * r2, x[0] + p * x[1] - x[1] * r2])
+
+
 def plot() -> None:
     import matplotlib
 
     matplotlib.use("Agg")
-    from flapping.book import plotting
+    from flapping.periodic import continue_orbit
 
-    fig = plotting.plot_multipliers(np.array([1.29, 0.77, 0.65, 0.41]))
-    print("plot: drew", type(fig).__name__)
+    branch = continue_orbit(_hopf, [math.sqrt(0.5), 0.0], 2 * math.pi, 0.5, 0.6)
+    upper, lower = branch.plot()
+    assert branch.success and len(upper.lines) > 0, branch.message
+    print(f"plot: drew a branch of {len(branch.p)} orbits on", type(upper).__name__)
 
 
 def fast() -> None:

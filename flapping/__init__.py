@@ -11,29 +11,30 @@ Hovering Flapping MAVs/Insects". Layers, each importing only the ones before it:
 - :mod:`flapping.hover`: the application joining them: the hover problem, its orbit, stability
   and branches;
 - :mod:`flapping.studies`: studies built on the hover orbit: sweeps, the species atlas,
-  stabilisation and feedback;
-- :mod:`flapping.book`: the book's figures, tables and the paper's printed numbers (not
-  re-exported).
+  stabilisation and feedback.
 
-Importing the package does no work beyond definitions. The command line is :mod:`flapping.cli`
+The names in ``__all__`` are the main entry points, imported from their layers when first used
+(PEP 562): ``import flapping`` alone loads NumPy and the exceptions, not the solvers, so the
+command line and scripts that need one layer do not pay for the others. The subpackages load the
+same way (``flapping.hover`` after ``import flapping``). The command line is :mod:`flapping.cli`
 (``flapping --help``).
 """
 
-import importlib
-import importlib.abc
-import importlib.machinery
-import importlib.util
-import sys
-import types
-from typing import Any
+from __future__ import annotations
 
-from flapping.errors import ConvergenceError, HoverDriftWarning
-from flapping.hover import HoverOrbit, HoverProblem, find_hover_orbit
-from flapping.hover.stability import HoverStability, hover_stability
-from flapping.model.morphology import Insect, hawkmoth
-from flapping.periodic.floquet import monodromy
-from flapping.periodic.shooting import find_periodic_orbit
-from flapping.studies.sweep import sweep_hover
+import importlib
+from typing import TYPE_CHECKING, Any
+
+from flapping._moved import MOVED_MODULES as MOVED_MODULES  # deprecated paths: forwarders
+
+if TYPE_CHECKING:  # what mypy and editors see; at run time __getattr__ imports on first use
+    from flapping.errors import ConvergenceError, HoverDriftWarning
+    from flapping.hover import HoverOrbit, HoverProblem, find_hover_orbit
+    from flapping.hover.stability import HoverStability, hover_stability
+    from flapping.model.morphology import Insect, hawkmoth
+    from flapping.periodic.floquet import monodromy
+    from flapping.periodic.shooting import find_periodic_orbit
+    from flapping.studies.sweep import sweep_hover
 
 __all__ = [
     "ConvergenceError",
@@ -51,32 +52,56 @@ __all__ = [
 ]
 __version__ = "0.2.0"
 
-#: Module paths of version 0.2 that moved into the layers, and where they live now: importing an
-#: old path gives the very module object of the new one (same functions, same patch targets).
-MOVED_MODULES = {
-    "flapping.stability": "flapping.hover.stability",
-    "flapping.hover_branch": "flapping.hover.branch",
-    "flapping.sweep": "flapping.studies.sweep",
-    "flapping.atlas": "flapping.studies.atlas",
-    "flapping.control": "flapping.studies.control",
+#: Where each name of ``__all__`` is defined: the module :func:`__getattr__` imports it from.
+_ENTRY_POINTS = {
+    "ConvergenceError": "flapping.errors",
+    "HoverDriftWarning": "flapping.errors",
+    "HoverOrbit": "flapping.hover",
+    "HoverProblem": "flapping.hover",
+    "HoverStability": "flapping.hover.stability",
+    "Insect": "flapping.model.morphology",
+    "find_hover_orbit": "flapping.hover",
+    "find_periodic_orbit": "flapping.periodic.shooting",
+    "hawkmoth": "flapping.model.morphology",
+    "hover_stability": "flapping.hover.stability",
+    "monodromy": "flapping.periodic.floquet",
+    "sweep_hover": "flapping.studies.sweep",
 }
 
-
-class _MovedModuleFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """Resolves an old module path to its new module, when (and only when) it is imported."""
-
-    def find_spec(self, fullname: str, path: Any = None,
-                  target: Any = None) -> importlib.machinery.ModuleSpec | None:
-        if fullname not in MOVED_MODULES:
-            return None
-        return importlib.util.spec_from_loader(fullname, self)
-
-    def create_module(self, spec: importlib.machinery.ModuleSpec) -> types.ModuleType:
-        return importlib.import_module(MOVED_MODULES[spec.name])
-
-    def exec_module(self, module: types.ModuleType) -> None:
-        pass  # the new module ran when it was imported; the old name is bound to it
+#: The subpackages and modules reachable as attributes of the package without importing them
+#: first (``flapping.hover.find_hover_orbit`` after ``import flapping``).
+_SUBMODULES = frozenset({"cli", "errors", "fast", "hover", "model", "peers", "periodic",
+                         "studies"})
 
 
-if not any(isinstance(f, _MovedModuleFinder) for f in sys.meta_path):
-    sys.meta_path.append(_MovedModuleFinder())
+def __getattr__(name: str) -> Any:
+    """Import an entry point or a subpackage of :mod:`flapping` on first use (PEP 562).
+
+    Parameters
+    ----------
+    name : str
+        A name of ``__all__`` or of a subpackage.
+
+    Returns
+    -------
+    object
+        The object the name stands for; it is then bound in the package, so this runs once.
+
+    Raises
+    ------
+    AttributeError
+        For any other name.
+    """
+    if name in _ENTRY_POINTS:
+        value = getattr(importlib.import_module(_ENTRY_POINTS[name]), name)
+    elif name in _SUBMODULES:
+        value = importlib.import_module(f"{__name__}.{name}")
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    """The package's names, the ones not imported yet included (for ``dir()`` and completion)."""
+    return sorted(set(globals()) | set(__all__) | _SUBMODULES)

@@ -7,6 +7,14 @@ that a violation fails here rather than in review.
 from __future__ import annotations
 
 import ast
+import fnmatch
+import importlib
+import importlib.util
+import re
+import subprocess
+import sys
+import tomllib
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -59,6 +67,8 @@ ALLOWED = {
 #: helpers every layer may use; everything else lives in a layer's subpackage.
 TOP_LEVEL = {"__init__", "__main__", "cli", "errors", "_validation", "_numdiff", "backends",
              "results"}
+#: The old module paths, each a forwarding module (flapping/_moved.py holds what they share).
+FORWARDING = {"_moved"} | {old.rpartition(".")[2] for old in flapping.MOVED_MODULES}
 
 
 @pytest.mark.parametrize("layer", sorted(ALLOWED))
@@ -72,15 +82,52 @@ def test_a_layer_imports_only_what_lies_below_it(layer):
     assert not offending, "\n".join(offending)
 
 
-def test_the_book_helpers_are_not_imported_by_the_package():
+def test_the_book_helpers_are_not_in_the_package_nor_imported_by_it():
+    # They are a package of their own beside the book (book/_ext/flapping_book).
+    assert not (PACKAGE / "book").exists()
     offending = [
         f"{path.relative_to(PACKAGE)} imports {name}"
         for path in _modules()
-        if "book" not in path.relative_to(PACKAGE).parts
         for name in _imported_modules(path)
-        if name.startswith("flapping.book")
+        if name.startswith(("flapping_book", "flapping.book"))
     ]
     assert not offending, "\n".join(offending)
+
+
+def _wheel_check():
+    path = PACKAGE.parent / ".ci" / "check_wheel.py"
+    spec = importlib.util.spec_from_file_location("check_wheel", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_wheel_check_refuses_the_book(tmp_path):
+    check = _wheel_check()
+    wheel = tmp_path / "flapping-0-py3-none-any.whl"
+    with zipfile.ZipFile(wheel, "w") as zf:
+        for path in PACKAGE.rglob("*.py"):
+            zf.write(path, path.relative_to(PACKAGE.parent).as_posix())
+        zf.write(PACKAGE / "py.typed", "flapping/py.typed")
+        zf.writestr("flapping-0.dist-info/licenses/LICENSE", "MIT License")
+    with zipfile.ZipFile(wheel) as zf:
+        assert check.problems(zf, PACKAGE.parent) == []  # the package alone passes
+    with zipfile.ZipFile(wheel, "a") as zf:
+        zf.writestr("flapping_book/plotting.py", "import numpy\n")
+        zf.writestr("flapping/_ext.py", "from sphinx.util import logging\nimport flapping.book\n")
+    with zipfile.ZipFile(wheel) as zf:
+        found = check.problems(zf, PACKAGE.parent)
+    assert any("flapping_book/plotting.py" in p for p in found)
+    assert any("imports sphinx" in p for p in found)
+    assert any("imports flapping_book" in p for p in found)
+
+
+def test_the_wheel_finds_only_the_package():
+    pyproject = tomllib.loads((PACKAGE.parent / "pyproject.toml").read_text(encoding="utf-8"))
+    include = pyproject["tool"]["setuptools"]["packages"]["find"]["include"]
+    assert include == ["flapping", "flapping.*"]
+    assert not any(fnmatch.fnmatchcase("flapping_book", pattern) for pattern in include)
 
 
 def _code_lines(lines: list[str], node: ast.FunctionDef | ast.AsyncFunctionDef) -> int:
@@ -113,10 +160,11 @@ def test_the_top_level_namespace_offers_the_main_entry_points():
                  "find_periodic_orbit", "monodromy", "ConvergenceError"):
         assert name in flapping.__all__ and hasattr(flapping, name)
     assert not hasattr(flapping, "plotting")  # book helpers stay out of the namespace
+    assert not hasattr(flapping, "book")
 
 
 def test_the_top_of_the_package_holds_only_a_handful_of_modules():
-    assert {p.stem for p in PACKAGE.glob("*.py")} == TOP_LEVEL
+    assert {p.stem for p in PACKAGE.glob("*.py")} == TOP_LEVEL | FORWARDING
 
 
 def test_a_study_imports_no_other_study():
@@ -129,21 +177,97 @@ def test_a_study_imports_no_other_study():
 
 
 @pytest.mark.parametrize("old", sorted(flapping.MOVED_MODULES))
-def test_moved_modules_stay_importable_as_the_same_module(old):
-    import importlib
+def test_an_old_module_path_imports_and_warns(old, monkeypatch):
+    new = importlib.import_module(flapping.MOVED_MODULES[old])
+    monkeypatch.delitem(sys.modules, old, raising=False)  # so the import runs the module again
+    with pytest.warns(DeprecationWarning, match=re.escape(new.__name__)) as caught:
+        __import__(old)  # as the statement `import flapping.stability` does
+    module = sys.modules[old]
+    assert module is not new and caught[0].filename == __file__  # the warning names our line
+    name = new.__all__[0]
+    with pytest.warns(DeprecationWarning, match=rf"import {name} from {re.escape(new.__name__)}"):
+        assert getattr(module, name) is getattr(new, name)  # the object itself
+    assert set(new.__all__) <= set(dir(module))
 
-    assert importlib.import_module(old) is importlib.import_module(flapping.MOVED_MODULES[old])
+
+@pytest.mark.parametrize("old", sorted(flapping.MOVED_MODULES))
+def test_an_old_module_is_only_a_forwarder(old):
+    # Nothing is defined twice: the old path holds no code of its own.
+    tree = ast.parse((PACKAGE / f"{old.rpartition('.')[2]}.py").read_text(encoding="utf-8"))
+    defined = {node.name for node in tree.body if isinstance(node, ast.FunctionDef | ast.ClassDef)}
+    assigned = [node for node in tree.body if isinstance(node, ast.Assign | ast.AnnAssign)]
+    assert defined == {"__getattr__", "__dir__"} and not assigned
+
+
+def test_the_old_import_forms_keep_working_and_warn(monkeypatch):
+    from flapping.hover.stability import hover_stability as new
+
+    with pytest.warns(DeprecationWarning, match="flapping.hover.stability"):
+        from flapping.stability import hover_stability
+    monkeypatch.delitem(sys.modules, "flapping.control", raising=False)  # not imported yet
+    monkeypatch.delattr(flapping, "control", raising=False)
+    with pytest.warns(DeprecationWarning, match="flapping.studies.control"):
+        from flapping import control
+    with pytest.warns(DeprecationWarning, match="flapping.studies.control"):
+        passive_sweep = control.passive_sweep
+    from flapping.studies.control import passive_sweep as new_sweep
+
+    assert hover_stability is new and passive_sweep is new_sweep
+    with pytest.raises(AttributeError), pytest.warns(DeprecationWarning):
+        control.no_such_name  # noqa: B018
+
+
+def test_importing_an_old_path_warns_in_a_fresh_interpreter():
+    # Fresh, so the warning at import cannot have been given (and swallowed) earlier; as an error
+    # it fails the import, which is what a user running with -W error sees.
+    code = "import flapping.hover_branch"
+    run = subprocess.run([sys.executable, "-W", "error::DeprecationWarning", "-c", code],
+                         capture_output=True, text=True)
+    assert run.returncode != 0 and "flapping.hover.branch" in run.stderr
 
 
 def test_the_names_users_import_today_stay_importable():
-    from flapping.sweep import sweep_hover
-
+    from flapping.hover import find_hover_orbit
+    from flapping.hover.stability import hover_stability
+    from flapping.model.morphology import hawkmoth
     from flapping.model.presets import preset
     from flapping.periodic.continuation import continue_orbit
     from flapping.periodic.floquet import monodromy
     from flapping.periodic.shooting import find_periodic_orbit
+    from flapping.studies.sweep import sweep_hover
 
-    assert callable(preset) and callable(continue_orbit) and callable(monodromy)
-    assert callable(find_periodic_orbit) and flapping.sweep_hover is sweep_hover
-    for name in ("find_hover_orbit", "hover_stability", "hawkmoth", "HoverProblem"):
-        assert hasattr(flapping, name)
+    assert callable(preset) and callable(continue_orbit)
+    assert flapping.find_periodic_orbit is find_periodic_orbit and flapping.monodromy is monodromy
+    assert flapping.find_hover_orbit is find_hover_orbit and flapping.hawkmoth is hawkmoth
+    assert flapping.hover_stability is hover_stability and flapping.sweep_hover is sweep_hover
+    for name in flapping.__all__:
+        assert getattr(flapping, name) is not None and name in dir(flapping)
+    namespace: dict = {}
+    exec("from flapping import *", namespace)
+    assert set(flapping.__all__) <= set(namespace)
+
+
+def _modules_after(code: str) -> set[str]:
+    """The names in ``sys.modules`` after running ``code`` in a fresh interpreter."""
+    code += "\nimport sys; print(' '.join(sys.modules))"
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    return set(run.stdout.split())
+
+
+#: What ``import flapping`` alone must not load: the solvers, the compiler, the optional extras
+#: and the peers' models (they load when a name needs them).
+NOT_AT_IMPORT = ("numba", "matplotlib", "pandas", "scipy.integrate", "scipy.optimize",
+                 "flapping.peers", "flapping.hover", "flapping_book")
+
+
+def test_importing_the_package_loads_no_solver():
+    loaded = _modules_after("import flapping")
+    assert "flapping" in loaded
+    assert not [name for name in NOT_AT_IMPORT if name in loaded]
+
+
+def test_an_entry_point_loads_its_layer_when_first_used():
+    # The check above can fail: the same probe sees the solvers once a name needs them.
+    loaded = _modules_after("import flapping; flapping.find_periodic_orbit")
+    assert {"flapping.periodic.shooting", "scipy.integrate"} <= loaded
+    assert "flapping.hover" not in loaded

@@ -23,11 +23,16 @@ def test_the_version_is_single_sourced():
     assert pyproject["tool"]["setuptools"]["dynamic"]["version"] == {"attr": "flapping.__version__"}
     assert _cff_field("version") == flapping.__version__
     assert f"## [{flapping.__version__}]" in (ROOT / "CHANGELOG.md").read_text()
+    # The book's helpers (book/_ext, a package of their own) are released with the package.
+    helpers = tomllib.loads((ROOT / "book" / "_ext" / "pyproject.toml").read_text())
+    assert helpers["project"]["version"] == flapping.__version__
 
 
 def test_the_licence_is_the_same_everywhere():
     pyproject = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    helpers = tomllib.loads((ROOT / "book" / "_ext" / "pyproject.toml").read_text())
     assert pyproject["project"]["license"] == "MIT" == _cff_field("license")
+    assert helpers["project"]["license"] == "MIT"
     assert (ROOT / "LICENSE").read_text().startswith("MIT License")
 
 

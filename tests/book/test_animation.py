@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from scipy.integrate import cumulative_trapezoid
 
-from flapping.book import animation
 from flapping.hover.stability import hover_stability
+from flapping_book import animation
 
 matplotlib = pytest.importorskip("matplotlib")
 matplotlib.use("Agg")
@@ -41,7 +41,7 @@ def _orbit_position(orbit):
 
 
 def test_importing_the_animations_does_not_import_matplotlib():
-    code = "import sys, flapping.book.animation; print('matplotlib' in sys.modules)"
+    code = "import sys, flapping_book.animation; print('matplotlib' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
 

@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from flapping.book.provenance import chapter_statistics
+from flapping_book.provenance import chapter_statistics
 
 BOOK = Path(__file__).resolve().parents[2] / "book"
 TOC = yaml.safe_load((BOOK / "_toc.yml").read_text(encoding="utf-8"))

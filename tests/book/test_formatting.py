@@ -2,7 +2,7 @@
 
 import pytest
 
-from flapping.book.formatting import (
+from flapping_book.formatting import (
     bmatrix,
     complex_text,
     latex_array,
@@ -34,7 +34,7 @@ def test_latex_scientific():
 
 
 def test_zero_in_e_notation_is_zero_not_zero_times_ten_to_the_zero():
-    from flapping.book.formatting import scientific, split_scientific
+    from flapping_book.formatting import scientific, split_scientific
 
     assert split_scientific("0e+00") == ("0", "")
     assert scientific("0e+00") == "0"
@@ -45,7 +45,7 @@ def test_zero_in_e_notation_is_zero_not_zero_times_ten_to_the_zero():
 def test_roundoff_bound_never_zero():
     import numpy as np
 
-    from flapping.book.formatting import roundoff_bound
+    from flapping_book.formatting import roundoff_bound
 
     assert roundoff_bound(0.0, 100.0) == np.finfo(float).eps * 100.0
     assert roundoff_bound(-3e-12, 100.0) == 3e-12
@@ -53,8 +53,8 @@ def test_roundoff_bound_never_zero():
 
 
 def test_every_force_budget_term_is_typeset_without_code_names():
-    from flapping.book.formatting import term_latex
     from flapping.hover.orbit import force_budget  # noqa: F401  (the keys below are its keys)
+    from flapping_book.formatting import term_latex
     keys = ["-q w", "-g sin(theta)", "X0/m", "Xu u", "Xw w", "Xq q", "q u", "g cos(theta)",
             "Z0/m", "Zu u", "Zw w", "Zq q", "M0/Iy", "Mu u", "Mw w", "Mq q"]
     out = {k: term_latex(k) for k in keys}
@@ -66,7 +66,7 @@ def test_every_force_budget_term_is_typeset_without_code_names():
 
 
 def test_a_lone_negative_number_gets_a_true_minus_sign():
-    from flapping.book.formatting import minus_sign
+    from flapping_book.formatting import minus_sign
 
     assert minus_sign("-0.10") == "\u22120.10"
     assert minus_sign(" -3 ") == " \u22123 "
@@ -78,7 +78,7 @@ def test_a_lone_negative_number_gets_a_true_minus_sign():
 def test_the_transform_typesets_a_glued_negative_number():
     from docutils import nodes
 
-    from flapping.book.formatting import _typeset
+    from flapping_book.formatting import _typeset
 
     node = nodes.inline("", "-0.25", classes=["pasted-text"])
     assert _typeset(node, nodes) and node.astext() == "\u22120.25"

@@ -1,12 +1,12 @@
 """The notation page's rule for line styles, read from the code that draws the figures (issue 19).
 
-"Line style = aerodynamic model" (book/notation.md, :mod:`flapping.book.style`): a curve in a
+"Line style = aerodynamic model" (book/notation.md, :mod:`flapping_book.style`): a curve in a
 quantity's or a source's colour is solid unless it is one of the models of
-:data:`~flapping.book.style.MODEL_LINESTYLES`; guide lines (zero, the unit circle, cycle means,
+:data:`~flapping_book.style.MODEL_LINESTYLES`; guide lines (zero, the unit circle, cycle means,
 envelopes, reference slopes) are grey in any line style. So every line drawn with a constant
 dashed or dotted style, in a book chapter's code cells or in the book's plotting modules, must
 be grey. Styles taken from a table (``MODEL_LINESTYLES[model]``, the loads' styles in
-:func:`flapping.book.plotting.plot_derivative_differences`) are the rule itself and not checked
+:func:`flapping_book.plotting.plot_derivative_differences`) are the rule itself and not checked
 here. The bifurcation diagrams' convention (solid stable, dashed unstable) draws its branches in
 the grey of "ours".
 
@@ -23,11 +23,12 @@ from pathlib import Path
 
 import pytest
 
-from flapping.book import style
+from flapping_book import style
 
 ROOT = Path(__file__).resolve().parents[2]
 BOOK = ROOT / "book"
-MODULES = sorted((ROOT / "flapping" / "book").glob("*.py"))
+HELPERS = Path(style.__file__).resolve().parent  # book/_ext/flapping_book
+MODULES = sorted(HELPERS.glob("*.py"))
 SOLID = {"-", "solid", "none", "None", ""}
 STYLE_KEYWORDS = {"ls", "linestyle", "linestyles"}
 COLOR_KEYWORDS = {"color", "colors", "c"}
@@ -54,7 +55,7 @@ def _code_cells(text: str) -> list[str]:
 def _sources() -> list[tuple[str, list[str]]]:
     pages = [(f"book/{p.name}", _code_cells(p.read_text(encoding="utf-8")))
              for p in sorted(BOOK.glob("*.md"))]
-    modules = [(f"flapping/book/{p.name}", [p.read_text(encoding="utf-8")]) for p in MODULES]
+    modules = [(p.relative_to(ROOT).as_posix(), [p.read_text(encoding="utf-8")]) for p in MODULES]
     return pages + modules
 
 
@@ -69,7 +70,7 @@ def _resolve(node: ast.AST, names: dict[str, ast.AST]):
     if isinstance(node, ast.Name) and node.id in names:
         return _resolve(names[node.id], names)
     if isinstance(node, ast.Name) and isinstance(getattr(style, node.id, None), str):
-        return getattr(style, node.id)  # GUIDE_COLOR, imported from flapping.book.style
+        return getattr(style, node.id)  # GUIDE_COLOR, imported from flapping_book.style
     if (isinstance(node, ast.Subscript) and isinstance(node.value, ast.Name)
             and node.value.id in TABLES and isinstance(node.slice, ast.Constant)):
         return TABLES[node.value.id].get(node.slice.value)
@@ -120,6 +121,11 @@ def test_the_scanner_finds_dashed_and_dotted_lines():
              'ax.plot(x, y, "o--", color=SOURCE_COLORS["averaged"])\ntext.split(":")']
     found = _non_solid_lines(cells)
     assert [colour for _, colour in found] == ["0.6", "C1", style.SOURCE_COLORS["averaged"]]
+
+
+def test_the_helpers_that_draw_are_checked():
+    # A helpers' path that matched no file would check nothing and pass.
+    assert {"plotting.py", "schematic.py", "animation.py"} <= {p.name for p in MODULES}
 
 
 @pytest.mark.parametrize("name, cells", _sources(), ids=[name for name, _ in _sources()])

@@ -5,7 +5,7 @@ from decimal import InvalidOperation
 
 import pytest
 
-from flapping.book.literature import (
+from flapping_book.literature import (
     MAX_DIGITS,
     ROSSLER_MU_WEB,
     ROSSLER_T_CODE,
@@ -46,10 +46,10 @@ def test_dednam_and_botha_printed_their_orbit_to_the_digits_our_shooting_finds()
     # largest non-trivial multiplier to its printed rounding (half a unit in the 6th decimal)
     import numpy as np
 
-    from flapping.book.literature import DEDNAM_BOTHA_MU, DEDNAM_BOTHA_T
     from flapping.periodic.floquet import monodromy, nontrivial_multipliers
     from flapping.periodic.shooting import find_periodic_orbit
     from flapping.periodic.testproblems import rossler, rossler_jac
+    from flapping_book.literature import DEDNAM_BOTHA_MU, DEDNAM_BOTHA_T
 
     args = (0.15, 0.2, 3.5)
     orbit = find_periodic_orbit(rossler, [2.7002161609, 3.4723025491, 3.0], 5.92030065,
@@ -65,9 +65,9 @@ def test_viswanaths_orbit_ab_is_found_to_his_printed_digits():
     # from his (x, y) on the section z = r - 1, rounded to one decimal, and his period rounded
     import numpy as np
 
-    from flapping.book.literature import VISWANATH_AB_T, VISWANATH_AB_XY, VISWANATH_AB_Z
     from flapping.periodic.shooting import find_periodic_orbit
     from flapping.periodic.testproblems import lorenz, lorenz_jac
+    from flapping_book.literature import VISWANATH_AB_T, VISWANATH_AB_XY, VISWANATH_AB_Z
 
     x_ab = np.array([*(v.value for v in VISWANATH_AB_XY), VISWANATH_AB_Z])
     orbit = find_periodic_orbit(lorenz, np.round(x_ab, 1), round(VISWANATH_AB_T.value, 2),
@@ -78,10 +78,10 @@ def test_viswanaths_orbit_ab_is_found_to_his_printed_digits():
 
 
 def test_no_page_types_a_literature_value():
-    # every page reads them from flapping.book.literature, so a source's digits live once
+    # every page reads them from flapping_book.literature, so a source's digits live once
     from pathlib import Path
 
-    from flapping.book import literature
+    from flapping_book import literature
 
     printed = [getattr(literature, name) for name in literature.__all__
                if isinstance(getattr(literature, name), PrintedValue)]

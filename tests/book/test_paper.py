@@ -1,4 +1,4 @@
-"""The paper's printed numbers (flapping.book.paper): each is what its comment says it is, and the
+"""The paper's printed numbers (flapping_book.paper): each is what its comment says it is, and the
 consistency checks on eq. (66) agree with one another."""
 
 import math
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import flapping
-from flapping.book import paper
+from flapping_book import paper
 
 
 @pytest.fixture(scope="module")

@@ -4,14 +4,14 @@ import math
 
 import numpy as np
 
-from flapping.book.primer import (
+from flapping.periodic.floquet import monodromy
+from flapping.periodic.integrate import flow
+from flapping_book.primer import (
     KapitzaPendulum,
     averaging_error,
     floquet_versus_averaging,
     scalar_system,
 )
-from flapping.periodic.floquet import monodromy
-from flapping.periodic.integrate import flow
 
 
 def test_scalar_multiplier_is_exp_of_the_integrated_rate():
@@ -47,7 +47,7 @@ def test_averaging_error_shrinks_like_the_period_squared():
 
 
 def test_floquet_factorisation_periodic_factor_and_exponents():
-    from flapping.book.primer import floquet_factorisation
+    from flapping_book.primer import floquet_factorisation
 
     pendulum = KapitzaPendulum()
     fact = floquet_factorisation(pendulum.rhs, [0.0, 0.0], pendulum.period,
@@ -67,7 +67,7 @@ def test_floquet_factorisation_periodic_factor_and_exponents():
 def test_read_multiplier_positive_negative_complex():
     import pytest
 
-    from flapping.book.primer import read_multiplier
+    from flapping_book.primer import read_multiplier
 
     T = 0.5
     pos = read_multiplier(math.e, T)
@@ -88,7 +88,7 @@ def test_read_multiplier_positive_negative_complex():
 
 
 def test_linearisation_error_shrinks_with_the_disturbance():
-    from flapping.book.primer import linearisation_error
+    from flapping_book.primer import linearisation_error
 
     pendulum = KapitzaPendulum()
     errors = linearisation_error(pendulum.rhs, [0.0, 0.0], pendulum.period, [1.0, 0.0],

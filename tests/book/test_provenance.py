@@ -1,7 +1,7 @@
 """Provenance: version, commit (with a fallback), and the size of a chapter."""
 
 import flapping
-from flapping.book.provenance import UNKNOWN_COMMIT, chapter_statistics, git_commit, package_version
+from flapping_book.provenance import UNKNOWN_COMMIT, chapter_statistics, git_commit, package_version
 
 
 def test_version_is_the_package_version():

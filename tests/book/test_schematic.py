@@ -3,7 +3,7 @@
 import pytest
 
 import flapping
-from flapping.book import schematic
+from flapping_book import schematic
 
 matplotlib = pytest.importorskip("matplotlib")
 matplotlib.use("Agg")

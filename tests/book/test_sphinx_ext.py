@@ -2,7 +2,7 @@
 
 import pytest
 
-from flapping.book.sphinx_ext import unique_scripts
+from flapping_book.sphinx_ext import unique_scripts
 
 assets = pytest.importorskip("sphinx.builders.html._assets")
 
@@ -25,7 +25,7 @@ def test_distinct_scripts_and_their_order_are_kept():
 
 
 def test_exec_table_status_symbols_become_words():
-    from flapping.book.sphinx_ext import EXEC_STATUS_TEXT, exec_status_text
+    from flapping_book.sphinx_ext import EXEC_STATUS_TEXT, exec_status_text
 
     assert exec_status_text("\u2705") == "succeeded"
     assert exec_status_text(" \u274c ") == "failed"
@@ -36,7 +36,7 @@ def test_exec_table_status_symbols_become_words():
 
 def test_exec_table_handler_rewrites_the_table_cells():
     nodes = pytest.importorskip("docutils.nodes")
-    from flapping.book.sphinx_ext import _exec_status_as_words
+    from flapping_book.sphinx_ext import _exec_status_as_words
 
     doctree = nodes.document(None, None)
     table = nodes.table()
@@ -53,7 +53,7 @@ def test_exec_table_handler_rewrites_the_table_cells():
 
 def test_captioned_exec_table_takes_the_rows_myst_nb_writes():
     nodes = pytest.importorskip("docutils.nodes")
-    from flapping.book.sphinx_ext import CAPTIONED_EXEC_TABLE, merge_captioned_exec_tables
+    from flapping_book.sphinx_ext import CAPTIONED_EXEC_TABLE, merge_captioned_exec_tables
 
     doctree = nodes.document(None, None)
     outer = nodes.table(classes=[CAPTIONED_EXEC_TABLE], ids=["tab-status-exec"])

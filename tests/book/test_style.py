@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from flapping.book import style
+from flapping_book import style
 
 
 def test_each_state_and_load_has_its_own_colour():

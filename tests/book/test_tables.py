@@ -2,7 +2,7 @@
 
 import pytest
 
-from flapping.book import tables
+from flapping_book import tables
 
 
 def test_markdown_table_has_one_line_per_row_and_escapes_pipes():

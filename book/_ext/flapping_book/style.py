@@ -1,7 +1,7 @@
 """The book's visual conventions: one colour per quantity, one line style per model.
 
-Plain data (no matplotlib), shared by the figures (:mod:`flapping.book.plotting`) and the model
-schematic (:mod:`flapping.book.schematic`), so that a chapter can colour a table or a caption the
+Plain data (no matplotlib), shared by the figures (:mod:`flapping_book.plotting`) and the model
+schematic (:mod:`flapping_book.schematic`), so that a chapter can colour a table or a caption the
 way the figures are coloured.
 
 * **Colour = quantity.** Each state keeps its colour in every chapter (:data:`STATE_COLORS`), each

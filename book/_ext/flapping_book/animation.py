@@ -16,7 +16,7 @@ The flights are integrated by :func:`fly`: the state equations (paper eq. 2) wit
 position alongside, so that the drawn position is the integral of the drawn states. The drawing
 follows the book's axes (book/notation.md): x forward, z down, theta nose up; the
 plot shows up as up. Lengths are drawn in units of the semi-span R; the body outline is the
-schematic's (:mod:`flapping.book.schematic`), the wing is the insect's own planform seen from the
+schematic's (:mod:`flapping_book.schematic`), the wing is the insect's own planform seen from the
 side, at the stroke angle phi(t) of paper eq. (39) and the geometric pitch of paper eq. (11).
 Matplotlib is imported inside the functions: importing this module does not import it.
 """
@@ -33,15 +33,15 @@ from typing import Any
 import numpy as np
 
 from flapping import _validation
-from flapping.book.plotting import shade_half_strokes
-from flapping.book.schematic import draw_body
-from flapping.book.style import LOAD_COLORS, SOURCE_COLORS, STATE_COLORS
 from flapping.errors import require_success
 from flapping.hover import ANALYSIS_RTOL, HoverOrbit
 from flapping.hover.stability import PERTURBATION_ATOL, HoverStability
 from flapping.model.dynamics import inertial_velocity
 from flapping.model.kinematics import flapping_angle, stroke_sign
 from flapping.periodic.integrate import flow
+from flapping_book.plotting import shade_half_strokes
+from flapping_book.schematic import draw_body
+from flapping_book.style import LOAD_COLORS, SOURCE_COLORS, STATE_COLORS
 
 __all__ = [
     "FIGSIZE_IN",

@@ -1,6 +1,6 @@
 """The schematic of the paper's model (its Figs. 1-4) in one figure: :func:`draw_insect_model`.
 
-Drawn with matplotlib patches in the book's colours (:mod:`flapping.book.style`); matplotlib is
+Drawn with matplotlib patches in the book's colours (:mod:`flapping_book.style`); matplotlib is
 imported inside the functions. The private helpers draw one panel each: the stroke from above
 (:func:`_draw_top_view`), the body axes and states from the side (:func:`_draw_side_view`), and a
 wing section on the forward and backward strokes (:func:`_draw_section`).
@@ -14,13 +14,13 @@ from typing import Any
 
 import numpy as np
 
-from flapping.book.style import LOAD_COLORS, STATE_COLORS
+from flapping_book.style import LOAD_COLORS, STATE_COLORS
 
 __all__ = ["draw_insect_model", "draw_body"]
 
 
 def _pyplot():
-    import matplotlib.pyplot as plt  # lazy: matplotlib is not a dependency of the package
+    import matplotlib.pyplot as plt  # lazy: drawn figures only load matplotlib
 
     return plt
 

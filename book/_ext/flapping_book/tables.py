@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
-from flapping.book.formatting import text_minus
+from flapping_book.formatting import text_minus
 
 __all__ = ["markdown_table", "latex_aligned", "book_symbols"]
 
@@ -24,7 +24,7 @@ def markdown_table(header: Sequence[str], rows: Sequence[Sequence],
     rows : sequence of sequences
         Cells, converted with ``str``; ``|`` inside a cell is escaped, and a hyphen used as a
         minus sign outside math and code becomes U+2212
-        (:func:`flapping.book.formatting.text_minus`).
+        (:func:`flapping_book.formatting.text_minus`).
     align : str, optional
         One character per column: ``l``, ``c`` or ``r``; default all left.
 

@@ -1,15 +1,15 @@
-"""Figures shared by the book's chapters, in the book's colours (:mod:`flapping.book.style`).
+"""Figures shared by the book's chapters, in the book's colours (:mod:`flapping_book.style`).
 
-Matplotlib is optional for the package (it is in ``environment.txt`` for the book, not in the
-package's dependencies): it is imported inside the functions, so ``import flapping`` and
-``import flapping.book.plotting`` never import it.
+Matplotlib is imported inside the functions, when a figure is drawn: ``import
+flapping_book.plotting`` never imports it, so the tables and styles a chapter or the Sphinx build
+imports stay light.
 
 * **Time in cycles.** Functions that take times accept ``period`` and then plot t/T; the backward
   half-strokes (phase in [0, 1/2), :mod:`flapping.model.kinematics`) can be shaded with
   :func:`shade_half_strokes`.
-* Colours, line styles, labels and display units come from :mod:`flapping.book.style`; the
-  schematic of the model is in :mod:`flapping.book.schematic`, tables in
-  :mod:`flapping.book.tables`.
+* Colours, line styles, labels and display units come from :mod:`flapping_book.style`; the
+  schematic of the model is in :mod:`flapping_book.schematic`, tables in
+  :mod:`flapping_book.tables`.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from flapping.book.style import (
+from flapping_book.style import (
     DERIVATIVE_LABELS,
     GUIDE_COLOR,
     LOAD_COLORS,
@@ -52,7 +52,7 @@ __all__ = [
 
 # =========================================================================== small helpers
 def _pyplot():
-    import matplotlib.pyplot as plt  # lazy: matplotlib is not a dependency of the package
+    import matplotlib.pyplot as plt  # lazy: drawn figures only load matplotlib
 
     return plt
 
