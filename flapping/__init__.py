@@ -28,16 +28,21 @@ from typing import TYPE_CHECKING, Any
 from flapping._moved import MOVED_MODULES as MOVED_MODULES  # deprecated paths: forwarders
 
 if TYPE_CHECKING:  # what mypy and editors see; at run time __getattr__ imports on first use
+    from flapping.backends import Adaptive, Compiled, FixedStep
     from flapping.errors import ConvergenceError, HoverDriftWarning
     from flapping.hover import HoverOrbit, HoverProblem, find_hover_orbit
     from flapping.hover.stability import HoverStability, hover_stability
     from flapping.model.morphology import Insect, hawkmoth
     from flapping.periodic.floquet import monodromy
     from flapping.periodic.shooting import find_periodic_orbit
+    from flapping.results import Status
     from flapping.studies.sweep import sweep_hover
 
 __all__ = [
+    "Adaptive",
+    "Compiled",
     "ConvergenceError",
+    "FixedStep",
     "HoverDriftWarning",
     "HoverOrbit",
     "HoverProblem",
@@ -48,12 +53,17 @@ __all__ = [
     "hawkmoth",
     "hover_stability",
     "monodromy",
+    "Status",
     "sweep_hover",
 ]
 __version__ = "0.2.0"
 
 #: Where each name of ``__all__`` is defined: the module :func:`__getattr__` imports it from.
 _ENTRY_POINTS = {
+    "Adaptive": "flapping.backends",
+    "Compiled": "flapping.backends",
+    "FixedStep": "flapping.backends",
+    "Status": "flapping.results",
     "ConvergenceError": "flapping.errors",
     "HoverDriftWarning": "flapping.errors",
     "HoverOrbit": "flapping.hover",
@@ -70,8 +80,8 @@ _ENTRY_POINTS = {
 
 #: The subpackages and modules reachable as attributes of the package without importing them
 #: first (``flapping.hover.find_hover_orbit`` after ``import flapping``).
-_SUBMODULES = frozenset({"cli", "errors", "fast", "hover", "model", "peers", "periodic",
-                         "studies"})
+_SUBMODULES = frozenset({"backends", "cli", "errors", "fast", "hover", "model", "peers",
+                         "periodic", "results", "studies"})
 
 
 def __getattr__(name: str) -> Any:
