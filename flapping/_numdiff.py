@@ -71,8 +71,8 @@ def central_differences(
     """The undivided central differences ``f(x + h_j e_j) - f(x - h_j e_j)``, shape ``(m, n)``.
 
     For callers that scale the differences before dividing by ``2 h_j`` (as the insect model's
-    Jacobian, which divides the loads by the mass), so that their values stay bit for bit those
-    they had before this module existed.
+    Jacobian, which divides the loads by the mass): scaling first and dividing last is the
+    order of operations those callers' values are computed in, bit for bit.
 
     Parameters
     ----------
@@ -101,9 +101,8 @@ def central_jacobian_nominal(
 
     As :func:`central_jacobian` with given steps, but divided by the nominal ``2 h_j`` rather
     than the representable difference of the two points. The insect model's amplitude
-    derivative (:meth:`flapping.model.dynamics.LongitudinalDynamics.amplitude_jac`) was written
-    this way before this module existed; this form keeps its values, and every number derived
-    from them, bit for bit.
+    derivative (:meth:`flapping.model.dynamics.LongitudinalDynamics.amplitude_jac`) divides this
+    way, and every number derived from it depends on that order of operations, bit for bit.
 
     Parameters
     ----------

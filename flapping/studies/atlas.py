@@ -83,7 +83,7 @@ SUN_XIONG_2005 = {"wingbeat": 6.4e-3, "doubling": 0.1, "oscillation_period": 0.3
 
 #: UNVERIFIED, attribution doubtful: ~14 wingbeats for the doubling of a model drone fly's
 #: longitudinal mode, from an earlier reading note that cites Zhang & Sun (2010, Acta Mech. Sin.
-#: 26:175), a paper on the *lateral* motion. Kept importable; the book no longer quotes it.
+#: 26:175), a paper on the *lateral* motion; the book does not quote it.
 ZHANG_SUN_2010_DOUBLING_WINGBEATS = 14.0
 
 #: Fields interpolated geometrically by :func:`interpolate_insects` (positive scales spanning

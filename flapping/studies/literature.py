@@ -314,7 +314,7 @@ def _others() -> list[PublishedResult]:
             "bluman2017", "insect-scale wing", "Floquet, with wing-wake interaction", "free",
             "unstable", None, "unverified",
             "Project reading list (READING.md): 'Floquet hover stability, wing-wake interaction "
-            "destabilises'; the paper's abstract was not found this session",
+            "destabilises'; the paper's abstract has not been read",
             note="Species, numbers and mode type unknown."),
         PublishedResult(
             "tahmasian2023", "five species", "averaging with wing inertia and mean stroke angle",
