@@ -167,6 +167,12 @@ class Homotopy:
     failures: int
 
 
+#: Most steps of a homotopy (each a hover solve): a path between two insects needs a handful; the
+#: halvings on failure (``max_failures``, at most 60: 2^-60 of a step is below float64's
+#: resolution of s) refine where it must.
+MAX_HOMOTOPY_STEPS = 10_000
+
+
 def hover_by_homotopy(
     target: Insect,
     start: Insect | None = None,
@@ -214,8 +220,8 @@ def hover_by_homotopy(
     """
     target = _validation.instance("target", target, Insect)
     start = hawkmoth() if start is None else _validation.instance("start", start, Insect)
-    n_steps = _validation.integer("n_steps", n_steps, low=1)
-    max_failures = _validation.integer("max_failures", max_failures, low=0)
+    n_steps = _validation.integer("n_steps", n_steps, low=1, high=MAX_HOMOTOPY_STEPS)
+    max_failures = _validation.integer("max_failures", max_failures, low=0, high=60)
     if {"amplitude_guess", "x0_guess"} & set(hover_options):
         raise ValueError("the continuation sets `amplitude_guess` and `x0_guess` itself")
     orbit = find_hover_orbit(start, **hover_options) if start_orbit is None else start_orbit
