@@ -1,4 +1,5 @@
-"""What every solve reports: one status enumeration with one message table, and its statistics.
+"""What every solve reports: one status enumeration with one message table, its statistics, and
+the one type of a monodromy with its Floquet multipliers (:class:`Floquet`).
 
 After scipy's integer ``status`` beside ``message`` and diffrax's ``RESULTS``: the compiled
 kernel, the fixed-step solver, the adaptive shooting and the sweeps' rows all report a
@@ -10,9 +11,13 @@ call can raise. ``str(status)`` reads as a word (``"success"``, ``"singular"``),
 from __future__ import annotations
 
 import enum
+import math
 from dataclasses import dataclass
+from typing import Any
 
-__all__ = ["MESSAGES", "Status", "Stats", "status_of"]
+import numpy as np
+
+__all__ = ["MESSAGES", "Floquet", "Status", "Stats", "status_of"]
 
 
 class Status(enum.IntEnum):
@@ -110,3 +115,74 @@ class Stats:
     nfev: int
     njev: int = 0
     time: float = 0.0
+
+
+@dataclass(frozen=True, eq=False)
+class Floquet:
+    """A monodromy matrix and its Floquet multipliers: the one type every path reports them in.
+
+    Attributes
+    ----------
+    matrix : ndarray, shape (n, n)
+        The monodromy (state-transition matrix over one period), read-only.
+    multipliers : ndarray, complex, shape (n,)
+        Its eigenvalues, sorted by modulus (descending), read-only.
+    period : float
+        T [s].
+    multiplier_error : float
+        Estimated largest absolute error of a multiplier (NaN where the path has no estimate).
+    trace_integral : float
+        int_0^T trace J dt along the orbit (NaN where the path did not integrate it).
+    """
+
+    matrix: Any
+    multipliers: Any
+    period: float
+    multiplier_error: float = math.nan
+    trace_integral: float = math.nan
+
+    @classmethod
+    def of_matrix(cls, matrix: Any, period: float, *, multiplier_error: float = math.nan,
+                  trace_integral: float = math.nan, multipliers: Any = None) -> Floquet:
+        """The Floquet data of a monodromy matrix (its eigenvalues unless ``multipliers`` are
+        given, e.g. from a product-QR iteration that is accurate when they are small)."""
+        m = np.array(matrix, dtype=float)
+        mu = np.linalg.eigvals(m) if multipliers is None else np.asarray(multipliers)
+        mu = mu.astype(complex)[np.argsort(-np.abs(mu), kind="stable")]
+        m.flags.writeable = False
+        mu.flags.writeable = False
+        return cls(m, mu, float(period), float(multiplier_error), float(trace_integral))
+
+    @property
+    def exponents(self) -> Any:
+        """Floquet exponents log(mu) / T [1/s] (principal branch; -inf for mu = 0)."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out = np.log(self.multipliers) / self.period
+        out[self.multipliers == 0] = complex(-math.inf, 0.0)
+        return out
+
+    @property
+    def max_modulus(self) -> float:
+        """Largest |multiplier|."""
+        return float(abs(self.multipliers[0]))
+
+    @property
+    def is_stable(self) -> bool:
+        """True if every multiplier lies inside the unit circle."""
+        return self.max_modulus < 1.0
+
+    @property
+    def det(self) -> float:
+        """det of the monodromy."""
+        return float(np.linalg.det(self.matrix))
+
+    @property
+    def liouville_error(self) -> float:
+        """|det M / exp(int trace J) - 1| from the logarithms (NaN without the trace integral,
+        or for a multiplier that is 0 or infinite in floating point)."""
+        modulus = np.abs(self.multipliers)
+        if not (math.isfinite(self.trace_integral) and np.all(np.isfinite(modulus))
+                and np.all(modulus > 0.0)):
+            return math.nan
+        log_ratio = float(np.sum(np.log(modulus))) - self.trace_integral
+        return math.inf if log_ratio > 700.0 else abs(math.expm1(log_ratio))

@@ -196,3 +196,25 @@ def test_an_orbit_is_not_changed_after_construction():
         orbit.samples = None  # type: ignore[misc]
     source = (PACKAGE / "hover" / "orbit.py").read_text(encoding="utf-8")
     assert 'object.__setattr__(orbit' not in source
+
+
+@pytest.mark.parametrize("aerodynamics", ["linear", "small-angle"])
+def test_the_monodromy_has_one_type_whatever_the_path(aerodynamics):
+    from flapping.results import Floquet
+
+    orbit = find_hover_orbit(flapping.hawkmoth(), aerodynamics=aerodynamics)
+    stability = hover_stability(orbit)
+    solved, analysed = orbit.floquet, stability.floquet
+    assert isinstance(solved, Floquet) and isinstance(analysed, Floquet)
+    assert solved.matrix.shape == analysed.matrix.shape == (4, 4)
+    assert not analysed.multipliers.flags.writeable
+    # the solve's last integration and the analysis agree within their error estimates
+    gap = np.max(np.abs(solved.multipliers - analysed.multipliers))
+    assert gap <= solved.multiplier_error + analysed.multiplier_error + 1e-12
+    assert analysed.is_stable == stability.is_stable
+    np.testing.assert_array_equal(analysed.exponents, stability.exponents)
+    if aerodynamics == "linear":  # the kernel integrates trace J: Liouville holds to rounding
+        assert analysed.liouville_error < 1e-9
+    adaptive = hover_stability(find_hover_orbit(flapping.hawkmoth(), backend="adaptive"))
+    assert find_hover_orbit(flapping.hawkmoth(), backend="adaptive").floquet is None
+    assert adaptive.floquet.liouville_error < 1e-9

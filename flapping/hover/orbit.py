@@ -76,7 +76,7 @@ from flapping.periodic.fixedstep import (
 from flapping.periodic.integrate import flow, variational_flow
 from flapping.periodic.settings import SolverSettings
 from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
-from flapping.results import Stats, Status
+from flapping.results import Floquet, Stats, Status
 
 __all__ = [
     "ANALYSIS_ATOL",
@@ -314,6 +314,22 @@ class HoverOrbit:
     def x(self) -> np.ndarray:
         """The states at :attr:`t`, shape (4, len(t)) [m/s, m/s, rad/s, rad]."""
         return self._sampled[1]
+
+    @cached_property
+    def floquet(self) -> Floquet | None:
+        """The monodromy of (u, w, q, theta) and its multipliers from the solve's own last
+        integration, where its path has them (compiled, fixed-step; with the solve's
+        :attr:`multiplier_error`); None on the adaptive path
+        (:func:`~flapping.hover.stability.hover_stability` computes them for any orbit)."""
+        if self.kernel is not None:
+            return Floquet.of_matrix(self.kernel.monodromy, self.period,
+                                     multipliers=self.kernel.multipliers,
+                                     multiplier_error=self.multiplier_error,
+                                     trace_integral=self.kernel.trace_integral)
+        if self.fixed_step is not None:  # the augmented state's: z and x_e do not feed back
+            return Floquet.of_matrix(np.asarray(self.fixed_step.monodromy)[:4, :4], self.period,
+                                     multiplier_error=self.multiplier_error)
+        return None
 
     @property
     def amplitude_deg(self) -> float:

@@ -40,6 +40,7 @@ from flapping.periodic.fixedstep import fixed_step_monodromy
 from flapping.periodic.floquet import monodromy
 from flapping.periodic.integrate import flow, variational_flow
 from flapping.periodic.settings import SolverSettings
+from flapping.results import Floquet
 
 __all__ = [
     "HoverStability",
@@ -151,6 +152,14 @@ class HoverStability:
     def is_stable(self) -> bool:
         """True if every multiplier lies inside the unit circle."""
         return bool(np.all(np.abs(self.multipliers) < 1.0))
+
+    @property
+    def floquet(self) -> Floquet:
+        """The monodromy and its multipliers as the package's one type
+        (:class:`~flapping.results.Floquet`), with :attr:`multiplier_error`."""
+        return Floquet.of_matrix(self.monodromy, self.orbit.period, multipliers=self.multipliers,
+                                 multiplier_error=self.multiplier_error,
+                                 trace_integral=self.trace_integral)
 
     @property
     def unstable_mode(self) -> np.ndarray:

@@ -194,10 +194,10 @@ def _multipliers(orbit: HoverOrbit, solver: SolverSettings | None = None
     """The orbit's Floquet multipliers and their error estimate: the kernel's (its last Newton
     integration), or those of :func:`~flapping.hover.stability.hover_stability`, on the
     fixed-step path for an orbit found there (its estimate: the change from n to 2n steps)."""
-    if orbit.kernel is not None:
-        return np.asarray(orbit.kernel.multipliers), orbit.multiplier_error
-    stability = hover_stability(orbit, settings=solver)
-    return stability.multipliers, stability.multiplier_error
+    floquet = orbit.floquet if orbit.kernel is not None else None
+    if floquet is None:  # the fixed-step analysis doubles the steps for its error estimate
+        floquet = hover_stability(orbit, settings=solver).floquet
+    return floquet.multipliers, floquet.multiplier_error
 
 
 class _Point:
