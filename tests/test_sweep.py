@@ -187,3 +187,45 @@ def test_cli_sweep_json_lines_on_two_workers_over_two_parameters():
 def test_cli_sweep_refuses_an_unknown_field():
     out = _cli("--param", "wingspan=1:2:3")
     assert out.returncode == 2 and "unknown Insect field" in out.stderr
+
+
+@pytest.mark.parametrize("how", ["keyboard", "numba"])
+def test_ctrl_c_keeps_the_finished_rows(monkeypatch, how):
+    # Reproducer: Ctrl-C inside a compiled call surfaced as numba's SystemError. Either way the
+    # sweep raises a KeyboardInterrupt carrying the rows of the chunks finished.
+    import flapping.studies.sweep as sweep_module
+
+    solve, calls = sweep_module._solve_chunk, []
+
+    def interrupted_second_chunk(*args):
+        calls.append(1)
+        if len(calls) == 2:
+            if how == "keyboard":
+                raise KeyboardInterrupt
+            try:
+                raise KeyboardInterrupt
+            except KeyboardInterrupt as exc:
+                raise SystemError("<CPUDispatcher> returned a result with an exception set") \
+                    from exc
+        return solve(*args)
+
+    monkeypatch.setattr(sweep_module, "_solve_chunk", interrupted_second_chunk)
+    grid = {"frequency": [24.0, 27.0], "hinge_height": [0.0, 1e-3]}
+    with pytest.raises(sweep_module.SweepInterrupted) as info:
+        sweep_hover(flapping.hawkmoth(), grid, progress=False, chunk_size=1)
+    assert isinstance(info.value, KeyboardInterrupt)
+    table = info.value.table
+    assert len(table) == 2 and table.converged.all()
+    assert table.frequency.tolist() == [24.0, 24.0]
+    assert "2 of 4 points" in str(info.value)
+
+
+def test_another_system_error_is_not_taken_for_ctrl_c(monkeypatch):
+    import flapping.studies.sweep as sweep_module
+
+    def broken(*args):
+        raise SystemError("a real one")
+
+    monkeypatch.setattr(sweep_module, "_solve_chunk", broken)
+    with pytest.raises(SystemError, match="a real one"):
+        sweep_hover(flapping.hawkmoth(), {"frequency": [24.0]}, progress=False)

@@ -54,7 +54,8 @@ from flapping.studies._path import Guess, Step, WarmStart, follow
 if TYPE_CHECKING:  # pragma: no cover
     import pandas
 
-__all__ = ["SWEEPABLE", "COLUMNS", "MAX_GRID_POINTS", "SEGMENT", "sweep_hover", "grid_points"]
+__all__ = ["SWEEPABLE", "COLUMNS", "MAX_GRID_POINTS", "SEGMENT", "SweepInterrupted", "sweep_hover",
+           "grid_points"]
 
 #: Insect fields a grid may vary (the numeric ones).
 SWEEPABLE: tuple[str, ...] = tuple(
@@ -334,12 +335,12 @@ def _tasks(segments: list[list[int]], points: list[Any], size: int
 
 
 def _run(tasks: list[tuple[list[int], list[list[Any]]]], base: Insect | None,
-         settings: _Settings,
-         executor: Executor | None, progress: bool) -> dict[int, dict[str, Any]]:
-    """Solve every chunk (in process or on the executor); rows by flat point index."""
+         settings: _Settings, executor: Executor | None, progress: bool,
+         rows: dict[int, dict[str, Any]]) -> None:
+    """Solve every chunk (in process or on the executor) into ``rows``, by flat point index
+    (filled chunk by chunk, so that an interruption keeps the chunks finished)."""
     from tqdm import tqdm  # the text bar (tqdm.auto's notebook bar needs ipywidgets)
 
-    rows: dict[int, dict[str, Any]] = {}
     total = sum(len(idx) for idx, _ in tasks)
     with tqdm(total=total, disable=not progress, unit="orbit", desc="hover sweep") as bar:
         if executor is None:
@@ -353,7 +354,33 @@ def _run(tasks: list[tuple[list[int], list[list[Any]]]], base: Insect | None,
                 idx = futures[future]
                 rows.update(zip(idx, future.result(), strict=True))
                 bar.update(len(idx))
-    return rows
+
+
+class SweepInterrupted(KeyboardInterrupt):
+    """Ctrl-C during :func:`sweep_hover`: a KeyboardInterrupt that keeps the rows finished.
+
+    Attributes
+    ----------
+    table : pandas.DataFrame
+        The sweep's table with the points solved before the interruption (the others absent).
+    """
+
+    def __init__(self, table: pandas.DataFrame, total: int) -> None:
+        super().__init__(f"hover sweep interrupted: {len(table)} of {total} points solved "
+                         "(their rows are in this exception's `table`)")
+        self.table = table
+
+
+def _interruption(error: BaseException) -> bool:
+    """True for Ctrl-C, also when numba surfaces it as a SystemError (its cause or context)."""
+    seen: BaseException | None = error
+    for _ in range(8):  # a short chain: the compiled call wraps the interrupt once
+        if seen is None:
+            return False
+        if isinstance(seen, KeyboardInterrupt):
+            return True
+        seen = seen.__cause__ or seen.__context__
+    return False
 
 
 def sweep_hover(
@@ -430,6 +457,9 @@ def sweep_hover(
         grid of more than :data:`MAX_GRID_POINTS` points.
     ImportError
         If pandas or tqdm is missing (``pip install flapping[sweep]``).
+    SweepInterrupted
+        On Ctrl-C (a KeyboardInterrupt, also where numba surfaces it as a SystemError), with the
+        rows of the chunks finished in its ``table``.
     """
     import pandas
 
@@ -444,7 +474,17 @@ def sweep_hover(
                                  kernel_options, settings)
     settings_ = _Settings(requested, kernel_options, settings, aerodynamics)
     tasks = _tasks(_segments(shape), points, chunk_size)
-    rows = _run(tasks, base, settings_, executor, progress)
+    rows: dict[int, dict[str, Any]] = {}
+    try:
+        _run(tasks, base, settings_, executor, progress, rows)
+    except (KeyboardInterrupt, SystemError) as exc:
+        if not _interruption(exc):
+            raise
+        done = sorted(rows)
+        partial = pandas.concat([pandas.DataFrame(params).iloc[done].reset_index(drop=True),
+                                 pandas.DataFrame([rows[i] for i in done],
+                                                  columns=list(COLUMNS))], axis=1)
+        raise SweepInterrupted(partial, len(points)) from None
     table = pandas.DataFrame([rows[i] for i in range(len(points))], columns=list(COLUMNS))
     return pandas.concat([pandas.DataFrame(params), table], axis=1)
 
