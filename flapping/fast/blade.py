@@ -8,6 +8,15 @@ same graded field in one compiled call (:mod:`flapping.fast._blade`), ~50 times 
 evaluation; the period map, Newton and the error estimate are unchanged, so the results are the
 Python path's to rounding.
 
+Called from Python, a compiled evaluation still costs ~2 microseconds of dispatch, three times
+its arithmetic. :class:`GradedMap` therefore integrates the whole period map of the graded field
+compiled: all steps of both half-strokes of a batch of trajectories, their DOP853 stages and the
+roots of the switching functions, in one call (:func:`flapping.fast._blade.graded_flow`, the
+integration of :class:`flapping.periodic._fixedmap.PeriodMap` written out), offered to the
+fixed-step solver on the field's callables (:meth:`BladeField.attach_map`). Python then runs
+Newton and the central differences only: the hawkmoth's orbit and its multipliers in ~0.1 s of
+CPU instead of ~0.4-0.6 s (``benchmarks/bench_blade_element.py map``).
+
 One source of truth: the quadrature rules and the constants are the Python model's own arrays
 (packed by :func:`pack`), and the compiled arithmetic is checked against the Python loads and
 field at random states, phases and insects (``tests/fast/test_blade.py``); the wings' inertial
