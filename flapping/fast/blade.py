@@ -310,12 +310,23 @@ class GradedMap:
 
         Raises
         ------
+        ValueError
+            For arrays of other shapes, or another number of segments, than the field's.
         NonFinite
             If a state becomes non-finite (as the Python map).
         DomainError
             If the field's callables refuse a parameter row (a trim out of its range).
         """
         X, P = np.ascontiguousarray(X, dtype=float), np.ascontiguousarray(P, dtype=float)
+        compiled = load()
+        # the compiled code indexes without bounds checks: refuse other shapes here
+        n_conditions = int(self.field.data[compiled.I_N_COND])
+        if (X.ndim != 2 or P.ndim != 2 or X.shape[1] != 4 + n_conditions
+                or P.shape != (X.shape[0], n_conditions)
+                or len(nodes) != len(self.field.signs) + 1):
+            raise ValueError(f"the compiled map integrates states of size {4 + n_conditions} "
+                             f"with {n_conditions} parameters over {len(self.field.signs)} "
+                             f"segments; got shapes {X.shape} and {P.shape}, {len(nodes)} nodes")
         # The callables check the trims (a DomainError for one the model refuses) before the
         # compiled loads run: each distinct row once, in the order the Python map meets them.
         seen: list[np.ndarray] = []
@@ -323,7 +334,7 @@ class GradedMap:
             if not any(np.array_equal(p, q) for q in seen):
                 self.funs[0](nodes[0], x, p)
                 seen.append(p)
-        ends, nfev, failed_at = load().graded_flow(
+        ends, nfev, failed_at = compiled.graded_flow(
             X, P, int(n), np.asarray(nodes, dtype=float), np.asarray(self.field.signs, float),
             self.field.data)
         if failed_at < math.inf:

@@ -353,3 +353,17 @@ def test_the_work_cap_holds_on_the_compiled_map():
     with pytest.raises(ConvergenceError, match="evaluations"):
         fixed_step_flow(funs, np.zeros(5), 2.0, n_steps=8, free_params=problem.guess(),
                         breakpoints=(0.5,), switches=switches, max_nfev=100)
+
+
+def test_the_compiled_map_refuses_shapes_it_would_index_past():
+    problem = HoverProblem(flapping.hawkmoth(), "small-angle")
+    funs, _ = _graded(problem, True)
+    graded = getattr(funs[0], COMPILED_MAP)
+    p = problem.guess()[None, :]
+    for X, P, nodes in ((np.zeros((1, 6)), p, (0.0, 1.0, 2.0)),  # a two-trim state
+                        (np.zeros((1, 5)), np.zeros((1, 2)), (0.0, 1.0, 2.0)),
+                        (np.zeros((2, 5)), p, (0.0, 1.0, 2.0)),  # a parameter row short
+                        (np.zeros((1, 5)), p, (0.0, 1.0, 1.5, 2.0))):  # a third segment
+        with pytest.raises(ValueError, match="compiled map"):
+            graded.flow(X, P, 4, nodes)
+    assert graded.flow(np.zeros((1, 5)), p, 4, (0.0, 1.0, 2.0))[0].shape == (1, 5)
