@@ -48,12 +48,12 @@ __all__ = ["BACKENDS", "DEFAULT_BACKEND", "GRADING_POWER", "TRIMS", "HoverProble
 #: scipy path (adaptive DOP853, the reference and the cross-check, ~0.3 s); ``"fixed-step"``,
 #: Newton on a fixed-step 8th-order period map on a time mesh graded towards the stroke
 #: reversals, with the loads' kinks as switching functions and a Richardson error estimate
-#: (:meth:`HoverProblem.graded_fields`; any loads model, made for the blade-element ones: 1.5-2.5 s
-#: per hawkmoth or monarch solve with the compiled loads of :mod:`flapping.fast.blade`, 15-25 s
-#: with the Python ones); ``"auto"``, the kernel where it applies (linear
-#: loads, one trim, the default ``method`` and ``jacobian``, numba installed), the fixed-step
-#: path for the blade-element models (with the default ``method`` and ``jacobian``), else
-#: adaptive.
+#: (:meth:`HoverProblem.graded_fields`; any loads model, made for the blade-element ones: 0.1-0.2 s
+#: of CPU per hawkmoth or monarch solve with the compiled loads and period map of
+#: :mod:`flapping.fast.blade`, 15-25 s with the Python ones); ``"auto"``, the kernel where it
+#: applies (linear loads, one trim, the default ``method`` and ``jacobian``, numba installed),
+#: the fixed-step path for the blade-element models (with the default ``method`` and
+#: ``jacobian``), else adaptive.
 BACKENDS: tuple[str, ...] = ("auto", "compiled", "adaptive", "fixed-step")
 
 #: The time mesh of the fixed-step path: on each half-stroke t = t_k + (T/2) g(s), s uniform in
@@ -194,7 +194,9 @@ class HoverProblem:
         compiled : bool
             For the blade-element models, evaluate the field with the compiled loads of
             :mod:`flapping.fast.blade` where they apply (numba installed, an insect they model):
-            the same field to rounding, ~10 times faster per solve. False: the Python loads.
+            the same field to rounding, with its whole period map compiled too
+            (:class:`~flapping.fast.blade.GradedMap`, attached to the callables, which the
+            fixed-step solver finds): ~50 times faster per solve. False: the Python loads.
 
         Returns
         -------
@@ -217,7 +219,10 @@ class HoverProblem:
             out = [_compiled_graded(fast, k, self.n_conditions) for k in range(len(fast.signs))]
         if self.aerodynamics == "linear":
             return out, [() for _ in out]
-        return out, [_switches(self, k) for k in range(len(out))]
+        switches = [_switches(self, k) for k in range(len(out))]
+        if fast is not None:  # the whole period map compiled too, for the fixed-step solver
+            fast.attach_map(out, switches)
+        return out, switches
 
     def guess(self, amplitude: float | None = None) -> np.ndarray:
         """The trims' starting values: [Phi] or [Phi, phi_bar] (default the insect's own)."""
