@@ -219,8 +219,8 @@ def hover_stability(
         that path), and reports the 2n multipliers with their change as
         :attr:`HoverStability.multiplier_error`; ``method``, ``rtol``, ``atol`` and
         ``rk4_steps`` belong to the adaptive path. ``"auto"`` (the default) analyses an
-        orbit of the compiled path there and every other orbit on the adaptive path (the
-        reference, also for a fixed-step orbit).
+        orbit of the compiled or the fixed-step path there (with ``method="DOP853"``) and
+        every other orbit on the adaptive path (the reference, a keyword away).
     settings : SolverSettings, optional
         ``method``, ``rtol``, ``atol``, ``rk4_steps`` and ``max_steps`` of the adaptive path's
         monodromy as one object (:class:`~flapping.periodic.SolverSettings`; ``rtol`` and
@@ -289,12 +289,13 @@ DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": ANALYSIS_RTOL, "atol": A
 def _analysis_path(orbit: HoverOrbit, backend: str, method: str) -> str:
     """Where the monodromy is integrated: "compiled", "adaptive" or "fixed-step"."""
     # "auto" analyses an orbit on the path that solved it (an adaptive orbit keeps the adaptive
-    # path's accuracy and diagnostics); the kernel where it applies otherwise. A fixed-step
-    # orbit is analysed on the adaptive path under "auto": the reference. "fixed-step" only
-    # when asked for by name.
+    # path's accuracy and diagnostics, a fixed-step one its mesh and error estimate: 0.2 s
+    # where the adaptive analysis of the blade-element loads took 1-40 s); the kernel where it
+    # applies otherwise.
     if backend == "auto" and orbit.backend == "adaptive":
         return "adaptive"
-    if backend == "fixed-step":
+    if backend == "fixed-step" or (backend == "auto" and orbit.backend == "fixed-step"
+                                   and method == "DOP853"):
         return "fixed-step"
     if orbit.problem is None:
         return "compiled" if use_kernel(backend, orbit.model, method == "DOP853") else "adaptive"
