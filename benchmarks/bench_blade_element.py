@@ -16,8 +16,17 @@ Baselines, run in this process from the same default guess:
   heights where both converge (0) and where the adaptive path's LM stalls at its integration
   noise (10 mm).
 
-Run: ``python benchmarks/bench_blade_element.py [paths|loads] [small-angle|exact]`` (a few
-minutes each).
+- ``map``: the orbit and its multipliers on the fixed-step path with the whole period map
+  compiled (:class:`flapping.fast.blade.GradedMap`: Python runs only Newton) against the same
+  solve on the Python period map with the same compiled loads (what ran before it), and against
+  the linear-loads hover of the compiled kernel in the same run; CPU seconds, best of 3, the
+  orbit (:func:`~flapping.hover.find_hover_orbit`, whose fixed-step result carries the
+  multipliers) and the fixed-step analysis (``hover_stability(orbit, backend="fixed-step")``:
+  the monodromy at n and 2n steps, and the averaged Jacobian) apart, against the target of
+  :data:`TARGET_S` for the orbit with its multipliers.
+
+Run: ``python benchmarks/bench_blade_element.py [paths|loads|map] [small-angle|exact]`` (a
+few minutes each; ``map`` ~1 minute).
 """
 
 from __future__ import annotations
@@ -34,7 +43,9 @@ from _timing import best_of  # benchmarks/ is on sys.path when a script runs
 import flapping
 from flapping.errors import ConvergenceError
 from flapping.hover import HoverProblem, find_hover_orbit
+from flapping.hover.stability import hover_stability
 from flapping.model.presets import preset
+from flapping.periodic._fixedmap import COMPILED_MAP
 
 
 def solve(insect, aerodynamics: str, backend: str) -> tuple[bool, float, int, float]:
@@ -128,10 +139,101 @@ def loads(cases=LOADS_CASES, repeat: int = 1) -> dict:
     return out
 
 
+#: CPU seconds, warm, for a blade-element hover orbit with its multipliers on the fixed-step
+#: path (issue 26, item 5).
+TARGET_S = 0.3
+
+#: The solves of the compiled-map comparison: (label, insect, aerodynamics, trims).
+MAP_CASES = (
+    ("hawkmoth", lambda: flapping.hawkmoth(), "small-angle", ("amplitude",)),
+    ("hawkmoth", lambda: flapping.hawkmoth(), "exact", ("amplitude",)),
+    ("monarch", lambda: preset("monarch"), "small-angle", ("amplitude",)),
+    ("hawkmoth h_w = 5 mm", lambda: flapping.hawkmoth(hinge_height=5e-3), "small-angle",
+     ("amplitude",)),
+    ("hawkmoth x_h = 1 mm, two trims", lambda: flapping.hawkmoth(hinge_offset=1e-3),
+     "small-angle", ("amplitude", "stroke_mean")),
+)
+
+
+def _python_map(problem: HoverProblem, compiled: bool = True) -> tuple[list, list]:
+    """graded_fields with the compiled loads and without the compiled period map (patched in
+    for the baseline)."""
+    funs, switches = _GRADED(problem, compiled)
+    for f in funs:
+        f.__dict__.pop(COMPILED_MAP, None)
+    return funs, switches
+
+
+def _orbit_and_analysis(make, aerodynamics: str, trims, repeat: int) -> tuple[float, float, object,
+                                                                             object]:
+    """Best CPU seconds of the orbit and of its fixed-step analysis, and the last of each."""
+    cpu_orbit = cpu_analysis = math.inf
+    orbit = analysis = None
+    for _ in range(repeat):
+        c0 = time.process_time()
+        orbit = find_hover_orbit(make(), aerodynamics=aerodynamics, trims=trims,
+                                 backend="fixed-step")
+        c1 = time.process_time()
+        analysis = hover_stability(orbit, backend="fixed-step")
+        c2 = time.process_time()
+        cpu_orbit, cpu_analysis = min(cpu_orbit, c1 - c0), min(cpu_analysis, c2 - c1)
+    return cpu_orbit, cpu_analysis, orbit, analysis
+
+
+def compiled_map(cases=MAP_CASES, repeat: int = 3) -> dict:
+    """The fixed-step solve on the compiled period map against the Python map (same loads)."""
+    warnings.simplefilter("ignore", flapping.HoverDriftWarning)
+    # Compile (or load numba's cache) before timing: a cost paid once per environment.
+    hover_stability(find_hover_orbit(flapping.hawkmoth(), aerodynamics="small-angle"),
+                    backend="fixed-step")
+    linear = find_hover_orbit(flapping.hawkmoth())
+    hover_stability(linear)
+    attached = hasattr(HoverProblem(flapping.hawkmoth(), "small-angle").graded_fields()[0][0],
+                       COMPILED_MAP)
+    c_lin = math.inf
+    for _ in range(repeat):
+        c0 = time.process_time()
+        hover_stability(find_hover_orbit(flapping.hawkmoth()))
+        c_lin = min(c_lin, time.process_time() - c0)
+    print(f"compiled period map offered by graded_fields: {attached}; CPU seconds, best of "
+          f"{repeat}; target {TARGET_S:g} s for the orbit with its multipliers")
+    print(f"baseline: linear-loads hawkmoth on the compiled kernel, orbit and analysis "
+          f"{c_lin:.4f} s")
+    out = {}
+    for label, make, aerodynamics, trims in cases:
+        o_fast, a_fast, fast, s_fast = _orbit_and_analysis(make, aerodynamics, trims, repeat)
+        with mock.patch.object(HoverProblem, "graded_fields", _python_map):
+            o_py, a_py, py, s_py = _orbit_and_analysis(make, aerodynamics, trims, repeat)
+        d_x0 = float(np.max(np.abs(fast.x0 - py.x0)))
+        d_phi = abs(fast.amplitude_deg - py.amplitude_deg)
+        d_mult = float(np.max(np.abs(np.sort_complex(fast.fixed_step.multipliers)
+                                     - np.sort_complex(py.fixed_step.multipliers))))
+        d_analysis = float(np.max(np.abs(np.sort_complex(s_fast.multipliers)
+                                         - np.sort_complex(s_py.multipliers))))
+        met = "meets" if o_fast <= TARGET_S else "misses"
+        print(f"{label}, {aerodynamics}, trims {len(trims)} (n_steps {fast.fixed_step.n_steps}, "
+              f"nfev {fast.fixed_step.nfev}):")
+        print(f"  compiled map: orbit {o_fast:.3f} s ({met} {TARGET_S:g} s), analysis "
+              f"{a_fast:.3f} s, total {o_fast + a_fast:.3f} s")
+        print(f"  Python map:   orbit {o_py:.3f} s, analysis {a_py:.3f} s, total "
+              f"{o_py + a_py:.3f} s; ratio {(o_py + a_py) / (o_fast + a_fast):.2f} (orbit "
+              f"{o_py / o_fast:.2f})")
+        print(f"  differences: Phi {d_phi:.1e} deg, x0 {d_x0:.1e}, multipliers {d_mult:.1e} "
+              f"(orbit; its estimate {fast.fixed_step.multiplier_error:.1e}), {d_analysis:.1e} "
+              f"(analysis; its estimate {s_fast.multiplier_error:.1e})")
+        out[(label, aerodynamics, len(trims))] = {
+            "orbit_s": o_fast, "analysis_s": a_fast, "python_orbit_s": o_py,
+            "python_analysis_s": a_py, "linear_s": c_lin, "phi_deg": d_phi, "x0": d_x0,
+            "multipliers": d_mult, "analysis_multipliers": d_analysis}
+    return out
+
+
 if __name__ == "__main__":
     args = sys.argv[1:]
-    which = args.pop(0) if args and args[0] in ("paths", "loads") else "paths"
+    which = args.pop(0) if args and args[0] in ("paths", "loads", "map") else "paths"
     if which == "loads":
         loads()
+    elif which == "map":
+        compiled_map()
     else:
         main(args[0] if args else "small-angle")

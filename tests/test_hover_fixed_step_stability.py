@@ -1,6 +1,6 @@
 """hover_stability on the fixed-step path: the monodromy at n and 2n steps per half-stroke, with
 the change as the error estimate of the multipliers (HoverStability.multiplier_error); under
-"auto" a fixed-step orbit keeps the adaptive reference analysis."""
+"auto" a fixed-step orbit is analysed there too, the adaptive reference a keyword away."""
 
 from __future__ import annotations
 
@@ -78,8 +78,15 @@ def test_the_estimate_bounds_the_difference_to_a_tight_adaptive_analysis(small_a
     # rounding, hence the estimate, depends on the CPU's instruction set.)
     coarse = hover_stability(small_angle, backend="adaptive", rtol=1e-11, atol=1e-11)
     assert fixed.multiplier_error < _gap(coarse.multipliers, tight.multipliers)
-    # "auto" analyses the fixed-step orbit on the adaptive path, as before: the reference
+    # "auto" analyses the fixed-step orbit on its own path, with its estimate
     default = hover_stability(small_angle)
-    reference = hover_stability(small_angle, backend="adaptive")
-    np.testing.assert_array_equal(default.monodromy, reference.monodromy)
-    assert math.isnan(default.multiplier_error)
+    np.testing.assert_array_equal(default.monodromy, fixed.monodromy)
+    assert default.multiplier_error == fixed.multiplier_error
+
+
+def test_auto_analyses_a_fixed_step_orbit_on_its_path_unless_adaptive_options_are_given(
+        small_angle):
+    default = hover_stability(small_angle)
+    assert 0.0 < default.multiplier_error < math.inf  # the fixed-step estimate
+    rk4 = hover_stability(small_angle, method="RK4", rk4_steps=2048)
+    assert math.isnan(rk4.multiplier_error)  # an adaptive-path option: the adaptive path

@@ -25,10 +25,13 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 
+from flapping.fast import _compiled
 from flapping.fast._compiled import _jit  # the kernel's: njit with the disk cache if numba can
 from flapping.model import _inertia_generated
+from flapping.periodic._tableau import N_STAGES, A, B, C
 
 # The layout of ``data``: the 13 constants of BladeElementModel._consts, in its order, then ...
 (I_OMEGA, I_SIN_2AM, I_COS_2AM, I_SIN_AM2, I_COS_AM2, I_RHO_A, I_RHO_K, I_X_H, I_ZH, I_XC,
@@ -41,9 +44,13 @@ from flapping.model import _inertia_generated
 # (flapping.model.inertia_derivation.CONSTANT_NAMES, WingInertia.constants) ...
 I_INERTIA, I_K = 23, 24
 # ... and from OFFSET: the stations r (n_r), the weight matrix W (n_r x 6, row-major), its column
-# sums S0 (6) and r-moments S1 (6), and the incomplete-moment parameters a, b and totals (7 each).
+# sums S0 (6) and r-moments S1 (6), the incomplete-moment parameters a, b and totals (7 each),
+# and log B(a, b) of each (7; :func:`log_beta`, so that the sign correction's seven incomplete
+# beta functions do not recompute three lgamma each at every evaluation).
 OFFSET = 32
 N_PARTIAL = 7
+
+RK_A, RK_B, RK_C = np.ascontiguousarray(A), np.ascontiguousarray(B), np.ascontiguousarray(C)
 
 _FPMIN = 1e-300
 _CF_EPS = 1e-16
@@ -87,6 +94,12 @@ def _betacf(a, b, x):  # pragma: no cover - compiled
 
 
 @_jit
+def log_beta(a, b):  # pragma: no cover - compiled
+    """-log B(a, b) = lgamma(a + b) - lgamma(a) - lgamma(b), as betainc_pair sums it."""
+    return math.lgamma(a + b) - math.lgamma(a) - math.lgamma(b)
+
+
+@_jit
 def betainc_pair(a, b, x):  # pragma: no cover - compiled
     """(I_x(a, b), 1 - I_x(a, b)): the regularized incomplete beta function and its complement,
     one from the continued fraction that converges at x, the other as 1 minus it (so both are
@@ -95,8 +108,14 @@ def betainc_pair(a, b, x):  # pragma: no cover - compiled
         return 0.0, 1.0
     if x >= 1.0:
         return 1.0, 0.0
-    front = math.exp(math.lgamma(a + b) - math.lgamma(a) - math.lgamma(b)
-                     + a * math.log(x) + b * math.log1p(-x))
+    return betainc_pair_from(a, b, x, log_beta(a, b), math.log(x), math.log1p(-x))
+
+
+@_jit
+def betainc_pair_from(a, b, x, lb, log_x, log1m_x):  # pragma: no cover - compiled
+    """betainc_pair for x in (0, 1) from lb = log_beta(a, b), log(x) and log1p(-x) (the same
+    operations in the same order: a caller with several (a, b) at one x computes them once)."""
+    front = math.exp(lb + a * log_x + b * log1m_x)
     if x < (a + 1.0) / (a + b + 2.0):
         lower = front * _betacf(a, b, x) / a
         return lower, 1.0 - lower
@@ -148,7 +167,9 @@ def lev_integrals(phi_dot, u_c, w_0, q_s, sin_2ag, sigma, data):  # pragma: no c
             v2 = uu + ww
             lift = sin_2ag * diff + (2.0 * cos_2am) * uw
             drag = v2 - cos_2am * diff + (2.0 * sin_2ag) * uw
-            half_inv_v = 0.5 * (v2 + 1e-300) ** -0.5
+            # 0.5 / |V| as the Python's 0.5 * (...) ** -0.5 to an ulp: a libm pow per station
+            # was half the exact variant's time
+            half_inv_v = 0.5 / math.sqrt(v2 + 1e-300)
             a = (lift * w_eff - drag * U) * half_inv_v
             b = -(lift * U + drag * w_eff) * half_inv_v
         row = i_w + 6 * i
@@ -161,6 +182,21 @@ def lev_integrals(phi_dot, u_c, w_0, q_s, sin_2ag, sigma, data):  # pragma: no c
 
 
 @_jit
+def _partial_moment(m, xr, log_x, log1m_x, root, i_pa, data):  # pragma: no cover - compiled
+    """Incomplete span moment m on [0, x] (root) or [x, R]: its total times I_xr(a, b) or its
+    complement (xr = x / R), by betainc_pair from the packed log B(a, b), log xr and
+    log(1 - xr)."""
+    i_pb = i_pa + N_PARTIAL
+    i_pf, i_lb = i_pb + N_PARTIAL, i_pb + 2 * N_PARTIAL
+    a, b = data[i_pa + m], data[i_pb + m]
+    if 0.0 < xr < 1.0:
+        lower, upper = betainc_pair_from(a, b, xr, data[i_lb + m], log_x, log1m_x)
+    else:  # x / R rounded onto an end of the span
+        lower, upper = betainc_pair(a, b, xr)
+    return data[i_pf + m] * (lower if root else upper)
+
+
+@_jit
 def sign_correction(x, root, sigma, phi_dot, u_c, w_0, q_s, sin_2ag,
                     data):  # pragma: no cover - compiled
     """aerodynamics._add_sign_correction: the increments of (A1[0], A1[1], B1[0], B1[1],
@@ -168,14 +204,15 @@ def sign_correction(x, root, sigma, phi_dot, u_c, w_0, q_s, sin_2ag,
     sin_am2, cos_am2 = data[I_SIN_AM2], data[I_COS_AM2]
     n_r = int(data[I_N_R])
     i_pa = OFFSET + 7 * n_r + 12
-    i_pb = i_pa + N_PARTIAL
-    i_pf = i_pb + N_PARTIAL
     xr = x / data[I_R]
-    j = np.empty(N_PARTIAL)
-    for m in range(N_PARTIAL):
-        lower, upper = betainc_pair(data[i_pa + m], data[i_pb + m], xr)
-        j[m] = data[i_pf + m] * (lower if root else upper)
-    j01, j11, j21, j31, j02, j12, j22 = j[0], j[1], j[2], j[3], j[4], j[5], j[6]
+    log_x, log1m_x = math.log(xr), math.log1p(-xr)  # once for the seven functions
+    j01 = _partial_moment(0, xr, log_x, log1m_x, root, i_pa, data)
+    j11 = _partial_moment(1, xr, log_x, log1m_x, root, i_pa, data)
+    j21 = _partial_moment(2, xr, log_x, log1m_x, root, i_pa, data)
+    j31 = _partial_moment(3, xr, log_x, log1m_x, root, i_pa, data)
+    j02 = _partial_moment(4, xr, log_x, log1m_x, root, i_pa, data)
+    j12 = _partial_moment(5, xr, log_x, log1m_x, root, i_pa, data)
+    j22 = _partial_moment(6, xr, log_x, log1m_x, root, i_pa, data)
     c2, c1, c0 = phi_dot * phi_dot, 2.0 * phi_dot * u_c, u_c * u_c
     d2, d1, d0 = -phi_dot * q_s, phi_dot * w_0 - u_c * q_s, u_c * w_0
     two_sigma, half_sin = 2.0 * sigma, 0.5 * sin_2ag
@@ -314,16 +351,16 @@ def grading_derivative(s):  # pragma: no cover - compiled
 
 
 @_jit
-def rhs(t, y, p, sign, data):  # pragma: no cover - compiled
-    """The augmented hover field f(t, y, p) on a half-stroke of stroke sign ``sign``: eq. (2)
-    with the blade-element loads, then z' (and x_e' with two trims); p = [Phi(, phi_bar)]."""
+def rhs_into(t, y, p, sign, data, out):  # pragma: no cover - compiled
+    """The augmented hover field f(t, y, p) on a half-stroke of stroke sign ``sign`` into
+    ``out``: eq. (2) with the blade-element loads, then z' (and x_e' with two trims);
+    p = [Phi(, phi_bar)]."""
     n_cond = int(data[I_N_COND])
     amplitude = p[0]
     phi_bar = p[1] if n_cond == 2 else data[I_PHI_BAR]
     u, w, q, theta = y[0], y[1], y[2], y[3]
     X, Z, M = loads(t, u, w, q, sign, amplitude, phi_bar, data)
     g, m = data[I_G], data[I_MASS]
-    out = np.empty(4 + n_cond)
     st, ct = math.sin(theta), math.cos(theta)
     if data[I_INERTIA] != 0.0:
         acc = wing_accelerations(t, amplitude, phi_bar, u, w, q, theta, X, Z, M, data)
@@ -336,16 +373,192 @@ def rhs(t, y, p, sign, data):  # pragma: no cover - compiled
     out[4] = -u * st + w * ct
     if n_cond == 2:
         out[5] = u * ct + w * st
+
+
+@_jit
+def rhs(t, y, p, sign, data):  # pragma: no cover - compiled
+    """:func:`rhs_into` into a new array."""
+    out = np.empty(4 + int(data[I_N_COND]))
+    rhs_into(t, y, p, sign, data, out)
     return out
+
+
+@_jit
+def graded_into(s, y, p, k, sign, data, out):  # pragma: no cover - compiled
+    """F(s, y, p) = dt/ds f(t(s), y, p) on half-stroke k (flapping.hover.problem._graded) into
+    ``out``."""
+    half = data[I_HALF]
+    local = s - k
+    rhs_into(half * (k + grading(local)), y, p, sign, data, out)
+    factor = half * grading_derivative(local)
+    for i in range(4 + int(data[I_N_COND])):
+        out[i] = factor * out[i]
 
 
 @_jit
 def graded_rhs(s, y, p, k, sign, data):  # pragma: no cover - compiled
     """F(s, y, p) = dt/ds f(t(s), y, p) on half-stroke k (flapping.hover.problem._graded)."""
-    half = data[I_HALF]
-    local = s - k
-    out = rhs(half * (k + grading(local)), y, p, sign, data)
-    factor = half * grading_derivative(local)
-    for i in range(out.size):
-        out[i] = factor * out[i]
+    out = np.empty(4 + int(data[I_N_COND]))
+    graded_into(s, y, p, k, sign, data, out)
     return out
+
+
+# =========================================================================== the period map
+# The fixed-step period map of flapping.periodic._fixedmap.PeriodMap (its flow, _step, _split,
+# _first_root, _root and _one_step) for the graded field above and the switching functions of
+# flapping.hover.problem._switches, written out per trajectory: one call integrates a batch of
+# trajectories over the whole period, so Python runs only Newton. Same steps, same stage
+# arithmetic in the same order (sums over the stages as plain loops, where NumPy's matrix
+# products may round differently), the same Illinois root search: the same map to rounding
+# (tests/fast/test_blade.py compares the two).
+
+#: The switching functions, in the order of flapping.hover.problem._switches: U = 0 at the root
+#: (u - q h_w), U = 0 at the tip, and the pitch rate q.
+N_SWITCHES = 3
+_EPS = float(np.finfo(np.float64).eps)
+_ROOT_ITERATIONS = 60  # as _fixedmap's
+
+
+@_jit
+def switch(i, s, y, p, k, data):  # pragma: no cover - compiled
+    """Switching function i of half-stroke k at (s, y, p) (flapping.hover.problem._switches)."""
+    h_w = data[I_H_W]
+    if i == 0:
+        return y[0] - y[2] * h_w
+    if i == 2:
+        return y[2]
+    omega = data[I_OMEGA]
+    t = data[I_HALF] * (k + grading(s - k))
+    phi_bar = p[1] if int(data[I_N_COND]) == 2 else data[I_PHI_BAR]
+    phi = phi_bar + p[0] * math.cos(omega * t)
+    return (y[0] - y[2] * h_w) * math.cos(phi) - omega * p[0] * math.sin(omega * t) * data[I_R]
+
+
+def _jit_fused(fn):
+    """:func:`_jit` (the same cache decision) with LLVM's ``contract`` flag: ``a * b + c`` may
+    become one fused multiply-add. The stage sums then round as the Python map's NumPy matrix
+    products do (BLAS kernels fuse them): measured on the hawkmoth's orbit, the two maps'
+    central-difference multipliers differed by 1.6e-9 unfused, 1.0e-10 fused."""
+    return numba.njit(cache=_compiled.CACHED, fastmath={"contract"})(fn)
+
+
+@_jit_fused
+def dop853_step(t, h, x, p, k, sign, data, K, y, out):  # pragma: no cover - compiled
+    """One DOP853 step of the graded field of half-stroke k from (t, x) over h into ``out``
+    (``K``: the stages, ``y``: a stage state; work arrays)."""
+    d = x.size
+    for st in range(N_STAGES):
+        if st == 0:
+            for c in range(d):
+                y[c] = x[c]
+        else:
+            for c in range(d):
+                acc = 0.0
+                for i in range(st):
+                    acc += RK_A[st, i] * K[i, c]
+                y[c] = x[c] + h * acc
+        graded_into(t + RK_C[st] * h, y, p, k, sign, data, K[st])
+    for c in range(d):
+        acc = 0.0
+        for i in range(N_STAGES):
+            acc += RK_B[i] * K[i, c]
+        out[c] = x[c] + h * acc
+
+
+@_jit
+def switch_root(i, t, h, x, p, k, sign, data, g0, g1, K, y, tmp):  # pragma: no cover
+    """(tau, evaluations): tau in (0, h) with switch i zero along the step (Illinois method)."""
+    a, fa, b, fb = 0.0, g0, h, g1
+    c, side, nfev = b, 0, 0
+    for _ in range(_ROOT_ITERATIONS):
+        c = (a * fb - b * fa) / (fb - fa)
+        dop853_step(t, c, x, p, k, sign, data, K, y, tmp)
+        nfev += N_STAGES
+        fc = switch(i, t + c, tmp, p, k, data)
+        if fc == 0.0:
+            break
+        if fc * fb > 0.0:  # c replaces b; a kept twice in a row: halve f(a) (Illinois)
+            b, fb = c, fc
+            if side == -1:
+                fa = 0.5 * fa
+            side = -1
+        else:
+            a, fa = c, fc
+            if side == 1:
+                fb = 0.5 * fb
+            side = 1
+        if b - a <= 4.0 * _EPS * (abs(t) + h):
+            break
+    return c, nfev
+
+
+@_jit
+def split_step(t, h, x, x_new, p, k, sign, data, K, y, tmp, done):  # pragma: no cover
+    """The step from (t, x) over h, split at every root of a switching function in it: x_new
+    (the unsplit step's end on entry) becomes the split step's end; x is overwritten. Returns
+    the evaluations of the field."""
+    for i in range(N_SWITCHES):
+        done[i] = False
+    nfev = 0
+    while True:
+        first, tau = -1, 0.0
+        for i in range(N_SWITCHES):
+            if done[i]:
+                continue
+            g0, g1 = switch(i, t, x, p, k, data), switch(i, t + h, x_new, p, k, data)
+            if g0 * g1 < 0.0:
+                root, used = switch_root(i, t, h, x, p, k, sign, data, g0, g1, K, y, tmp)
+                nfev += used
+                if first < 0 or root < tau:
+                    first, tau = i, root
+        if first < 0:
+            return nfev
+        done[first] = True  # crossed: its root at the split point is not crossed again
+        dop853_step(t, tau, x, p, k, sign, data, K, y, tmp)
+        for c in range(x.size):
+            x[c] = tmp[c]
+        t, h = t + tau, h - tau
+        dop853_step(t, h, x, p, k, sign, data, K, y, x_new)
+        nfev += 2 * N_STAGES
+
+
+@_jit
+def graded_flow(X, P, n, nodes, signs, data):  # pragma: no cover - compiled
+    """(ends, evaluations, t): the end states of a batch of trajectories (rows of X, parameters
+    the rows of P) over the segments between ``nodes`` (segment k: the field of half-stroke k
+    with stroke sign signs[k]) at n steps each, split at the switching functions' roots; t is
+    the end of the earliest step whose state became non-finite (inf if none), that
+    trajectory's integration stopping there."""
+    m, d = X.shape
+    ends = np.empty((m, d))
+    K = np.empty((N_STAGES, d))
+    y, tmp, x, x_new = np.empty(d), np.empty(d), np.empty(d), np.empty(d)
+    done = np.zeros(N_SWITCHES, dtype=np.bool_)
+    nfev, failed_at = 0, math.inf
+    for j in range(m):
+        p = P[j]
+        for c in range(d):
+            x[c] = X[j, c]
+        finite = True
+        for k in range(nodes.size - 1):
+            t0, sign = nodes[k], signs[k]
+            h = (nodes[k + 1] - t0) / n
+            for step in range(n):
+                t = t0 + step * h
+                dop853_step(t, h, x, p, k, sign, data, K, y, x_new)
+                nfev += N_STAGES
+                total = 0.0
+                for c in range(d):
+                    total += abs(x_new[c])
+                if not math.isfinite(total):
+                    failed_at = min(failed_at, t + h)
+                    finite = False
+                    break
+                nfev += split_step(t, h, x, x_new, p, k, sign, data, K, y, tmp, done)
+                for c in range(d):
+                    x[c] = x_new[c]
+            if not finite:
+                break
+        for c in range(d):
+            ends[j, c] = x[c]
+    return ends, nfev, failed_at

@@ -8,6 +8,15 @@ same graded field in one compiled call (:mod:`flapping.fast._blade`), ~50 times 
 evaluation; the period map, Newton and the error estimate are unchanged, so the results are the
 Python path's to rounding.
 
+Called from Python, a compiled evaluation still costs ~2 microseconds of dispatch, three times
+its arithmetic. :class:`GradedMap` therefore integrates the whole period map of the graded field
+compiled: all steps of both half-strokes of a batch of trajectories, their DOP853 stages and the
+roots of the switching functions, in one call (:func:`flapping.fast._blade.graded_flow`, the
+integration of :class:`flapping.periodic._fixedmap.PeriodMap` written out), offered to the
+fixed-step solver on the field's callables (:meth:`BladeField.attach_map`). Python then runs
+Newton and the central differences only: the hawkmoth's orbit and its multipliers in ~0.1 s of
+CPU instead of ~0.4-0.6 s (``benchmarks/bench_blade_element.py map``).
+
 One source of truth: the quadrature rules and the constants are the Python model's own arrays
 (packed by :func:`pack`), and the compiled arithmetic is checked against the Python loads and
 field at random states, phases and insects (``tests/fast/test_blade.py``); the wings' inertial
@@ -28,9 +37,10 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import logging
+import math
 import time
 import warnings
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType, ModuleType
@@ -42,8 +52,9 @@ from flapping.fast.kernel import KernelCompileWarning, numba_available
 from flapping.model.dynamics import LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
+from flapping.periodic._fixedmap import COMPILED_MAP, NonFinite
 
-__all__ = ["SUPPORTED_FIELDS", "BladeField", "load", "pack", "unsupported_field"]
+__all__ = ["SUPPORTED_FIELDS", "BladeField", "GradedMap", "load", "pack", "unsupported_field"]
 
 #: The :class:`~flapping.model.morphology.Insect` fields the compiled loads follow, and how each
 #: enters. An insect whose other fields differ from their defaults is refused (the Python path
@@ -117,7 +128,7 @@ def load() -> ModuleType:
         # _compiled._jit decorated both modules' functions: one cache place, one flag
         if _compiled.CACHED and entry.stats.cache_path:
             _drop_stale_cache(Path(entry.stats.cache_path))
-        fresh = not _compiled.CACHED or not _cached(entry)
+        fresh = not _compiled.CACHED or not all(_cached(f) for f in (entry, _blade.graded_flow))
         if fresh:
             warnings.warn("compiling flapping's blade-element loads with numba (first use in "
                           "this environment: 5-20 s of CPU, once)", KernelCompileWarning,
@@ -133,7 +144,8 @@ def _cached(dispatcher: Any) -> bool:
     """Whether numba's on-disk cache holds compiled code of ``dispatcher``."""
     path = dispatcher.stats.cache_path
     name = dispatcher.py_func.__module__.rsplit(".", 1)[-1]
-    return bool(path) and any(Path(path).glob(f"{name}.graded_rhs-*.nbi"))
+    entry = dispatcher.py_func.__name__
+    return bool(path) and any(Path(path).glob(f"{name}.{entry}-*.nbi"))
 
 
 def _drop_stale_cache(cache: Path) -> None:
@@ -171,6 +183,8 @@ def _touch(compiled: ModuleType) -> None:
             y, p = np.zeros(5), np.array([model.amplitude])
             compiled.graded_rhs(0.25, y, p, 0, -1.0, data)
             compiled.loads(0.001, 0.1, 0.0, 1.0, 1.0, model.amplitude, 0.0, data)
+            compiled.graded_flow(y[None, :], p[None, :], 2, np.array([0.0, 1.0, 2.0]),
+                                 np.array([-1.0, 1.0]), data)
 
 
 def pack(model: LongitudinalDynamics, n_conditions: int) -> np.ndarray:
@@ -210,8 +224,9 @@ def pack(model: LongitudinalDynamics, n_conditions: int) -> np.ndarray:
         head[_blade.I_K:_blade.I_K + 8] = model._inertia.constants
     # Writable on purpose: numba types a read-only array as another type, and dispatching a
     # call on one costs ~2 microseconds more (as much as the loads); nothing writes to it.
+    log_beta = [_blade.log_beta(float(ai), float(bi)) for ai, bi in zip(a, b, strict=True)]
     return np.concatenate([head, blade._r, np.ascontiguousarray(blade._weights).ravel(),
-                           blade._weight_sums, blade._weight_moments, a, b, full])
+                           blade._weight_sums, blade._weight_moments, a, b, full, log_beta])
 
 
 @dataclass(frozen=True, eq=False)
@@ -249,3 +264,79 @@ class BladeField:
     def arguments(self, k: int) -> tuple[Any, ...]:
         """The trailing arguments of :attr:`function` on half-stroke k: (k, sign, data)."""
         return (k, self.signs[k], self.data)
+
+    def attach_map(self, funs: Sequence[Callable[..., Any]],
+                   switches: Sequence[Sequence[Callable[..., Any]]]) -> None:
+        """Offer the fixed-step period map of the graded field compiled (:class:`GradedMap`).
+
+        ``funs`` are the field's Python callables per half-stroke (``F(s, y, params)``, each
+        calling :attr:`function` with :meth:`arguments`), ``switches`` their switching functions
+        (those of :meth:`flapping.hover.HoverProblem.graded_fields`, in its order: U = 0 at the
+        root, at the tip, q = 0). The map is set as the callables' attribute
+        :data:`flapping.periodic._fixedmap.COMPILED_MAP`, where the fixed-step solver finds it.
+        """
+        graded = GradedMap(self, tuple(funs), tuple(tuple(g) for g in switches))
+        for f in funs:
+            setattr(f, COMPILED_MAP, graded)
+
+
+@dataclass(frozen=True, eq=False)
+class GradedMap:
+    """The fixed-step period map of a graded blade-element field in one compiled call.
+
+    :class:`flapping.periodic._fixedmap.CompiledMap` for the fields of
+    :meth:`flapping.hover.HoverProblem.graded_fields`: the integration of
+    :class:`~flapping.periodic._fixedmap.PeriodMap` (DOP853 steps, split at the roots of the
+    switching functions) by :func:`flapping.fast._blade.graded_flow`, a batch of trajectories
+    per call. Build with :meth:`BladeField.attach_map`.
+
+    Attributes
+    ----------
+    field : BladeField
+    funs : tuple of callables
+        The Python callables of the field it integrates, per half-stroke.
+    switches : tuple of tuples of callables
+        Their switching functions (the compiled copies run: :func:`flapping.fast._blade.switch`).
+    """
+
+    field: BladeField
+    funs: tuple[Callable[..., Any], ...]
+    switches: tuple[tuple[Callable[..., Any], ...], ...]
+
+    def flow(self, X: np.ndarray, P: np.ndarray, n: int, nodes: Sequence[float]
+             ) -> tuple[np.ndarray, int]:
+        """(end states, evaluations of the field) of the rows of ``X`` with the parameters the
+        rows of ``P``: segment k over [nodes[k], nodes[k + 1]] at ``n`` steps.
+
+        Raises
+        ------
+        ValueError
+            For arrays of other shapes, or another number of segments, than the field's.
+        NonFinite
+            If a state becomes non-finite (as the Python map).
+        DomainError
+            If the field's callables refuse a parameter row (a trim out of its range).
+        """
+        X, P = np.ascontiguousarray(X, dtype=float), np.ascontiguousarray(P, dtype=float)
+        compiled = load()
+        # the compiled code indexes without bounds checks: refuse other shapes here
+        n_conditions = int(self.field.data[compiled.I_N_COND])
+        if (X.ndim != 2 or P.ndim != 2 or X.shape[1] != 4 + n_conditions
+                or P.shape != (X.shape[0], n_conditions)
+                or len(nodes) != len(self.field.signs) + 1):
+            raise ValueError(f"the compiled map integrates states of size {4 + n_conditions} "
+                             f"with {n_conditions} parameters over {len(self.field.signs)} "
+                             f"segments; got shapes {X.shape} and {P.shape}, {len(nodes)} nodes")
+        # The callables check the trims (a DomainError for one the model refuses) before the
+        # compiled loads run: each distinct row once, in the order the Python map meets them.
+        seen: list[np.ndarray] = []
+        for x, p in zip(X, P, strict=True):
+            if not any(np.array_equal(p, q) for q in seen):
+                self.funs[0](nodes[0], x, p)
+                seen.append(p)
+        ends, nfev, failed_at = compiled.graded_flow(
+            X, P, int(n), np.asarray(nodes, dtype=float), np.asarray(self.field.signs, float),
+            self.field.data)
+        if failed_at < math.inf:
+            raise NonFinite(f"the state became non-finite at t = {failed_at!r}")
+        return ends, int(nfev)

@@ -21,15 +21,18 @@ from hypothesis import strategies as st
 from scipy import special
 
 import flapping
+from flapping.errors import ConvergenceError, DomainError
 from flapping.fast import blade
 from flapping.hover import HoverProblem, find_hover_orbit
-from flapping.hover.problem import grading, grading_derivative
+from flapping.hover.problem import TRIMS, grading, grading_derivative
 from flapping.model import _inertia_generated
 from flapping.model.aerodynamics import _sign_split
 from flapping.model.dynamics import LongitudinalDynamics
 from flapping.model.inertia import stroke_phase
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.presets import preset, preset_names
+from flapping.periodic._fixedmap import COMPILED_MAP, NonFinite, PeriodMap
+from flapping.periodic.fixedstep import find_periodic_orbit_fixed_step, fixed_step_flow
 
 pytest.importorskip("numba")
 
@@ -197,8 +200,6 @@ def test_importing_the_package_and_the_module_imports_no_numba():
 
 
 def test_an_out_of_range_trim_is_a_convergence_error_as_on_the_python_path():
-    from flapping.errors import ConvergenceError
-
     problem = HoverProblem(flapping.hawkmoth(), "small-angle",
                            trims=("amplitude", "stroke_mean"))
     y = np.zeros(6)
@@ -228,3 +229,141 @@ def test_the_fixed_step_solve_is_unchanged_to_rounding(monkeypatch):
     assert abs(fast.amplitude - python.amplitude) < 1e-12
     np.testing.assert_allclose(np.sort_complex(fast.fixed_step.multipliers),
                                np.sort_complex(python.fixed_step.multipliers), rtol=0, atol=1e-8)
+
+
+# --------------------------------------------------------------------------- the period map
+def _graded(problem, compiled_map):
+    """The problem's graded fields (compiled loads) and switches, with the compiled period map
+    attached or not (whether or not graded_fields attaches it)."""
+    funs, switches = problem.graded_fields()
+    for f in funs:
+        f.__dict__.pop(COMPILED_MAP, None)
+    if compiled_map:
+        blade.BladeField.of(problem.model, problem.n_conditions).attach_map(funs, switches)
+    return funs, switches
+
+
+def _period_map(problem, compiled_map, max_nfev=10**7):
+    funs, switches = _graded(problem, compiled_map)
+    pmap = PeriodMap(funs, (None,) * 2, (None,) * 2, (), 2.0, (0.5,), True, max_nfev, switches)
+    assert (pmap.compiled is not None) == compiled_map
+    return pmap
+
+
+@settings(max_examples=100, deadline=None)
+@given(insect=insects, two_trims=st.booleans(), s=st.floats(0.0, 2.0),
+       amplitude=st.floats(0.3, 1.5), stroke_mean=st.floats(-0.4, 0.4), u=st.floats(-0.5, 0.5),
+       w=st.floats(-0.5, 0.5), q_tip=st.floats(-0.5, 0.5), theta=st.floats(-1.0, 1.0))
+def test_the_compiled_switches_equal_the_python_ones(compiled, insect, two_trims, s, amplitude,
+                                                     stroke_mean, u, w, q_tip, theta):
+    trims = ("amplitude", "stroke_mean") if two_trims else ("amplitude",)
+    problem = HoverProblem(insect, "small-angle", alpha_m=0.6, trims=trims)
+    _, switches = problem.graded_fields()
+    data = blade.pack(problem.model, len(trims))
+    k = min(int(s), 1)
+    y = np.array([*_state(insect, amplitude, u, w, q_tip), theta, 0.0, 0.0][: 4 + len(trims)])
+    p = np.array([amplitude, stroke_mean][: len(trims)])
+    tip = 2.0 * math.pi * insect.frequency * amplitude * insect.semi_span
+    assert len(switches[k]) == compiled.N_SWITCHES
+    for i, g in enumerate(switches[k]):
+        # the same operations: rounding of the tip one's two terms (a few ulps of their size)
+        scale = abs(y[0]) + abs(y[2]) * insect.hinge_height + tip + abs(y[2])
+        assert abs(compiled.switch(i, s, y, p, k, data) - g(s, y, p)) <= 1e-15 * scale
+
+
+MAP_CASES = {
+    "hawkmoth small-angle": (lambda: flapping.hawkmoth(), "small-angle", 1),
+    "hawkmoth exact": (lambda: flapping.hawkmoth(), "exact", 1),
+    "hawkmoth h_w = 10 mm": (lambda: flapping.hawkmoth(hinge_height=10e-3), "small-angle", 1),
+    "hawkmoth x_h = 1 mm, two trims": (lambda: flapping.hawkmoth(hinge_offset=1e-3),
+                                       "small-angle", 2),
+    "monarch measured (wing mass)": (lambda: preset("monarch", geometry="measured"), "exact", 1),
+}
+
+
+@pytest.mark.parametrize("case", list(MAP_CASES))
+def test_the_compiled_period_map_equals_the_python_one(compiled, case):
+    make, variant, n_trims = MAP_CASES[case]
+    insect = make()
+    problem = HoverProblem(insect, variant, trims=TRIMS[n_trims - 1])
+    # states around hover that cross every switch (u - q h_w, the tip's U and q change sign)
+    tip = 2.0 * math.pi * insect.frequency * insect.stroke_amplitude * insect.semi_span
+    rng = np.random.default_rng(7)
+    X = np.zeros((3, 4 + n_trims))
+    X[:, :3] = rng.uniform(-0.05, 0.05, (3, 3)) * [tip, tip, tip / insect.semi_span]
+    P = np.repeat(problem.guess()[None, :], 3, axis=0)
+    python, fast = _period_map(problem, False), _period_map(problem, True)
+    expected, got = python.flow(X, P, 32), fast.flow(X, P, 32)
+    # the same steps and splits; the map's rounding over 64 steps of 12 stages (observed
+    # 1e-14; a missed or misplaced split would be ~1e-6)
+    np.testing.assert_allclose(got, expected, rtol=0, atol=1e-12 * max(1.0, np.abs(X).max()))
+    # evaluations counted alike: the root searches' iteration counts differ by rounding only
+    # (observed: a few iterations of 12 evaluations; one split costs ~3 % of this integration)
+    assert abs(fast.nfev - python.nfev) <= 0.02 * python.nfev
+
+
+def test_the_solve_on_the_compiled_map_is_the_solve_on_the_python_one():
+    # As test_the_fixed_step_solve_is_unchanged_to_rounding: Newton converges to the same
+    # unknowns to its step tolerance, and the multipliers of the central-difference monodromy
+    # agree to its rounding floor (moving x0 by 1e-15 relative moves them by up to 2e-9).
+    problem = HoverProblem(flapping.hawkmoth(hinge_height=5e-3), "small-angle")
+    orbits = []
+    for compiled_map in (False, True):
+        funs, switches = _graded(problem, compiled_map)
+        orbits.append(find_periodic_orbit_fixed_step(
+            funs, np.zeros(5), 2.0, free_params=problem.guess(), fixed=(4,), breakpoints=(0.5,),
+            switches=switches, n_steps=64))
+    python, fast = orbits
+    np.testing.assert_allclose(fast.x0, python.x0, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(fast.unknowns, python.unknowns, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.sort_complex(fast.multipliers),
+                               np.sort_complex(python.multipliers), rtol=0, atol=1e-8)
+    assert fast.n_steps == python.n_steps
+
+
+def test_the_compiled_map_refuses_a_trim_as_the_python_map():
+    problem = HoverProblem(flapping.hawkmoth(), "small-angle", trims=TRIMS[1])
+    X = np.zeros((3, 6))
+    for bad in ([2.0, 0.0], [1.0, 2.0]):
+        P = np.array([[1.0, 0.0], [1.0, 0.0], bad])  # the last row only
+        messages = []
+        for compiled_map in (False, True):
+            with pytest.raises(DomainError) as info:
+                _period_map(problem, compiled_map).flow(X, P, 4)
+            messages.append(str(info.value))
+        assert messages[0] == messages[1]
+
+
+def test_a_non_finite_state_ends_the_compiled_map_as_the_python_one():
+    problem = HoverProblem(flapping.hawkmoth(), "exact")
+    X = np.zeros((2, 5))
+    X[1, 0] = 1e300  # U^2 overflows in the loads
+    P = np.full((2, 1), flapping.hawkmoth().stroke_amplitude)
+    messages = []
+    for compiled_map in (False, True):
+        with pytest.raises(NonFinite) as info:
+            _period_map(problem, compiled_map).flow(X, P, 4)
+        messages.append(str(info.value))
+    assert messages[0] == messages[1]
+
+
+def test_the_work_cap_holds_on_the_compiled_map():
+    problem = HoverProblem(flapping.hawkmoth(), "small-angle")
+    funs, switches = _graded(problem, True)
+    with pytest.raises(ConvergenceError, match="evaluations"):
+        fixed_step_flow(funs, np.zeros(5), 2.0, n_steps=8, free_params=problem.guess(),
+                        breakpoints=(0.5,), switches=switches, max_nfev=100)
+
+
+def test_the_compiled_map_refuses_shapes_it_would_index_past():
+    problem = HoverProblem(flapping.hawkmoth(), "small-angle")
+    funs, _ = _graded(problem, True)
+    graded = getattr(funs[0], COMPILED_MAP)
+    p = problem.guess()[None, :]
+    for X, P, nodes in ((np.zeros((1, 6)), p, (0.0, 1.0, 2.0)),  # a two-trim state
+                        (np.zeros((1, 5)), np.zeros((1, 2)), (0.0, 1.0, 2.0)),
+                        (np.zeros((2, 5)), p, (0.0, 1.0, 2.0)),  # a parameter row short
+                        (np.zeros((1, 5)), p, (0.0, 1.0, 1.5, 2.0))):  # a third segment
+        with pytest.raises(ValueError, match="compiled map"):
+            graded.flow(X, P, 4, nodes)
+    assert graded.flow(np.zeros((1, 5)), p, 4, (0.0, 1.0, 2.0))[0].shape == (1, 5)

@@ -226,3 +226,74 @@ def test_the_flow_is_the_solves_map():
     assert not end.flags.writeable
     with pytest.raises(ValueError, match="n_steps"):
         fixed_step_flow(forced_oscillator, orbit.x0, PERIOD, n_steps=1, args=ARGS)
+
+
+# --------------------------------------------------------------------------- a compiled map
+def _forced(t, x, p):
+    """x' = -x + p cos t: the periodic orbit is x = p (cos t + sin t) / 2, so x(0) = p / 2."""
+    return np.array([-x[0] + p[0] * math.cos(t)])
+
+
+def _kink(t, x, p):
+    return x[0]
+
+
+class _Offer:
+    """A CompiledMap that integrates by the Python map itself and counts its calls (the
+    protocol is what is tested, not a compiler)."""
+
+    def __init__(self, funs, switches):
+        from flapping.periodic._fixedmap import PeriodMap
+
+        self.funs, self.switches, self.calls = tuple(funs), tuple(map(tuple, switches)), 0
+        self.reference = PeriodMap(self.funs, (None,), (None,), (), 2.0 * math.pi, (), True,
+                                   10**8, self.switches)
+        self.reference.compiled = None  # it would find this offer on the callables
+
+    def flow(self, X, P, n, nodes):
+        self.calls += 1
+        before = self.reference.nfev
+        return self.reference.flow(X, P, n), self.reference.nfev - before
+
+
+def _offered(switches=((_kink,),)):
+    from flapping.periodic._fixedmap import COMPILED_MAP
+
+    def fun(t, x, p):
+        return _forced(t, x, p)
+
+    offer = _Offer([fun], switches)
+    setattr(fun, COMPILED_MAP, offer)
+    return fun, offer
+
+
+def test_an_offered_compiled_map_integrates_the_solve():
+    fun, offer = _offered()
+    orbit = find_periodic_orbit_fixed_step(fun, [0.25], 2.0 * math.pi, free_params=[0.0],
+                                           fixed=[0], switches=[_kink])
+    assert offer.calls > 0 and orbit.nfev == offer.reference.nfev  # every evaluation by it
+    assert orbit.params is not None and abs(orbit.params[0] - 0.5) < 1e-10
+
+
+def test_an_offer_for_other_switches_or_conventions_is_not_used():
+    from flapping.periodic._fixedmap import PeriodMap
+
+    fun, offer = _offered()
+    # another switching function than the offer locates: the Python map runs
+    find_periodic_orbit_fixed_step(fun, [0.25], 2.0 * math.pi, free_params=[0.0], fixed=[0],
+                                   switches=[lambda t, x, p: x[0]])
+    assert offer.calls == 0
+    # extra arguments, or no parameters: not the offer's calling convention
+    for args, has_params in (((1.0,), True), ((), False)):
+        pmap = PeriodMap((fun,), (None,), (None,), args, 1.0, (), has_params, 10, ((_kink,),))
+        assert pmap.compiled is None
+    assert PeriodMap((fun,), (None,), (None,), (), 1.0, (), True, 10,
+                     ((_kink,),)).compiled is offer
+
+
+def test_the_work_cap_counts_an_offered_maps_evaluations():
+    fun, offer = _offered()
+    with pytest.raises(ConvergenceError, match="cap") as info:
+        find_periodic_orbit_fixed_step(fun, [0.25], 2.0 * math.pi, free_params=[0.0],
+                                       fixed=[0], switches=[_kink], max_nfev=2000)
+    assert offer.calls > 0 and info.value.result.status == 5
