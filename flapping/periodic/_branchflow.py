@@ -239,7 +239,12 @@ class OrbitSystem:
     def period(self, p: float) -> float:
         """The period at p of a forced system."""
         assert self.period_fn is not None
-        T = float(self.period_fn(p))
+        value = self.period_fn(p)
+        try:
+            T = float(value)
+        except (TypeError, ValueError):
+            raise TypeError(f"`period(p)` must return a number (the period at p); got "
+                            f"{value!r} at p = {p!r}") from None
         if not (math.isfinite(T) and T > 0):
             raise ValueError(f"`period(p)` must return a positive finite period; got {T!r} "
                              f"at p = {p!r}")

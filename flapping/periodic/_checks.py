@@ -29,7 +29,7 @@ _SHAPE_ERRORS = (ValueError, IndexError)
 
 def first_call(fun: Callable[..., Any], name: str, t: float, x: np.ndarray,
                extra: tuple[Any, ...], shape: tuple[int, ...], *, call: str,
-               given: str, reshape: bool = False) -> np.ndarray:
+               given: str, reshape: bool = False, first: bool = True) -> np.ndarray:
     """``fun(t, x, *extra)`` as a float64 array of ``shape``, or an error naming the culprit.
 
     Parameters
@@ -52,6 +52,9 @@ def first_call(fun: Callable[..., Any], name: str, t: float, x: np.ndarray,
         What supplies ``extra``, for messages (e.g. ``"`args` = (1.0,)"``).
     reshape : bool
         Accept any shape of the right size (``param_jac`` of one parameter may return (n,)).
+    first : bool
+        Whether this is the first callable probed: only then can a wrong length be ``x0``'s
+        (a later segment's ``fun`` of another length is that callable's own mistake).
 
     Returns
     -------
@@ -89,11 +92,11 @@ def first_call(fun: Callable[..., Any], name: str, t: float, x: np.ndarray,
     except Exception as exc:  # the user's own error: kept as it is, with where it happened
         exc.add_note(f"(raised by `{name}` {where})")
         raise
-    return _as_array(raw, name, shape, n, t, x, where, reshape)
+    return _as_array(raw, name, shape, t, x, where, reshape, first)
 
 
-def _as_array(raw: Any, name: str, shape: tuple[int, ...], n: int, t: float, x: np.ndarray,
-              where: str, reshape: bool) -> np.ndarray:
+def _as_array(raw: Any, name: str, shape: tuple[int, ...], t: float, x: np.ndarray,
+              where: str, reshape: bool, first: bool) -> np.ndarray:
     """The value checked for type, shape and finiteness (see :func:`first_call`)."""
     value = numeric(raw, name, where, f"an array of real numbers of shape {shape}")
     if value.shape != shape:
@@ -101,7 +104,8 @@ def _as_array(raw: Any, name: str, shape: tuple[int, ...], n: int, t: float, x: 
             value = value.reshape(shape)
         else:
             raise ValueError(f"`{name}` must return an array of shape {shape}, got shape "
-                             f"{value.shape} {where}{_length_hint(name, value.shape, n)}")
+                             f"{value.shape} {where}"
+                             f"{_length_hint(name, value.shape, x.size) if first else ''}")
     check.finite_output(name, value, t, x)
     return value
 
@@ -189,7 +193,8 @@ def probe_fields(funs: tuple[Any, ...], jacs: tuple[Any, ...], pjacs: tuple[Any,
     n_p = 0 if params is None else params.size
     for k, (f, J, P) in enumerate(zip(funs, jacs, pjacs, strict=True)):
         t = period * (breakpoints[k - 1] if k else 0.0)
-        first_call(f, "fun", t, x0, extra, (n,), call=f"fun(t, x, *args{tail})", given=given)
+        first_call(f, "fun", t, x0, extra, (n,), call=f"fun(t, x, *args{tail})", given=given,
+                   first=k == 0)
         if J is not None:
             first_call(J, "jac", t, x0, extra, (n, n), call=f"jac(t, x, *args{tail})",
                        given=given)

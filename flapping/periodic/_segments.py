@@ -167,8 +167,9 @@ def fixed_step(settings: Settings, t0: float, t1: float, period: float | None,
     for b in breakpoints:
         if abs(b * steps - round(b * steps)) > 1e-9:
             raise ValueError(
-                f"with method='RK4' every breakpoint must fall on a step boundary (a multiple "
-                f"of 1/rk4_steps = 1/{steps}); breakpoint {b} does not")
+                f"with method='RK4' every one of `breakpoints` must fall on a step boundary (a "
+                f"multiple of 1/rk4_steps = 1/{steps}); breakpoint {b} does not: choose "
+                f"`rk4_steps` accordingly")
     return period / steps
 
 

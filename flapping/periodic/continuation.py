@@ -298,8 +298,8 @@ def _check_options(options: dict[str, Any], settings: Any = None) -> Continuatio
     o["switch_amplitude"] = check.real("switch_amplitude", o["switch_amplitude"], low=0.0,
                                        high=1.0, low_open=True)
     if not o["ds_min"] <= o["ds"] <= o["ds_max"]:
-        raise ValueError(f"need ds_min <= ds <= ds_max; got {o['ds_min']}, {o['ds']}, "
-                         f"{o['ds_max']}")
+        raise ValueError(f"`ds` must lie in [`ds_min`, `ds_max`] = [{o['ds_min']!r}, "
+                         f"{o['ds_max']!r}] (and ds_min <= ds_max); got ds = {o['ds']!r}")
     o["max_points"] = opt.capped("max_points", o["max_points"], low=2)
     o["segments"] = opt.capped("segments", o["segments"])
     for k in ("locate_rtol", "rtol"):
@@ -543,7 +543,14 @@ def _start(fun: Any, jac: Any, x0: np.ndarray, period: Any, p0: float, autonomou
         raise ValueError(
             f"the continuation needs as many `fixed` components as `free_params`: got "
             f"{len(opts.fixed)} fixed and {q0.size} free parameters")
-    T0 = check.positive("period", period if autonomous else system.period(p0))
+    if autonomous:
+        T0 = check.positive("period", period)
+    else:
+        try:
+            T0 = system.period(p0)
+        except Exception as exc:  # the user's callable: its error, with where it was raised
+            exc.add_note(f"(raised by `period` at its first call, period(p0) with p0 = {p0!r})")
+            raise
     orbit = _first_orbit(funs, jacs, x0, T0, p0, q0, autonomous, opts)
     states = orbit.segment_states.T if orbit.segment_states is not None else orbit.x0[None, :]
     system.base = orbit.x0.copy()

@@ -89,32 +89,40 @@ def _check_common(t_span: Any, x0: Any, method: Any, rtol: Any, atol: Any, rk4_s
     return t0, t1, x, settings, T, b, h
 
 
-def _first_segment(t0: float, t1: float, period: float | None,
-                   breakpoints: tuple[float, ...], max_steps: int) -> int | None:
-    """The segment whose callable the integration calls first (None: too many restarts to
-    integrate at all; :func:`~flapping.periodic._segments.propagate` then fails by itself)."""
+def _first_times(t0: float, t1: float, period: float | None,
+                 breakpoints: tuple[float, ...], max_steps: int) -> list[tuple[int, float]]:
+    """``(segment, time)``: each segment the integration visits, with the start of its first
+    piece (a time on its closed segment), in the order visited. Empty if nothing is
+    integrated, or the restarts alone exceed the budget (:func:`~flapping.periodic._segments.
+    propagate` then fails by itself)."""
     if not breakpoints:
-        return 0
+        return [(0, t0)]
     if t1 == t0 or seg._too_many_pieces(t0, t1, period, breakpoints, 0, max_steps):
-        return None  # nothing integrated (or nothing can be): no callable is due at t0
-    return int(seg.restart_nodes(t0, t1, period, breakpoints)[1][0])
+        return []
+    nodes, segments = seg.restart_nodes(t0, t1, period, breakpoints)
+    first: dict[int, float] = {}
+    for a, k in zip(nodes[:-1], segments, strict=True):
+        first.setdefault(int(k), float(a))
+        if len(first) == len(breakpoints) + 1:
+            break
+    return list(first.items())
 
 
 def _probe(funs: Sequence[Callable[..., Any]], jacs: Sequence[Callable[..., Any] | None],
            t0: float, t1: float, x0: np.ndarray, extra: tuple[Any, ...], period: float | None,
            breakpoints: tuple[float, ...], settings: seg.Settings, given: str) -> None:
-    """The first callables of the integration, each called once at ``(t0, x0)`` and checked
-    (:func:`~flapping.periodic._checks.first_call`): an error names ``fun``, ``jac``, ``x0``
-    or ``args`` before anything is integrated. Not counted in ``nfev``: a check, not a step."""
-    k = _first_segment(t0, t1, period, breakpoints, settings.max_steps)
-    if k is None:
-        return
+    """The callables of the integration, each called once at ``x0`` and the start of its first
+    piece, and checked (:func:`~flapping.periodic._checks.first_call`): an error names
+    ``fun``, ``jac``, ``x0`` or ``args`` before anything is integrated. Not counted in
+    ``nfev``: a check, not a step."""
     n, tail = x0.size, ", params" if given.endswith("`params`") else ""
-    first_call(funs[k], "fun", t0, x0, extra, (n,), call=f"fun(t, x, *args{tail})", given=given)
-    jac = jacs[k]
-    if jac is not None:
-        first_call(jac, "jac", t0, x0, extra, (n, n), call=f"jac(t, x, *args{tail})",
-                   given=given)
+    for i, (k, t) in enumerate(_first_times(t0, t1, period, breakpoints, settings.max_steps)):
+        first_call(funs[k], "fun", t, x0, extra, (n,), call=f"fun(t, x, *args{tail})",
+                   given=given, first=i == 0)
+        jac = jacs[k]
+        if jac is not None:
+            first_call(jac, "jac", t, x0, extra, (n, n), call=f"jac(t, x, *args{tail})",
+                       given=given)
 
 
 def flow(
@@ -320,6 +328,7 @@ def variational_flow(
     if stm_atol is not None:
         stm_atol = check.positive("stm_atol", stm_atol)
     return seg.variational(funs, jacs, pjacs, t0, t1, x0, args=args, params=params,
-                           trace=bool(trace), settings=settings, h=h, period=period,
+                           trace=check.boolean("trace", trace), settings=settings, h=h,
+                           period=period,
                            breakpoints=breakpoints, t_out=times, stm_atol=stm_atol)
 

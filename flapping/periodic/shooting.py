@@ -293,7 +293,7 @@ def _probe(setup: ShootingSetup, problem_counter: seg.Counter) -> tuple[np.ndarr
         t = setup.T_init * (setup.breakpoints[k - 1] if k else 0.0)
         problem_counter.n += 1
         values.append(first_call(f, "fun", t, x, extra, (n,), call=f"fun(t, x, *args{tail})",
-                                 given=given))
+                                 given=given, first=k == 0))
         # jac and param_jac once each too (not counted in njev: a check, like _refusal's call)
         if J is not None:
             first_call(J, "jac", t, x, extra, (n, n), call=f"jac(t, x, *args{tail})",
@@ -303,9 +303,14 @@ def _probe(setup: ShootingSetup, problem_counter: seg.Counter) -> tuple[np.ndarr
                        call=f"param_jac(t, x, *args{tail})", given=given)
     n_extra = 0
     if setup.extra_residual is not None:
-        extra0 = np.atleast_1d(numeric(
-            setup.extra_residual(setup.x_init.copy(), setup.T_init, setup.p_init),
-            "extra_residual", "at the guess", "a 1-D array of real numbers"))
+        try:
+            raw = setup.extra_residual(setup.x_init.copy(), setup.T_init, setup.p_init)
+        except Exception as exc:  # the user's callable: its error, with where it was raised
+            exc.add_note("(raised by `extra_residual` at its first call, "
+                         "extra_residual(x0, period, params) at the guess)")
+            raise
+        extra0 = np.atleast_1d(numeric(raw, "extra_residual", "at the guess",
+                                       "a 1-D array of real numbers"))
         if extra0.ndim != 1:
             raise ValueError(f"`extra_residual` must return a 1-D array, got shape {extra0.shape}")
         n_extra = extra0.size

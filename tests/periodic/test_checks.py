@@ -238,3 +238,70 @@ def test_a_field_of_another_size_than_x0_is_always_named(n_field, n_x0):
         with pytest.raises(ValueError, match=rf"`x0` has the wrong length \({n_x0}, "
                                              rf"expected {n_field}\)"):
             flow(fun, (0.0, 1.0), np.ones(n_x0))
+
+
+# ---- round two of bad inputs: every segment, every flag, every user callable ----------------
+
+
+def _half(sign):
+    return lambda t, x: -x + sign
+
+
+def test_a_later_segment_callable_is_checked_too_at_its_own_time():
+    # the second half-period's callable returned complex values, and flow "succeeded" (NumPy
+    # dropped the imaginary part); it is probed at the start of its own segment, t = 0.5
+    with pytest.raises(TypeError, match=r"`fun` returned complex values .*t = 0\.5"):
+        flow([_half(1.0), lambda t, x: -x + 1j], (0.0, 1.0), [1.0, 2.0], period=1.0,
+             breakpoints=[0.5])
+
+
+def test_a_later_segment_of_another_length_is_its_own_mistake_not_x0s():
+    with pytest.raises(ValueError, match=r"got shape \(1,\) at its first call") as error:
+        flow([_half(1.0), lambda t, x: -x[:1]], (0.0, 1.0), [1.0, 2.0], period=1.0,
+             breakpoints=[0.5])
+    assert "`x0` has the wrong length" not in str(error.value)  # segment 0 accepted x0
+
+
+def test_each_segment_callable_is_probed_only_on_its_own_closed_segment():
+    # the probe must keep the contract of the segmented integration (module notes)
+    seen = {0: [], 1: []}
+
+    def on(k, lo, hi):
+        def f(t, x):
+            phase = t - math.floor(t)
+            at_period_end = k == 1 and phase < 1e-12  # phase 0 is phase 1 of the period before
+            assert lo - 1e-12 <= phase <= hi + 1e-12 or at_period_end, (k, t)
+            seen[k].append(t)
+            return -x
+        return f
+
+    assert flow([on(0, 0.0, 0.5), on(1, 0.5, 1.0)], (0.25, 2.75), [1.0], period=1.0,
+                breakpoints=[0.5]).success
+    assert seen[0] and seen[1]
+
+
+def test_trace_must_be_a_flag():
+    # trace="no" used to be truthy and silently integrate the trace
+    with pytest.raises(ValueError, match=r"`trace` must be True or False"):
+        variational_flow(lorenz, None, (0.0, 0.1), X_AB, trace="no")
+
+
+def test_an_error_inside_extra_residual_says_where():
+    with pytest.raises(ZeroDivisionError) as error:
+        find_periodic_orbit(lorenz, X_AB, T_AB, extra_residual=lambda x, T, p: 1 / 0)
+    assert any("raised by `extra_residual`" in note for note in error.value.__notes__)
+
+
+def _forced(t, x, p):
+    return oscillator(t, x)
+
+
+def test_a_period_function_that_raises_says_where():
+    with pytest.raises(ZeroDivisionError) as error:
+        continue_orbit(_forced, X_FO, lambda p: 1 / 0, 0.0, 0.1, autonomous=False)
+    assert any("raised by `period` at its first call" in note for note in error.value.__notes__)
+
+
+def test_a_period_function_returning_none_is_named():
+    with pytest.raises(TypeError, match=r"`period\(p\)` must return a number .*got None"):
+        continue_orbit(_forced, X_FO, lambda p: None, 0.0, 0.1, autonomous=False)

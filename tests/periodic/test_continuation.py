@@ -258,3 +258,9 @@ def test_location_corrects_to_locate_tol(monkeypatch):
     continue_orbit(f_rossler, X_ROSSLER_25, 5.749, 2.8, 2.86, jac=j_rossler, tol=1e-8,
                    locate_tol=3e-11)
     assert seen == [3e-11]
+
+
+def test_a_first_step_outside_its_bounds_names_ds_and_the_bounds():
+    with pytest.raises(ValueError, match=r"`ds` must lie in \[`ds_min`, `ds_max`\] = "
+                                         r"\[1e-06, 0\.5\].*got ds = 1\.0"):
+        continue_orbit(f_rossler, X_ROSSLER_25, 5.749, 2.5, 2.6, jac=j_rossler, ds=1.0)

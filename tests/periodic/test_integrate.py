@@ -408,3 +408,10 @@ def test_a_failed_variational_flow_says_where_it_stopped_in_the_state_alone():
     assert not var.success
     assert var.failure is not None and var.failure.state.shape == (1,)  # not the matrices
     assert var.failure.t == pytest.approx(1.0, abs=1e-3)
+
+
+def test_rk4_breakpoints_off_the_grid_name_breakpoints_and_rk4_steps():
+    with pytest.raises(ValueError, match=r"`breakpoints` must fall on a step boundary.*"
+                                         r"breakpoint 0\.3 does not: choose `rk4_steps`"):
+        flow(lambda t, x: -x, (0.0, 1.0), [1.0], method="RK4", period=1.0, breakpoints=[0.3],
+             rk4_steps=4)
