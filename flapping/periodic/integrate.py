@@ -125,6 +125,23 @@ def _probe(funs: Sequence[Callable[..., Any]], jacs: Sequence[Callable[..., Any]
                        given=given)
 
 
+def _check_t_out(t_out: Any, t0: float, t1: float, max_steps: int) -> tuple[float, ...]:
+    """``t_out`` as floats within the span, in the order given; each is a restart of the
+    integration, so more than ``max_steps`` of them is refused at once (1e7 took a minute to
+    convert before the step budget refused them)."""
+    times = check.array("t_out", t_out)
+    if times.ndim != 1:
+        raise ValueError(f"`t_out` must be a 1-D sequence of times; got shape {times.shape}")
+    if times.size > max_steps:
+        raise ValueError(f"`t_out` has {times.size} times, more than max_steps = {max_steps} "
+                         f"(each is a restart of the integration, which takes a step)")
+    outside = (times < min(t0, t1)) | (times > max(t0, t1))
+    if outside.any():
+        raise ValueError(f"`t_out` times must lie within t_span ({t0!r}, {t1!r}), got "
+                         f"{float(times[outside][0])!r}")
+    return tuple(times.tolist())
+
+
 def flow(
     fun: Callable[..., Any] | Sequence[Callable[..., Any]],
     t_span: tuple[float, float],
@@ -278,7 +295,7 @@ def variational_flow(
         cheaper, and enough where the matrix only steers a Newton iteration.
     t_out : sequence of float, optional
         Times (within ``t_span``) at which to report; default ``(t1,)``. The integrator restarts
-        at each (so RK4 needs them on its grid).
+        at each (so RK4 needs them on its grid); at most ``max_steps`` of them.
     params : array_like, optional
         Parameters ``params``, passed as the last argument of ``fun``, ``jac``, ``param_jac``; their
         sensitivities are integrated.
@@ -321,10 +338,7 @@ def variational_flow(
     given = f"`args` = {check._show(args)}" + ("" if params is None else " and `params`")
     _probe(funs, jacs, t0, t1, x0, args if params is None else args + (params,), period,
            breakpoints, settings, given)
-    times = (t1,) if t_out is None else tuple(check.real("t_out", t) for t in t_out)
-    for t in times:
-        if not min(t0, t1) <= t <= max(t0, t1):
-            raise ValueError(f"`t_out` times must lie within t_span {t_span}, got {t}")
+    times = (t1,) if t_out is None else _check_t_out(t_out, t0, t1, settings.max_steps)
     if stm_atol is not None:
         stm_atol = check.positive("stm_atol", stm_atol)
     return seg.variational(funs, jacs, pjacs, t0, t1, x0, args=args, params=params,

@@ -415,3 +415,24 @@ def test_rk4_breakpoints_off_the_grid_name_breakpoints_and_rk4_steps():
                                          r"breakpoint 0\.3 does not: choose `rk4_steps`"):
         flow(lambda t, x: -x, (0.0, 1.0), [1.0], method="RK4", period=1.0, breakpoints=[0.3],
              rk4_steps=4)
+
+
+def test_more_output_times_than_the_step_budget_are_refused_at_once():
+    # each output time is a restart: 10**7 of them used to take a minute before failing
+    with pytest.raises(ValueError, match=r"`t_out` has 100001 times, more than max_steps"):
+        variational_flow(lambda t, x: -x, None, (0.0, 1.0), [1.0],
+                         t_out=np.linspace(0.0, 1.0, 100_001))
+
+
+@pytest.mark.parametrize(("t_out", "message"), [([math.nan], "`t_out` must be finite"),
+                                                ([0.5, 2.0], r"within t_span .* got 2\.0"),
+                                                ([[0.5]], "`t_out` must be a 1-D")])
+def test_bad_output_times_are_named(t_out, message):
+    with pytest.raises(ValueError, match=message):
+        variational_flow(lambda t, x: -x, None, (0.0, 1.0), [1.0], t_out=t_out)
+
+
+def test_output_times_in_any_order_are_reported_in_that_order():
+    var = variational_flow(lambda t, x: -x, None, (0.0, 1.0), [1.0], t_out=[1.0, 0.5],
+                           rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(var.x[0], np.exp([-1.0, -0.5]), rtol=1e-9)
