@@ -22,9 +22,11 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from flapping.errors import NonFiniteError
+
 __all__ = [
     "real", "positive", "nonnegative", "integer", "choice", "vector", "matrix",
-    "finite_output", "array", "instance", "tolerances", "boolean",
+    "finite_output", "array", "instance", "tolerances", "boolean", "call_args",
 ]
 
 T = TypeVar("T")
@@ -175,15 +177,21 @@ def matrix(name: str, value: Any, *, square: bool = False) -> np.ndarray:
 
 
 def finite_output(name: str, value: np.ndarray, t: float, x: Sequence[float] | np.ndarray) -> None:
-    """Raise ValueError if a user callable returned NaN or infinity.
+    """Raise :class:`~flapping.errors.NonFiniteError` if a user callable returned NaN or infinity.
 
     Solvers fed NaN never converge (``solve_ivp`` shrinks its step forever), so every integration
-    checks what ``fun`` and ``jac`` return and names which one failed, where.
+    checks what ``fun`` and ``jac`` return and names which one failed, where: the error (a
+    ValueError) carries ``source`` (``name``), ``t``, ``state`` (``x``) and ``value``. A state
+    beyond 1e100 is said to be blowing up (the callable overflowed with the solution).
     """
     if not np.all(np.isfinite(value)):
-        raise ValueError(
-            f"`{name}` returned a non-finite value at t = {t!r}, x = {np.asarray(x)!r}: "
-            f"{np.asarray(value)!r}")
+        state = np.asarray(x, dtype=float)
+        size = float(np.max(np.abs(state))) if state.size else 0.0
+        why = (f" (the solution is blowing up: max |x| = {size:.3g}, and `{name}` overflowed "
+               f"with it)" if size > 1e100 else "")
+        raise NonFiniteError(
+            f"`{name}` returned a non-finite value at t = {t!r}, x = {state!r}: "
+            f"{np.asarray(value)!r}{why}", source=name, t=t, state=state, value=value)
 
 
 def array(name: str, value: Any) -> np.ndarray:
@@ -220,6 +228,20 @@ def instance(name: str, value: T, cls: type) -> T:
 def tolerances(rtol: Any, atol: Any) -> tuple[float, float]:
     """``(rtol, atol)`` of an integration as positive floats, or a ValueError naming the bad one."""
     return positive("rtol", rtol), positive("atol", atol)
+
+
+def call_args(value: Any) -> tuple[Any, ...]:
+    """``args`` (extra arguments of a user callable) as a tuple, or a ValueError.
+
+    Like :func:`scipy.integrate.solve_ivp`, any finite iterable is accepted; a single number
+    (``args=5`` instead of ``args=(5,)``) or None is refused, naming ``args``.
+    """
+    if type(value) is tuple:
+        return value
+    if isinstance(value, (str, bytes)) or not isinstance(value, Iterable):
+        raise ValueError(f"`args` must be a tuple of extra arguments of the callables (e.g. "
+                         f"args=(c,) for one); got {_show(value)} ({type(value).__name__})")
+    return tuple(value)
 
 
 def boolean(name: str, value: Any) -> bool:

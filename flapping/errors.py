@@ -1,7 +1,10 @@
 """Exceptions and warnings shared by the solvers of :mod:`flapping`.
 
 - :class:`ConvergenceError`: a solver or an integration did not reach its answer;
-  :func:`require_success` raises it for an integration result that failed.
+  :func:`require_success` raises it for an integration result that failed. When an integration
+  stopped at a time, it carries where: ``t``, ``state`` and ``source`` (what failed there).
+- :class:`NonFiniteError`: a user callable returned NaN or infinity during an integration (a
+  ValueError), with the time, the state, the callable's name and the value as attributes.
 - :class:`DomainError`: an iterate left the domain of the model (a solver may step back);
 - :class:`HoverDriftWarning`: a "hover" orbit that flies away horizontally (an offset hinge).
 - :class:`PlausibilityWarning`: an insect whose magnitudes no insect or flapping vehicle has.
@@ -17,8 +20,9 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["ConvergenceError", "DomainError", "HoverDriftWarning", "ClosureWarning",
-           "AliasedPeriodWarning", "ToleranceWarning", "PlausibilityWarning", "require_success"]
+__all__ = ["ConvergenceError", "NonFiniteError", "DomainError", "HoverDriftWarning",
+           "ClosureWarning", "AliasedPeriodWarning", "ToleranceWarning", "PlausibilityWarning",
+           "require_success"]
 
 
 class ConvergenceError(RuntimeError):
@@ -38,6 +42,20 @@ class ConvergenceError(RuntimeError):
         Number of iterations (or function evaluations, if the solver counts those) taken.
     result : object, optional
         The solver's full result object, when one exists.
+    t : float, optional
+        The time at which the failing integration stopped (the state blew up, the step budget
+        ran out, the step size fell below rounding), when one did.
+    state : array_like, optional
+        The state of that integration at ``t``.
+    source : str, optional
+        What failed at ``t``: ``"state"`` (the solution overflowed), ``"fun"``, ``"jac"`` or
+        ``"param_jac"`` (the callable returned NaN or infinity), ``"step budget"`` or
+        ``"integrator"`` (the integrator gave up).
+
+    Attributes
+    ----------
+    x, residual, iterations, result, t, state, source
+        As given (``None`` when not known); ``x`` and ``state`` are float64 copies.
     """
 
     def __init__(
@@ -48,6 +66,9 @@ class ConvergenceError(RuntimeError):
         residual: float | None = None,
         iterations: int | None = None,
         result: Any = None,
+        t: float | None = None,
+        state: Any = None,
+        source: str | None = None,
     ) -> None:
         details = []
         if residual is not None:
@@ -60,6 +81,44 @@ class ConvergenceError(RuntimeError):
         self.residual = residual
         self.iterations = iterations
         self.result = result
+        self.t = None if t is None else float(t)
+        self.state = None if state is None else np.array(state, dtype=float)
+        self.source = source
+
+
+class NonFiniteError(ValueError):
+    """A user callable returned NaN or infinity at a finite state during an integration.
+
+    A ValueError (the callable's value is what is wrong), raised at the first such evaluation,
+    with where it happened as attributes, so that a caller (e.g. the hover layer) can attribute
+    it: a field that overflows because the solution blows up has a huge ``state``; a field with
+    a singularity (``1 / x`` at ``x = 0``) a moderate one.
+
+    Parameters
+    ----------
+    message : str
+        What failed, where (the message names the callable, ``t`` and the state).
+    source : str
+        The callable: ``"fun"``, ``"jac"`` or ``"param_jac"``.
+    t : float
+        The time of the evaluation.
+    state : array_like
+        The state at which it was evaluated.
+    value : array_like
+        What it returned.
+
+    Attributes
+    ----------
+    source, t, state, value
+        As given (``state`` and ``value`` as arrays).
+    """
+
+    def __init__(self, message: str, *, source: str, t: float, state: Any, value: Any) -> None:
+        super().__init__(message)
+        self.source = source
+        self.t = float(t)
+        self.state = np.array(state, dtype=float)
+        self.value = np.array(value)
 
 
 class DomainError(ConvergenceError):
@@ -138,8 +197,14 @@ def require_success(result: Any, what: str) -> Any:
     Raises
     ------
     ConvergenceError
-        If ``result.success`` is false; the message names ``what`` and the solver's message.
+        If ``result.success`` is false; the message names ``what`` and the solver's message, and
+        ``t``, ``state``, ``source`` say where the integration stopped (from ``result.failure``,
+        when the result has one).
     """
     if not result.success:
-        raise ConvergenceError(f"{what}: the integration failed ({result.message})", result=result)
+        where = getattr(result, "failure", None)
+        raise ConvergenceError(f"{what}: the integration failed ({result.message})", result=result,
+                               t=None if where is None else where.t,
+                               state=None if where is None else where.state,
+                               source=None if where is None else where.source)
     return result

@@ -61,3 +61,36 @@ def test_a_huge_count_is_named_without_printing_every_digit():
     with pytest.raises(ValueError, match=r"`n_points` must be an integer in \[1, 100\]") as e:
         check.integer("n_points", 10**5000, low=1, high=100)
     assert len(str(e.value)) < 300
+
+
+# ---- user callables: args and non-finite values (issue 26, item 6) ------------------------------
+
+
+@pytest.mark.parametrize("value", [5, 1.5, None, "ab", b"ab"])
+def test_args_that_are_not_a_sequence_are_named(value):
+    # args=5 used to reach Python's "'int' object is not iterable" inside an integration
+    with pytest.raises(ValueError, match=r"`args` must be a tuple"):
+        check.call_args(value)
+
+
+@pytest.mark.parametrize(("value", "expected"), [((), ()), ((1, 2), (1, 2)), ([1, 2], (1, 2)),
+                                                 (np.array([1.0]), (1.0,))])
+def test_args_sequences_become_tuples(value, expected):
+    assert check.call_args(value) == expected
+
+
+def test_finite_output_raises_a_valueerror_carrying_where():
+    from flapping.errors import NonFiniteError
+
+    with pytest.raises(NonFiniteError, match=r"`jac` returned a non-finite value at t = 0\.25") \
+            as error:
+        check.finite_output("jac", np.array([[np.inf]]), 0.25, [2.0])
+    assert isinstance(error.value, ValueError)
+    assert error.value.source == "jac" and error.value.t == 0.25
+    assert error.value.state.tolist() == [2.0]
+    assert "blowing up" not in str(error.value)  # a moderate state: the callable's own fault
+
+
+def test_finite_output_at_a_huge_state_says_the_solution_blows_up():
+    with pytest.raises(ValueError, match=r"the solution is blowing up: max \|x\| = 1e\+200"):
+        check.finite_output("fun", np.array([np.inf]), 1.0, [1e200])

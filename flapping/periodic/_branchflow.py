@@ -100,7 +100,7 @@ class _Field:
         if out.shape != self.shape:
             raise ValueError(f"`fun` must return an array of shape ({self.n},), got {out.shape}")
         if not np.isfinite(x).all():
-            raise seg.Diverged(f"the state became non-finite at t = {t!r}")
+            raise seg.Diverged(f"the state became non-finite at t = {t!r}", float(t), x)
         check.finite_output("fun", out, float(t), x)
         return out
 
@@ -167,7 +167,8 @@ class _VariationalField:
         """Raise the checked paths' error for a bad output (or Diverged if they pass)."""
         self.field(t, x)
         self._jac(t, x)
-        raise seg.Diverged(f"the variational equations became non-finite at t = {t!r}")
+        raise seg.Diverged(f"the variational equations became non-finite at t = {t!r}",
+                           float(t), x)
 
 
 class OrbitSystem:
@@ -238,7 +239,12 @@ class OrbitSystem:
     def period(self, p: float) -> float:
         """The period at p of a forced system."""
         assert self.period_fn is not None
-        T = float(self.period_fn(p))
+        value = self.period_fn(p)
+        try:
+            T = float(value)
+        except (TypeError, ValueError):
+            raise TypeError(f"`period(p)` must return a number (the period at p); got "
+                            f"{value!r} at p = {p!r}") from None
         if not (math.isfinite(T) and T > 0):
             raise ValueError(f"`period(p)` must return a positive finite period; got {T!r} "
                              f"at p = {p!r}")

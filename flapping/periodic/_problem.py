@@ -41,7 +41,15 @@ __all__ = ["ShootingSetup", "ShootingProblem", "MultipleShootingProblem", "Integ
 
 
 class IntegrationFailed(Exception):
-    """Raised inside the residual to leave MINPACK when the integrator gives up."""
+    """Raised inside the residual to leave MINPACK when the integrator gives up.
+
+    ``failure``: where the integration stopped (None when no integration did: a period that
+    left (0, inf)).
+    """
+
+    def __init__(self, message: str, failure: seg.Failure | None = None) -> None:
+        super().__init__(message)
+        self.failure = failure
 
 
 @dataclass(frozen=True)
@@ -139,6 +147,7 @@ class ShootingProblem:
         self.iteration_history: list[float] = []
         self.last_good = self.z0.copy()
         self.last_residual: np.ndarray | None = None
+        self.failure: seg.Failure | None = None  # where the last failed integration stopped
         self._r_cache: tuple[np.ndarray, np.ndarray] | None = None  # (z, r)
         self._J_cache: tuple[np.ndarray, np.ndarray] | None = None  # (z, J)
         self._last_jacobian_z: np.ndarray | None = None
@@ -251,7 +260,7 @@ class ShootingProblem:
         out = seg.propagate(self.bind(params), 0.0, t1, x, period=T, breakpoints=s.breakpoints,
                             settings=s.settings, h=h, t_out=t_out)
         if not out.success:
-            raise IntegrationFailed(out.message)
+            raise self._failed(out.message, out.failure)
         return np.array(out.y_out)
 
     def _integrate_variational(self, x: np.ndarray, T: float,
@@ -265,8 +274,13 @@ class ShootingProblem:
         self.counter.n += var.nfev
         self.jcounter.n += var.njev
         if not var.success:
-            raise IntegrationFailed(var.message)
+            raise self._failed(var.message, var.failure)
         return var
+
+    def _failed(self, message: str, failure: seg.Failure | None) -> IntegrationFailed:
+        """The exception for a failed integration; ``self.failure`` keeps where it stopped."""
+        self.failure = failure
+        return IntegrationFailed(message, failure)
 
     # ---- assembly ------------------------------------------------------------------------------
 
@@ -408,7 +422,7 @@ class MultipleShootingProblem(ShootingProblem):
                                 breakpoints=self.setup.breakpoints, settings=self.setup.settings,
                                 h=self._step(T))
             if not out.success:
-                raise IntegrationFailed(f"segment {k}: {out.message}")
+                raise self._failed(f"segment {k}: {out.message}", out.failure)
             ends.append(out.y_end)
         return self._assemble(z, np.roll(states, -1, axis=0), np.array(ends))
 
@@ -426,7 +440,7 @@ class MultipleShootingProblem(ShootingProblem):
             self.counter.n += var.nfev
             self.jcounter.n += var.njev
             if not var.success:
-                raise IntegrationFailed(f"segment {k}: {var.message}")
+                raise self._failed(f"segment {k}: {var.message}", var.failure)
             flows.append(var)
         ends = np.array([v.x_end for v in flows])
         r = self._assemble(z, np.roll(states, -1, axis=0), ends)

@@ -167,8 +167,9 @@ def fixed_step(settings: Settings, t0: float, t1: float, period: float | None,
     for b in breakpoints:
         if abs(b * steps - round(b * steps)) > 1e-9:
             raise ValueError(
-                f"with method='RK4' every breakpoint must fall on a step boundary (a multiple "
-                f"of 1/rk4_steps = 1/{steps}); breakpoint {b} does not")
+                f"with method='RK4' every one of `breakpoints` must fall on a step boundary (a "
+                f"multiple of 1/rk4_steps = 1/{steps}); breakpoint {b} does not: choose "
+                f"`rk4_steps` accordingly")
     return period / steps
 
 
@@ -194,7 +195,38 @@ class Counter:
 
 
 class Diverged(Exception):
-    """The state itself became non-finite (the solution overflowed): not the callable's fault."""
+    """The state itself became non-finite (the solution overflowed): not the callable's fault.
+
+    ``t`` and ``state``: where (None when the raiser does not know).
+    """
+
+    def __init__(self, message: str, t: float | None = None, state: Any = None) -> None:
+        super().__init__(message)
+        self.t, self.state = t, state
+
+
+@dataclass(frozen=True)
+class Failure:
+    """Where an integration stopped without reaching its end.
+
+    Attributes
+    ----------
+    t : float
+        The time reached.
+    state : ndarray
+        The state there (of the user's system: the variational matrices are left out).
+    source : str
+        Why: ``"state"`` (the solution overflowed), ``"step budget"`` (``max_steps`` ran out, or
+        the step size foretold it) or ``"integrator"`` (the solver gave up, e.g. a step below
+        rounding).
+    """
+
+    t: float
+    state: np.ndarray
+    source: str
+
+    def __post_init__(self) -> None:
+        freeze(self)
 
 
 class Checked:
@@ -240,7 +272,7 @@ class Checked:
         if not math.isfinite(flat.dot(flat)) and not np.isfinite(out).all():
             if not np.isfinite(x).all():
                 raise Diverged(f"the state became non-finite at t = {float(t)!r} (the solution "
-                               f"overflowed)")
+                               f"overflowed)", float(t), x)
             check.finite_output(self.name, out, float(t), x)
         return out
 
@@ -359,6 +391,7 @@ class Piece:
     sol: OdeSolution | None
     y_end: np.ndarray
     message: str | None  # None: success
+    failure: Failure | None = None
 
 
 def solve_piece(fun: Callable[[float, np.ndarray], np.ndarray], a: float, b: float,
@@ -381,16 +414,20 @@ def solve_piece(fun: Callable[[float, np.ndarray], np.ndarray], a: float, b: flo
         while solver.status == "running":
             message = solver.step()
             if solver.status == "failed":
-                return Piece(ts, ys, None, solver.y, f"segment [{a:.6g}, {b:.6g}]: {message}")
+                return Piece(ts, ys, None, solver.y, f"segment [{a:.6g}, {b:.6g}]: {message}",
+                             Failure(float(solver.t), np.array(solver.y), "integrator"))
             if dense:
                 interpolants.append(solver.dense_output())
             ts.append(solver.t)
             ys.append(solver.y)
             failure = guard.failure(solver)
             if failure is not None:
-                return Piece(ts, ys, None, solver.y, failure)
+                return Piece(ts, ys, None, solver.y, failure,
+                             Failure(float(solver.t), np.array(solver.y), "step budget"))
     except Diverged as exc:
-        return Piece(ts, ys, None, ys[-1], f"segment [{a:.6g}, {b:.6g}]: {exc}")
+        where = Failure(float(ts[-1] if exc.t is None else exc.t),
+                        np.array(ys[-1] if exc.state is None else exc.state, dtype=float), "state")
+        return Piece(ts, ys, None, ys[-1], f"segment [{a:.6g}, {b:.6g}]: {exc}", where)
     sol = None
     if dense:  # RK4: at a step time, the later step's interpolant (exact there)
         sol = OdeSolution(ts, interpolants, alt_segment=solver_class in (BDF, LSODA, RK4))
@@ -408,6 +445,7 @@ class Propagation:
     success: bool
     message: str
     y_end: np.ndarray
+    failure: Failure | None = None
 
 
 def propagate(funs: Sequence[Callable[[float, np.ndarray], np.ndarray]], t0: float, t1: float,
@@ -441,13 +479,14 @@ def propagate(funs: Sequence[Callable[[float, np.ndarray], np.ndarray]], t0: flo
     options = solver_options(settings, h, atol)
     guard = StepGuard(settings.max_steps, t1, settings.method)
     first_step = None
+    failure = None
     for a, b, seg in zip(nodes[:-1], nodes[1:], segments, strict=True):
         if first_step is not None:
             options["first_step"] = min(first_step, abs(b - a))
         piece = solve_piece(funs[seg], float(a), float(b), y, settings.solver, options, want_sol,
                             guard)
         if piece.message is not None:
-            success, message = False, piece.message
+            success, message, failure = False, piece.message, piece.failure
             break
         if not settings.fixed_step and len(piece.ts) >= 2:
             # Carry the step size across the restart: saves the initial-step search and the
@@ -464,7 +503,7 @@ def propagate(funs: Sequence[Callable[[float, np.ndarray], np.ndarray]], t0: flo
     if t_eval is not None and success and sol is not None:
         out_t, out_y = list(t_eval), [sol(t) for t in t_eval]
     return Propagation([node_state[i] if i < len(node_state) else y for i in out_index],
-                       np.array(out_t), np.array(out_y), sol, success, message, y)
+                       np.array(out_t), np.array(out_y), sol, success, message, y, failure)
 
 
 def _too_many_pieces(t0: float, t1: float, period: float | None, breakpoints: tuple[float, ...],
@@ -530,6 +569,8 @@ class FlowResult:
     sol : callable or None
         ``sol(t)`` interpolates the solution (``dense_output=True``): each method's dense
         output per segment (cubic Hermite for RK4, fourth order like the scheme).
+    failure : Failure or None
+        Where a failed integration stopped (``t``, ``state``, ``source``); None on success.
     """
 
     t: np.ndarray
@@ -538,6 +579,7 @@ class FlowResult:
     success: bool
     message: str
     sol: Callable[[Any], np.ndarray] | None = None
+    failure: Failure | None = None
 
     def __post_init__(self) -> None:
         freeze(self)
@@ -572,6 +614,9 @@ class VariationalFlow:
         Whether the integration reached ``t1``.
     message : str
         The integrator's message.
+    failure : Failure or None
+        Where a failed integration stopped (``t``, the state ``x`` there, ``source``); None on
+        success.
     """
 
     t: np.ndarray
@@ -583,6 +628,7 @@ class VariationalFlow:
     njev: int
     success: bool
     message: str
+    failure: Failure | None = None
 
     def __post_init__(self) -> None:
         freeze(self)
@@ -660,11 +706,13 @@ def variational(funs: Sequence[Callable[..., Any]], jacs: Sequence[Callable[...,
         atol = np.concatenate([np.full(n, settings.atol, dtype=float)
                                if np.ndim(settings.atol) == 0 else settings.atol,
                                np.full(y0.size - n, float(stm_atol))])
-    ys, success, message = [y0 for _ in t_out], True, "empty interval"
+    ys, success, message, failure = [y0 for _ in t_out], True, "empty interval", None
     if t1 != t0:
         out = propagate(rhss, t0, t1, y0, period=period, breakpoints=breakpoints,
                         settings=settings, h=h, t_out=t_out, atol=atol)
         success, message, ys = out.success, out.message, out.y_out
+        if out.failure is not None:  # the user's state, without the matrices
+            failure = Failure(out.failure.t, out.failure.state[:n], out.failure.source)
     Y = np.array(ys).T if success else np.full((y0.size, len(t_out)), np.nan)
     nn = n * n
     return VariationalFlow(
@@ -672,4 +720,4 @@ def variational(funs: Sequence[Callable[..., Any]], jacs: Sequence[Callable[...,
         stm=Y[n:n + nn].reshape(n, n, -1).copy(),
         sensitivity=Y[n + nn:n + nn + n * n_p].reshape(n, n_p, -1).copy() if n_p else None,
         trace_integral=Y[-1].copy() if trace else None,
-        nfev=counter.n, njev=jcounter.n, success=success, message=message)
+        nfev=counter.n, njev=jcounter.n, success=success, message=message, failure=failure)

@@ -51,6 +51,7 @@ from flapping.periodic import _bifurcation as bif
 from flapping.periodic import _segments as seg
 from flapping.periodic import settings as opt
 from flapping.periodic._branchflow import OrbitSystem
+from flapping.periodic._checks import first_call
 from flapping.periodic._dop853 import LeanDOP853
 from flapping.periodic._readonly import freeze
 from flapping.periodic.shooting import find_periodic_orbit
@@ -286,9 +287,19 @@ def _check_options(options: dict[str, Any], settings: Any = None) -> Continuatio
     for k in ("ds", "ds_min", "ds_max", "tol", "rtol", "atol", "locate_rtol", "locate_atol",
               "locate_tol", "switch_amplitude"):
         o[k] = check.positive(k, o[k])
+    # The corrector's tol (and locate_tol) is relative to 1 + max |s_k| already: at most
+    # RESIDUAL_CEILING (1e-6), the closure floquet.monodromy still accepts as an orbit; Newton
+    # converges quadratically, so a tighter tol costs one iteration, a looser one lets the
+    # branch "reach p_end" through points that are on no orbit (tol = 1e6 once did).
+    for k in ("tol", "locate_tol"):
+        o[k] = check.real(k, o[k], low=0.0, high=opt.RESIDUAL_CEILING, low_open=True)
+    # switch_amplitude is relative to the orbit's size: beyond 1 the first step onto the
+    # doubled orbit is larger than the orbit itself.
+    o["switch_amplitude"] = check.real("switch_amplitude", o["switch_amplitude"], low=0.0,
+                                       high=1.0, low_open=True)
     if not o["ds_min"] <= o["ds"] <= o["ds_max"]:
-        raise ValueError(f"need ds_min <= ds <= ds_max; got {o['ds_min']}, {o['ds']}, "
-                         f"{o['ds_max']}")
+        raise ValueError(f"`ds` must lie in [`ds_min`, `ds_max`] = [{o['ds_min']!r}, "
+                         f"{o['ds_max']!r}] (and ds_min <= ds_max); got ds = {o['ds']!r}")
     o["max_points"] = opt.capped("max_points", o["max_points"], low=2)
     o["segments"] = opt.capped("segments", o["segments"])
     for k in ("locate_rtol", "rtol"):
@@ -521,6 +532,7 @@ def _start(fun: Any, jac: Any, x0: np.ndarray, period: Any, p0: float, autonomou
     if not autonomous:
         T_fixed = None if callable(period) else check.positive("period", period)
         period_fn = period if T_fixed is None else (lambda p: T_fixed)
+    _probe(funs[0], jacs[0], x0, p0, q0)
     floquet = tuple(range(n)) if opts.floquet_states is None else opts.floquet_states
     if any(i >= n for i in opts.fixed + floquet):
         raise ValueError(f"`fixed` and `floquet_states` must be indices in [0, {n})")
@@ -531,12 +543,30 @@ def _start(fun: Any, jac: Any, x0: np.ndarray, period: Any, p0: float, autonomou
         raise ValueError(
             f"the continuation needs as many `fixed` components as `free_params`: got "
             f"{len(opts.fixed)} fixed and {q0.size} free parameters")
-    T0 = check.positive("period", period if autonomous else system.period(p0))
+    if autonomous:
+        T0 = check.positive("period", period)
+    else:
+        try:
+            T0 = system.period(p0)
+        except Exception as exc:  # the user's callable: its error, with where it was raised
+            exc.add_note(f"(raised by `period` at its first call, period(p0) with p0 = {p0!r})")
+            raise
     orbit = _first_orbit(funs, jacs, x0, T0, p0, q0, autonomous, opts)
     states = orbit.segment_states.T if orbit.segment_states is not None else orbit.x0[None, :]
     system.base = orbit.x0.copy()
     q = orbit.params if orbit.params is not None else q0
     return system, system.pack(states, orbit.period, q, p0)
+
+
+def _probe(fun: Any, jac: Any, x0: np.ndarray, p0: float, q0: np.ndarray) -> None:
+    """``fun`` and ``jac`` of the first segment once each at ``(0, x0, p0[, free_params])``,
+    checked: a signature, type or shape mistake is named here, not deep in the solve."""
+    n, extra = x0.size, ((p0, q0.copy()) if q0.size else (p0,))
+    tail, given = ((", p, params", "the parameter p0 and `free_params`") if q0.size
+                   else (", p", "the parameter p0"))
+    first_call(fun, "fun", 0.0, x0, extra, (n,), call=f"fun(t, x{tail})", given=given)
+    if jac is not None:
+        first_call(jac, "jac", 0.0, x0, extra, (n, n), call=f"jac(t, x{tail})", given=given)
 
 
 def _first_orbit(funs: tuple[Any, ...], jacs: tuple[Any, ...], x0: np.ndarray, T0: float,
@@ -557,7 +587,8 @@ def _first_orbit(funs: tuple[Any, ...], jacs: tuple[Any, ...], x0: np.ndarray, T
     except ConvergenceError as exc:
         raise ConvergenceError(f"continue_orbit: no periodic orbit near the guess at p0 = "
                                f"{p0!r}: {exc}", x=exc.x, residual=exc.residual,
-                               iterations=exc.iterations, result=exc.result) from None
+                               iterations=exc.iterations, result=exc.result, t=exc.t,
+                               state=exc.state, source=exc.source) from None
 
 
 def continue_orbit(
@@ -618,9 +649,18 @@ def continue_orbit(
     Raises
     ------
     ValueError
-        For bad arguments (``p_end == p0``, unknown options, non-finite numbers, ...).
+        For bad arguments (``p_end == p0``, unknown options, non-finite numbers, ``tol`` or
+        ``locate_tol`` outside (0, 1e-6] (relative: the closure :func:`monodromy` accepts),
+        ``rtol`` or ``locate_rtol`` above 1e-3, ``atol`` or ``locate_atol`` above
+        ``1e-2 max(1, |x0|)``, ``switch_amplitude`` outside (0, 1], ...); ``fun`` or ``jac``
+        returning a wrong shape or raising a ValueError or IndexError at the first call (naming
+        ``x0``); a non-finite value (:class:`~flapping.errors.NonFiniteError`).
+    TypeError
+        ``fun`` or ``jac`` cannot be called as ``fun(t, x, p)`` (``fun(t, x, p, params)`` with
+        ``free_params``), or returned None, a string, or complex or boolean values.
     ConvergenceError
-        If no periodic orbit is found near ``x0`` at ``p0``.
+        If no periodic orbit is found near ``x0`` at ``p0`` (with ``t``, ``state``, ``source``
+        when an integration failed).
     """
     x = check.vector("x0", x0)
     p0, p_end = check.real("p0", p0), check.real("p_end", p_end)
@@ -632,6 +672,8 @@ def continue_orbit(
     if autonomous and callable(period):
         raise ValueError("`period` must be a number (a guess) for an autonomous system")
     opts = _check_options(options, settings)
+    for name in ("atol", "locate_atol"):
+        opt.check_scaled(name, getattr(opts, name), x, opt.TOL_CEILING)
     if autonomous and opts.breakpoints:
         raise ValueError("`breakpoints` need a forced system (autonomous=False)")
     system, u0 = _start(fun, jac, x, period, p0, bool(autonomous), opts)

@@ -40,6 +40,8 @@ import numpy as np
 import flapping._validation as check
 from flapping.errors import ConvergenceError, DomainError
 from flapping.periodic import _segments as seg
+from flapping.periodic import settings as opt
+from flapping.periodic._checks import probe_fields
 from flapping.periodic._fixedmap import NonFinite, OutOfWork, PeriodMap
 from flapping.periodic._readonly import freeze
 
@@ -462,12 +464,13 @@ def find_periodic_orbit_fixed_step(
         :data:`DEFAULT_STEPS`).
     error_tol : float
         Required accuracy of every unknown relative to ``max(1, |z_i|)`` (Richardson estimate),
-        >= :data:`ERROR_TOL_FLOOR`.
+        in [:data:`ERROR_TOL_FLOOR`, 1e-2].
     multiplier_tol : float, optional
-        Required accuracy of every Floquet multiplier (absolute, >= 1e-13); default: estimated
-        and reported, not enforced.
+        Required accuracy of every Floquet multiplier (absolute, in [1e-13, 1e-2]); default:
+        estimated and reported, not enforced.
     tol : float
-        Largest accepted residual norm at the answer (as ``find_periodic_orbit``'s ``tol``).
+        Largest accepted residual norm at the answer (as ``find_periodic_orbit``'s ``tol``, at
+        most ``1e-6 max(1, |x0|)``).
     max_nfev : int, optional
         Cap on the evaluations of ``fun`` (default 10**6, at most 10**8).
 
@@ -479,8 +482,11 @@ def find_periodic_orbit_fixed_step(
     ------
     ValueError
         For bad arguments (each named with its accepted range), an autonomous system, a callable
-        returning the wrong shape or a non-finite value at the guess, or fewer residuals than
-        unknowns.
+        returning the wrong shape or a non-finite value at the guess, or raising a ValueError or
+        IndexError there (naming ``x0`` and ``args``), or fewer residuals than unknowns.
+    TypeError
+        ``args`` does not fit a callable's signature, or a callable returned None, a string,
+        or complex or boolean values at the guess.
     ConvergenceError
         If the solve fails (:data:`STATUS` 1-6), with the last iterate, its residual norm, the
         iteration count and the :class:`FixedStepOrbit` as ``result``.
@@ -498,13 +504,15 @@ def find_periodic_orbit_fixed_step(
         raise ValueError(f"too few residuals ({x_init.size}) for the unknowns: hold as many "
                          f"components with `fixed` as there are free parameters")
     funs, jacs, pjacs = _callables(fun, jac, param_jac, len(b) + 1, p_init is not None)
+    args = probe_fields(funs, jacs, pjacs, args, x_init, p_init, T, b)
     n = DEFAULT_STEPS if n_steps is None else check.integer("n_steps", n_steps, low=2,
                                                              high=MAX_STEPS)
     tols = _Tolerances(
-        check.real("error_tol", error_tol, low=ERROR_TOL_FLOOR),
+        check.real("error_tol", error_tol, low=ERROR_TOL_FLOOR, high=opt.TOL_CEILING),
         None if multiplier_tol is None else check.real("multiplier_tol", multiplier_tol,
-                                                       low=1e-13),
+                                                       low=1e-13, high=opt.TOL_CEILING),
         check.positive("tol", tol))
+    opt.check_scaled("tol", tols.residual, x_init)
     cap = MAX_NFEV if max_nfev is None else check.integer("max_nfev", max_nfev, low=1,
                                                           high=MAX_NFEV_CAP)
     pmap = PeriodMap(funs, jacs, pjacs, tuple(args), T, b, p_init is not None, cap,
@@ -593,6 +601,7 @@ def _checked_map(fun: Any, jac: Any, param_jac: Any, x0: Any, period: float, n_s
     params = (None if free_params is None
               else check.vector("free_params", np.atleast_1d(free_params)))
     funs, jacs, pjacs = _callables(fun, jac, param_jac, len(b) + 1, params is not None)
+    args = probe_fields(funs, jacs, pjacs, args, x, params, T, b)
     n = check.integer("n_steps", n_steps, low=2, high=MAX_STEPS)
     cap = MAX_NFEV if max_nfev is None else check.integer("max_nfev", max_nfev, low=1,
                                                           high=MAX_NFEV_CAP)
@@ -650,6 +659,9 @@ def fixed_step_monodromy(
     ------
     ValueError
         For bad arguments, or a callable returning the wrong shape or a non-finite value at x0.
+    TypeError
+        ``args`` does not fit a callable's signature, or a callable returned None, a string,
+        or complex or boolean values at x0.
     ConvergenceError
         If the integration produces a non-finite value or exceeds ``max_nfev``.
     """
@@ -701,6 +713,9 @@ def fixed_step_flow(
     ------
     ValueError
         For bad arguments, or ``fun`` returning the wrong shape or a non-finite value at x0.
+    TypeError
+        ``args`` does not fit a callable's signature, or a callable returned None, a string,
+        or complex or boolean values at x0.
     ConvergenceError
         If the integration produces a non-finite value or exceeds ``max_nfev``.
     """

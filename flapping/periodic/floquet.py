@@ -48,6 +48,7 @@ import flapping._validation as check
 from flapping.errors import ClosureWarning, ConvergenceError
 from flapping.periodic import _segments as seg
 from flapping.periodic import settings as opt
+from flapping.periodic._checks import first_call
 from flapping.periodic._readonly import freeze
 
 __all__ = [
@@ -206,16 +207,36 @@ def floquet_exponents(multipliers: Any, period: float) -> np.ndarray:
     Raises
     ------
     ValueError
-        For a non-positive period.
+        For a non-positive period, or multipliers that are not numbers or are NaN.
     """
     T = check.positive("period", period)
-    mu = np.asarray(multipliers, dtype=complex)
+    mu = _multipliers_array(multipliers)
     with np.errstate(divide="ignore", invalid="ignore"):
         exponents = np.asarray(np.log(mu) / T)
         bad = ~np.isfinite(exponents)
         if np.any(bad):  # log(0) = -inf and log(inf) = inf: real and imaginary parts apart
             exponents[bad] = np.log(np.abs(mu[bad])) / T + 1j * (np.angle(mu[bad]) / T)
     return exponents
+
+
+def _multipliers_array(value: Any) -> np.ndarray:
+    """Multipliers as a complex array (any shape); NaN and non-numbers refused, naming
+    ``multipliers`` (an infinite multiplier is a legitimate overflow of ``|mu|``)."""
+    if type(value) is np.ndarray and value.dtype == complex:  # the continuation's, every point
+        if np.isnan(value).any():
+            raise ValueError(f"`multipliers` must not be NaN; got {value!r}")
+        return value
+    try:
+        mu = np.asarray(value)
+    except ValueError:
+        raise ValueError(f"`multipliers` must be an array of numbers; got {value!r}") from None
+    if mu.dtype.kind not in "iufc":
+        raise ValueError(f"`multipliers` must be an array of numbers; got {value!r} "
+                         f"(dtype {mu.dtype})")
+    mu = mu.astype(complex)
+    if np.isnan(mu).any():
+        raise ValueError(f"`multipliers` must not be NaN; got {value!r}")
+    return mu
 
 
 def trivial_multiplier(multipliers: Any) -> int:
@@ -230,9 +251,22 @@ def trivial_multiplier(multipliers: Any) -> int:
     -------
     int
         Index into ``multipliers``.
+
+    Raises
+    ------
+    ValueError
+        For empty multipliers, NaN, or values that are not numbers.
     """
-    mu = multipliers.multipliers if isinstance(multipliers, Monodromy) else np.asarray(multipliers)
-    return int(np.argmin(np.abs(np.asarray(mu, dtype=complex) - 1.0)))
+    mu = (multipliers.multipliers if isinstance(multipliers, Monodromy)
+          else _multipliers_array(multipliers))
+    return _trivial_index(mu)
+
+
+def _trivial_index(mu: np.ndarray) -> int:
+    """:func:`trivial_multiplier` of a checked complex array."""
+    if mu.size == 0:
+        raise ValueError("`multipliers` must not be empty")
+    return int(np.argmin(np.abs(mu - 1.0)))
 
 
 def nontrivial_multipliers(multipliers: Any) -> np.ndarray:
@@ -247,9 +281,15 @@ def nontrivial_multipliers(multipliers: Any) -> np.ndarray:
     -------
     ndarray, complex
         The ``n - 1`` others.
+
+    Raises
+    ------
+    ValueError
+        For empty multipliers, NaN, or values that are not numbers.
     """
-    mu = multipliers.multipliers if isinstance(multipliers, Monodromy) else np.asarray(multipliers)
-    return np.delete(np.asarray(mu, dtype=complex), trivial_multiplier(mu))
+    mu = (multipliers.multipliers if isinstance(multipliers, Monodromy)
+          else _multipliers_array(multipliers))
+    return np.delete(mu, _trivial_index(mu))
 
 
 def _periodic_qr(factors: Sequence[np.ndarray], M: np.ndarray,
@@ -300,6 +340,7 @@ def _check_monodromy(x0: Any, period: Any, method: Any, rtol: Any, atol: Any, rk
     x = check.vector("x0", x0)
     T = check.positive("period", period)
     settings = seg.check_settings(method, rtol, atol, rk4_steps, max_steps)
+    opt.check_scaled("atol", settings.atol, x, opt.TOL_CEILING)
     b = seg.check_breakpoints(breakpoints)
     n_sub = opt.capped("n_sub", n_sub)
     if not (isinstance(max_cond, (float, np.floating)) and max_cond == math.inf):
@@ -341,9 +382,13 @@ def _factorise(funs: Sequence[Callable[..., Any]], jacs: Sequence[Callable[..., 
         out.nfev += var.nfev
         out.njev += var.njev
         if not var.success:
+            where = var.failure
             raise ConvergenceError(
                 f"the orbit could not be integrated over [{a:.6g}, {b:.6g}]: {var.message}",
-                x=out.x_end, iterations=out.nfev + var.nfev, result=var)
+                x=out.x_end, iterations=out.nfev + var.nfev, result=var,
+                t=None if where is None else where.t,
+                state=None if where is None else where.state,
+                source=None if where is None else where.source)
         F = var.stm_end
         steps = round((b - a) / h_rk4)
         splittable = (b - a) > T * 2.0**-12 and (not settings.fixed_step or steps % 2 == 0)
@@ -463,11 +508,20 @@ def monodromy(
     Raises
     ------
     ValueError
-        For a bad argument, or ``fun``/``jac`` returning a wrong shape or a non-finite value.
+        For a bad argument (``rtol`` in (0, 1e-3], ``atol`` at most ``1e-2 max(1, |x0|)``),
+        ``fun``/``jac`` returning a wrong shape, or raising a ValueError or IndexError at the
+        first call (naming ``x0`` and ``args``).
+    NonFiniteError
+        A ValueError: ``fun`` or ``jac`` returned NaN or infinity at a finite state (with
+        ``t``, ``state``, ``source``, ``value``).
+    TypeError
+        ``args`` does not fit the signature of ``fun`` or ``jac``, or either returned None, a
+        string, or complex or boolean values (checked at the first call).
     ConvergenceError
         If the orbit could not be integrated (the integrator gave up, the step budget ran out:
         the message suggests what to try, or the state overflowed); carries the state at the
-        start of the failing sub-interval and the failed integration.
+        start of the failing sub-interval (``x``), the failed integration (``result``), and
+        where it stopped: ``t``, ``state`` and ``source``.
 
     Warns
     -----
@@ -487,7 +541,14 @@ def monodromy(
     n_seg = len(breakpoints) + 1
     funs = seg.segment_callables(fun, n_seg, "fun")
     jacs = (None,) * n_seg if jac is None else seg.segment_callables(jac, n_seg, "jac")
-    parts = _factorise(funs, jacs, x, T, args=tuple(args), settings=integration, h=h,
+    args = check.call_args(args)
+    given = f"`args` = {check._show(args)}"
+    # the first callables once each at (0, x0), checked (not counted: a check, not a step)
+    first_call(funs[0], "fun", 0.0, x, args, (x.size,), call="fun(t, x, *args)", given=given)
+    if jacs[0] is not None:
+        first_call(jacs[0], "jac", 0.0, x, args, (x.size, x.size), call="jac(t, x, *args)",
+                   given=given)
+    parts = _factorise(funs, jacs, x, T, args=args, settings=integration, h=h,
                        breakpoints=breakpoints, n_sub=n_sub, max_cond=max_cond)
     M = np.eye(x.size)
     with np.errstate(over="ignore", invalid="ignore"):

@@ -59,6 +59,8 @@ from scipy.integrate import OdeSolver
 
 import flapping._validation as check
 from flapping.periodic import _segments as seg
+from flapping.periodic import settings as opt
+from flapping.periodic._checks import first_call
 from flapping.periodic._segments import FlowResult, VariationalFlow
 
 __all__ = ["FlowResult", "VariationalFlow", "flow", "variational_flow", "SCIPY_METHODS"]
@@ -80,10 +82,64 @@ def _check_common(t_span: Any, x0: Any, method: Any, rtol: Any, atol: Any, rk4_s
     t0, t1 = seg.check_span(t_span)
     x = check.vector("x0", x0)
     settings = seg.check_settings(method, rtol, atol, rk4_steps, max_steps)
+    opt.check_scaled("atol", settings.atol, x, opt.TOL_CEILING)
     T = None if period is None else check.positive("period", period)
     b = seg.check_breakpoints(breakpoints)
     h = seg.fixed_step(settings, t0, t1, T, b)
     return t0, t1, x, settings, T, b, h
+
+
+def _first_times(t0: float, t1: float, period: float | None,
+                 breakpoints: tuple[float, ...], max_steps: int) -> list[tuple[int, float]]:
+    """``(segment, time)``: each segment the integration visits, with the start of its first
+    piece (a time on its closed segment), in the order visited. Empty if nothing is
+    integrated, or the restarts alone exceed the budget (:func:`~flapping.periodic._segments.
+    propagate` then fails by itself)."""
+    if not breakpoints:
+        return [(0, t0)]
+    if t1 == t0 or seg._too_many_pieces(t0, t1, period, breakpoints, 0, max_steps):
+        return []
+    nodes, segments = seg.restart_nodes(t0, t1, period, breakpoints)
+    first: dict[int, float] = {}
+    for a, k in zip(nodes[:-1], segments, strict=True):
+        first.setdefault(int(k), float(a))
+        if len(first) == len(breakpoints) + 1:
+            break
+    return list(first.items())
+
+
+def _probe(funs: Sequence[Callable[..., Any]], jacs: Sequence[Callable[..., Any] | None],
+           t0: float, t1: float, x0: np.ndarray, extra: tuple[Any, ...], period: float | None,
+           breakpoints: tuple[float, ...], settings: seg.Settings, given: str) -> None:
+    """The callables of the integration, each called once at ``x0`` and the start of its first
+    piece, and checked (:func:`~flapping.periodic._checks.first_call`): an error names
+    ``fun``, ``jac``, ``x0`` or ``args`` before anything is integrated. Not counted in
+    ``nfev``: a check, not a step."""
+    n, tail = x0.size, ", params" if given.endswith("`params`") else ""
+    for i, (k, t) in enumerate(_first_times(t0, t1, period, breakpoints, settings.max_steps)):
+        first_call(funs[k], "fun", t, x0, extra, (n,), call=f"fun(t, x, *args{tail})",
+                   given=given, first=i == 0)
+        jac = jacs[k]
+        if jac is not None:
+            first_call(jac, "jac", t, x0, extra, (n, n), call=f"jac(t, x, *args{tail})",
+                       given=given)
+
+
+def _check_t_out(t_out: Any, t0: float, t1: float, max_steps: int) -> tuple[float, ...]:
+    """``t_out`` as floats within the span, in the order given; each is a restart of the
+    integration, so more than ``max_steps`` of them is refused at once (1e7 took a minute to
+    convert before the step budget refused them)."""
+    times = check.array("t_out", t_out)
+    if times.ndim != 1:
+        raise ValueError(f"`t_out` must be a 1-D sequence of times; got shape {times.shape}")
+    if times.size > max_steps:
+        raise ValueError(f"`t_out` has {times.size} times, more than max_steps = {max_steps} "
+                         f"(each is a restart of the integration, which takes a step)")
+    outside = (times < min(t0, t1)) | (times > max(t0, t1))
+    if outside.any():
+        raise ValueError(f"`t_out` times must lie within t_span ({t0!r}, {t1!r}), got "
+                         f"{float(times[outside][0])!r}")
+    return tuple(times.tolist())
 
 
 def flow(
@@ -149,18 +205,36 @@ def flow(
     Raises
     ------
     ValueError
-        For a bad argument (message names it and the accepted range), a wrong-shaped or
-        non-finite ``fun`` output, or RK4 breakpoints off the step grid.
+        For a bad argument (message names it and the accepted range: ``t_eval`` must be finite,
+        within ``t_span``, sorted in the direction of integration and of at most
+        ``CAPS["t_eval"]`` = 10**6 points; ``rtol`` in (0, 1e-3]; ``atol`` at most
+        ``1e-2 max(1, |x0|)``), a wrong-shaped ``fun`` output (naming ``x0`` when its length
+        is the likelier culprit), ``fun`` raising a ValueError or IndexError at its first call
+        (naming ``x0`` and ``args``), or RK4 breakpoints off the step grid.
+    NonFiniteError
+        A ValueError: ``fun`` returned NaN or infinity at a finite state; carries ``t``,
+        ``state``, ``source`` and ``value``.
+    TypeError
+        ``args`` does not fit ``fun``'s signature, or ``fun`` returned None, a string, or
+        complex or boolean values (checked at the first call).
+
+    Notes
+    -----
+    A solution that overflows, or an integration that runs out of its step budget, is not an
+    error here: the result has ``success=False``, and ``failure`` says where (``t``, ``state``,
+    ``source``).
     """
     t0, t1, x0, settings, period, breakpoints, h = _check_common(
         t_span, x0, method, rtol, atol, rk4_steps, max_steps, period, breakpoints)
-    counter = seg.Counter()
-    funs = tuple(seg.Checked(f, tuple(args), None, x0.shape, counter)
-                 for f in seg.segment_callables(fun, len(breakpoints) + 1, "fun"))
+    args = check.call_args(args)
+    dense_output = check.boolean("dense_output", dense_output)
     if t_eval is not None:
-        t_eval = np.asarray(t_eval, dtype=float)
-        if t_eval.ndim != 1 or np.any(t_eval < min(t0, t1)) or np.any(t_eval > max(t0, t1)):
-            raise ValueError("`t_eval` must be a 1-D array of times within `t_span`")
+        t_eval = opt.check_times("t_eval", t_eval, t0, t1)
+    user_funs = seg.segment_callables(fun, len(breakpoints) + 1, "fun")
+    _probe(user_funs, (None,) * len(user_funs), t0, t1, x0, args, period, breakpoints,
+           settings, f"`args` = {check._show(args)}")
+    counter = seg.Counter()
+    funs = tuple(seg.Checked(f, args, None, x0.shape, counter) for f in user_funs)
     if t1 == t0:
         return FlowResult(np.array([t0]), x0[:, None], 0, True, "empty interval", None)
     out = seg.propagate(funs, t0, t1, x0, period=period, breakpoints=breakpoints,
@@ -168,7 +242,7 @@ def flow(
                         record_steps=True)
     x = out.y.T if out.y.size else np.empty((x0.size, 0))
     return FlowResult(out.t, x, counter.n, out.success, out.message,
-                      out.sol if dense_output else None)
+                      out.sol if dense_output else None, out.failure)
 
 
 def variational_flow(
@@ -221,7 +295,7 @@ def variational_flow(
         cheaper, and enough where the matrix only steers a Newton iteration.
     t_out : sequence of float, optional
         Times (within ``t_span``) at which to report; default ``(t1,)``. The integrator restarts
-        at each (so RK4 needs them on its grid).
+        at each (so RK4 needs them on its grid); at most ``max_steps`` of them.
     params : array_like, optional
         Parameters ``params``, passed as the last argument of ``fun``, ``jac``, ``param_jac``; their
         sensitivities are integrated.
@@ -240,11 +314,19 @@ def variational_flow(
     Raises
     ------
     ValueError
-        For a bad argument, or ``fun``/``jac``/``param_jac`` returning the wrong shape or a
-        non-finite value.
+        For a bad argument (as in :func:`flow`), ``fun``/``jac``/``param_jac`` returning the
+        wrong shape, or ``fun``/``jac`` raising a ValueError or IndexError at the first call
+        (naming ``x0`` and ``args``).
+    NonFiniteError
+        A ValueError: a callable returned NaN or infinity at a finite state (with ``t``,
+        ``state``, ``source``, ``value``).
+    TypeError
+        ``args`` (and ``params``) do not fit the signature of ``fun`` or ``jac``, or either
+        returned None, a string, or complex or boolean values (checked at the first call).
     """
     t0, t1, x0, settings, period, breakpoints, h = _check_common(
         t_span, x0, method, rtol, atol, rk4_steps, max_steps, period, breakpoints)
+    args = check.call_args(args)
     n_seg = len(breakpoints) + 1
     funs = seg.segment_callables(fun, n_seg, "fun")
     jacs = (None,) * n_seg if jac is None else seg.segment_callables(jac, n_seg, "jac")
@@ -253,13 +335,14 @@ def variational_flow(
         raise ValueError("`param_jac` needs `params`")
     pjacs = ((None,) * n_seg if param_jac is None
              else seg.segment_callables(param_jac, n_seg, "param_jac"))
-    times = (t1,) if t_out is None else tuple(check.real("t_out", t) for t in t_out)
-    for t in times:
-        if not min(t0, t1) <= t <= max(t0, t1):
-            raise ValueError(f"`t_out` times must lie within t_span {t_span}, got {t}")
+    given = f"`args` = {check._show(args)}" + ("" if params is None else " and `params`")
+    _probe(funs, jacs, t0, t1, x0, args if params is None else args + (params,), period,
+           breakpoints, settings, given)
+    times = (t1,) if t_out is None else _check_t_out(t_out, t0, t1, settings.max_steps)
     if stm_atol is not None:
         stm_atol = check.positive("stm_atol", stm_atol)
-    return seg.variational(funs, jacs, pjacs, t0, t1, x0, args=tuple(args), params=params,
-                           trace=bool(trace), settings=settings, h=h, period=period,
+    return seg.variational(funs, jacs, pjacs, t0, t1, x0, args=args, params=params,
+                           trace=check.boolean("trace", trace), settings=settings, h=h,
+                           period=period,
                            breakpoints=breakpoints, t_out=times, stm_atol=stm_atol)
 

@@ -34,8 +34,13 @@ the field and the accepted range. Tolerances follow :func:`scipy.integrate.solve
 ``rtol`` below ``100 * eps`` (2.2e-14) cannot be delivered in float64, so it is raised to that
 floor with a :class:`~flapping.errors.ToleranceWarning` (solve_ivp does the same, with a plain
 warning, at every call of the solver); ``atol`` must be positive (solve_ivp also accepts 0; a
-zero ``atol`` stalls the step control at a zero component). The work an argument can ask for is
-capped (:data:`CAPS`): a ``max_steps`` of 10**12 is a typo that would run for days, not a budget.
+zero ``atol`` stalls the step control at a zero component). Tolerances have ceilings too, each
+with its reason beside it: ``rtol <= 1e-3`` (:data:`RTOL_CEILING`, scipy's default), a residual
+tolerance at most 1e-6 relative to the state (:data:`RESIDUAL_CEILING`, the closure
+:func:`~flapping.periodic.floquet.monodromy` accepts as an orbit), ``atol`` and the other accuracy
+goals at most 1 % (:data:`TOL_CEILING`); where a tolerance is absolute, its ceiling scales with
+``max(1, |x0|)`` (:func:`check_scaled`). The work an argument can ask for is capped
+(:data:`CAPS`): a ``max_steps`` of 10**12 is a typo that would run for days, not a budget.
 
 Functions whose signature shows their defaults as numbers (the hover layer's, which the book and
 the CLI read) mark them with :func:`default`: a marked value is the number itself (it compares,
@@ -57,8 +62,9 @@ import flapping._validation as check
 from flapping.errors import ToleranceWarning
 from flapping.periodic.rk4 import RK4
 
-__all__ = ["SolverSettings", "METHODS", "MAX_STEPS", "RTOL_FLOOR", "CAPS", "check_field",
-           "check_rtol", "check_atol", "check_method", "capped", "resolve", "default", "given"]
+__all__ = ["SolverSettings", "METHODS", "MAX_STEPS", "RTOL_FLOOR", "RTOL_CEILING",
+           "RESIDUAL_CEILING", "TOL_CEILING", "CAPS", "check_field", "check_rtol", "check_atol",
+           "check_method", "check_scaled", "check_times", "capped", "resolve", "default", "given"]
 
 #: Integration methods by name: scipy's and the fixed-step ``"RK4"``.
 METHODS: dict[str, type[OdeSolver]] = {
@@ -72,6 +78,29 @@ MAX_STEPS = 100_000
 #: The smallest relative tolerance float64 can deliver: scipy's ``100 * eps``.
 RTOL_FLOOR = 100 * float(np.finfo(float).eps)
 
+#: The largest relative integration tolerance accepted. scipy's ``solve_ivp`` takes any ``rtol``,
+#: but its error control rests on the local error being small beside the state: at its own
+#: default, 1e-3, an 8th- or 5th-order step already carries about three correct digits and
+#: little more; above it the error estimate is no longer asymptotic and a "successful"
+#: integration of a periodic orbit has no correct digit (Lorenz at rtol = 1 ends on the wrong
+#: side of its attractor). So (RTOL_FLOOR, 1e-3]: scipy's default is the loosest we accept.
+RTOL_CEILING = 1e-3
+
+#: The largest residual tolerance of a periodic-orbit solve, relative to the size of the state
+#: (``tol <= RESIDUAL_CEILING * max(1, |x0|)`` for the absolute ``tol`` of shooting and of the
+#: fixed-step solver; the continuation's ``tol`` is relative already). It is
+#: :data:`flapping.periodic.floquet.CLOSURE_TOL`: a point whose orbit closes worse than that is,
+#: for :func:`~flapping.periodic.floquet.monodromy`, on no periodic orbit (ClosureWarning), so a
+#: solver must not accept it as one (``tol = 1e6`` once "reached p_end" through non-solutions).
+RESIDUAL_CEILING = 1e-6
+
+#: The largest relative accuracy goal of the other tolerances of the layer (the fixed-step
+#: solver's ``error_tol`` and ``multiplier_tol``; Levenberg-Marquardt's ``xtol`` and ``ftol``):
+#: 1 %. Richardson's estimate assumes the error is in its asymptotic regime (small beside the
+#: unknowns), and a multiplier known to +-0.01 still tells stability apart near |mu| = 1 only
+#: just; MINPACK's relative step and reduction tests at 1 % stop after the first iteration.
+TOL_CEILING = 1e-2
+
 #: Largest value accepted for each size-like argument of the layer. The work of a call grows
 #: with each (an integration's steps, the shooting residual's rows, Levenberg-Marquardt's and
 #: the continuation's iterations); beyond these a call would run for hours or exhaust memory.
@@ -84,6 +113,8 @@ CAPS: dict[str, int] = {
     "max_newton": 100,      # Newton iterations per continuation point
     "max_points": 10**5,    # points of a continuation branch
     "n_sub": 4096,          # sub-intervals of a monodromy matrix (2**-12 of the period)
+    "t_eval": 10**6,        # output times of a flow: each is one dense-output evaluation in
+                            # Python (~10 us) and n floats: 1e7 took minutes; sample in chunks
 }
 
 
@@ -93,8 +124,9 @@ def capped(name: str, value: Any, low: int = 1) -> int:
 
 
 def check_rtol(name: str, value: Any) -> float:
-    """A relative tolerance: positive, raised to :data:`RTOL_FLOOR` with a warning if below it."""
-    rtol = check.positive(name, value)
+    """A relative tolerance in (0, :data:`RTOL_CEILING`], raised to :data:`RTOL_FLOOR` with a
+    warning if below it."""
+    rtol = check.real(name, value, low=0.0, high=RTOL_CEILING, low_open=True)
     if rtol < RTOL_FLOOR:
         warnings.warn(f"`{name}` = {rtol:.3g} is below what float64 can deliver (100 * eps = "
                       f"{RTOL_FLOOR:.3g}, as in scipy's solve_ivp): raised to {RTOL_FLOOR:.3g}",
@@ -114,6 +146,56 @@ def check_atol(name: str, value: Any) -> float | np.ndarray:
     return atol
 
 
+def check_scaled(name: str, value: float | np.ndarray, x0: np.ndarray,
+                 ceiling: float = RESIDUAL_CEILING) -> None:
+    """An absolute tolerance (checked positive already) at most ``ceiling * max(1, |x0|)``.
+
+    For the tolerances whose unit is the state's (shooting's ``tol``, an integration's ``atol``):
+    their sane range depends on the size of the state, known only with ``x0``. ``atol`` uses
+    :data:`TOL_CEILING` (an error control of 1 % of the state is already coarse; ``atol = 1e300``
+    switches it off), the residual tolerances :data:`RESIDUAL_CEILING`.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument, the bound and the state size it came from.
+    """
+    scale = max(1.0, float(np.linalg.norm(x0)))
+    top = float(np.max(value))
+    if top > ceiling * scale:
+        raise ValueError(f"`{name}` must be at most {ceiling:g} * max(1, |x0|) = "
+                         f"{ceiling * scale:.3g} (|x0| = {float(np.linalg.norm(x0)):.3g}); "
+                         f"got {top!r}: a looser tolerance accepts non-solutions")
+
+
+def check_times(name: str, value: Any, t0: float, t1: float) -> np.ndarray:
+    """Output times: a finite 1-D array within ``[t0, t1]``, sorted in the direction of
+    integration, of at most ``CAPS[name]`` points.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument and what is wrong (a non-finite time, the order, the span, the size).
+    """
+    times = check.array(name, value)
+    if times.ndim != 1:
+        raise ValueError(f"`{name}` must be a 1-D array of times; got shape {times.shape}")
+    if times.size > CAPS[name]:
+        raise ValueError(f"`{name}` must have at most {CAPS[name]} points; got {times.size} "
+                         f"(sample the solution in chunks, or use dense_output=True)")
+    lo, hi = min(t0, t1), max(t0, t1)
+    if times.size and (times.min() < lo or times.max() > hi):
+        raise ValueError(f"`{name}` must lie within t_span [{lo!r}, {hi!r}]; got times in "
+                         f"[{float(times.min())!r}, {float(times.max())!r}]")
+    steps = np.diff(times) * (1.0 if t1 >= t0 else -1.0)
+    if np.any(steps < 0):
+        order = "increasing" if t1 >= t0 else "decreasing (t1 < t0)"
+        k = int(np.argmax(steps < 0))
+        raise ValueError(f"`{name}` must be sorted {order}, as the integration runs; got "
+                         f"{float(times[k])!r} before {float(times[k + 1])!r} (index {k})")
+    return times
+
+
 def check_method(value: Any) -> str | type[OdeSolver]:
     """A method name of :data:`METHODS`, or an :class:`~scipy.integrate.OdeSolver` subclass."""
     if isinstance(value, type) and issubclass(value, OdeSolver):
@@ -127,7 +209,7 @@ _CHECKS = {
     "atol": lambda v: check_atol("atol", v),
     "rk4_steps": lambda v: capped("rk4_steps", v),
     "max_steps": lambda v: capped("max_steps", v),
-    "tol": lambda v: check.positive("tol", v),
+    "tol": lambda v: check.positive("tol", v),  # its ceiling needs the state: check_scaled
     "max_nfev": lambda v: capped("max_nfev", v),
     "max_newton": lambda v: capped("max_newton", v),
 }
@@ -160,7 +242,8 @@ class SolverSettings:
     method : str or OdeSolver subclass, optional
         Integrator: ``"DOP853"``, another :func:`~scipy.integrate.solve_ivp` method, or ``"RK4"``.
     rtol : float, optional
-        Relative integration tolerance, >= 100 eps (raised to it with a warning below).
+        Relative integration tolerance, in (0, 1e-3] (:data:`RTOL_CEILING`); raised to
+        100 eps with a warning below it.
     atol : float or array_like, optional
         Absolute integration tolerance, > 0.
     rk4_steps : int, optional
@@ -169,7 +252,8 @@ class SolverSettings:
         Step budget of one integration, in [1, 10**7].
     tol : float, optional
         Residual tolerance of the nonlinear solve (absolute for shooting, relative to the
-        states' size for continuation).
+        states' size for continuation), > 0; each solver bounds it by 1e-6 relative to the
+        state (:data:`RESIDUAL_CEILING`) when it knows the state.
     max_nfev : int, optional
         Residual evaluations of Levenberg-Marquardt (shooting), in [1, 10**5].
     max_newton : int, optional

@@ -62,6 +62,7 @@ import flapping._validation as check
 from flapping.errors import AliasedPeriodWarning, ConvergenceError
 from flapping.periodic import _segments as seg
 from flapping.periodic import settings as opt
+from flapping.periodic._checks import first_call, numeric
 from flapping.periodic._problem import (
     IntegrationFailed,
     MultipleShootingProblem,
@@ -215,11 +216,12 @@ def _check_fixed(fixed: Any, n: int) -> tuple[int, ...]:
 
 
 def _check_stopping(tol: Any, xtol: Any, ftol: Any, max_nfev: Any, min_period: Any,
-                    T: float) -> _Stopping:
+                    T: float, x: np.ndarray) -> _Stopping:
+    opt.check_scaled("tol", tol, x)  # an absolute residual norm: its ceiling scales with x0
     return _Stopping(
         tol=tol,
-        xtol=check.real("xtol", xtol, low=_EPS),
-        ftol=check.real("ftol", ftol, low=_EPS),
+        xtol=check.real("xtol", xtol, low=_EPS, high=opt.TOL_CEILING),
+        ftol=check.real("ftol", ftol, low=_EPS, high=opt.TOL_CEILING),
         max_nfev=max_nfev,
         min_period=1e-2 * T if min_period is None else check.positive("min_period", min_period),
     )
@@ -281,15 +283,34 @@ def _probe(setup: ShootingSetup, problem_counter: seg.Counter) -> tuple[np.ndarr
     A wrong shape or a non-finite value is then a ValueError here, not an obscure failure
     inside MINPACK. Returns ``f`` of the first segment at ``(0, x0)`` and the extra length.
     """
-    n = setup.x_init.size
+    n, x = setup.x_init.size, setup.x_init
+    extra = setup.args if setup.p_init is None else setup.args + (setup.p_init,)
+    tail, given = (("", f"`args` = {check._show(setup.args)}") if setup.p_init is None else
+                   (", params", f"`args` = {check._show(setup.args)} and `free_params`"))
     values = []
-    for k, f in enumerate(setup.funs):
-        g = seg.Checked(f, setup.args, setup.p_init, (n,), problem_counter)
-        values.append(g(setup.T_init * (setup.breakpoints[k - 1] if k else 0.0), setup.x_init))
+    n_p = 0 if setup.p_init is None else setup.p_init.size
+    for k, (f, J, P) in enumerate(zip(setup.funs, setup.jacs, setup.pjacs, strict=True)):
+        t = setup.T_init * (setup.breakpoints[k - 1] if k else 0.0)
+        problem_counter.n += 1
+        values.append(first_call(f, "fun", t, x, extra, (n,), call=f"fun(t, x, *args{tail})",
+                                 given=given, first=k == 0))
+        # jac and param_jac once each too (not counted in njev: a check, like _refusal's call)
+        if J is not None:
+            first_call(J, "jac", t, x, extra, (n, n), call=f"jac(t, x, *args{tail})",
+                       given=given)
+        if P is not None:
+            first_call(P, "param_jac", t, x, extra, (n, n_p), reshape=True,
+                       call=f"param_jac(t, x, *args{tail})", given=given)
     n_extra = 0
     if setup.extra_residual is not None:
-        extra0 = np.atleast_1d(np.asarray(
-            setup.extra_residual(setup.x_init.copy(), setup.T_init, setup.p_init), dtype=float))
+        try:
+            raw = setup.extra_residual(setup.x_init.copy(), setup.T_init, setup.p_init)
+        except Exception as exc:  # the user's callable: its error, with where it was raised
+            exc.add_note("(raised by `extra_residual` at its first call, "
+                         "extra_residual(x0, period, params) at the guess)")
+            raise
+        extra0 = np.atleast_1d(numeric(raw, "extra_residual", "at the guess",
+                                       "a 1-D array of real numbers"))
         if extra0.ndim != 1:
             raise ValueError(f"`extra_residual` must return a 1-D array, got shape {extra0.shape}")
         n_extra = extra0.size
@@ -503,12 +524,16 @@ def find_periodic_orbit(
         Step budget of each integration (default 100 000, at most 10**7, see
         :mod:`flapping.periodic.integrate`); running out ends the iteration with advice.
     tol : float, optional
-        Required final residual norm (absolute, in the units of the state; default 1e-10).
+        Required final residual norm (absolute, in the units of the state; default 1e-10), at
+        most ``1e-6 max(1, |x0|)`` (:data:`~flapping.periodic.settings.RESIDUAL_CEILING`: a
+        looser residual is a point on no orbit, by :func:`~flapping.periodic.floquet.monodromy`'s
+        closure test).
     max_nfev : int, optional
         Maximum residual evaluations of Levenberg-Marquardt (default ``100 * (n_unknowns + 1)``,
         at most 10**5).
     xtol, ftol : float, optional
-        MINPACK's termination tolerances (relative step and relative reduction), >= 2.2e-16.
+        MINPACK's termination tolerances (relative step and relative reduction), in
+        [2.2e-16, 1e-2].
     min_period : float, optional
         Autonomous only: a converged period below this is rejected as the trivial solution
         ``T -> 0`` every autonomous shooting residual has (default ``1e-2 * period``).
@@ -529,16 +554,27 @@ def find_periodic_orbit(
     ------
     ValueError
         Bad arguments: non-positive or non-finite period, x0 not a finite 1-D array, wrong output
-        shape or non-finite output of ``fun``/``jac``/``extra_residual``, ``fixed`` out of
+        shape of ``fun``/``jac``/``param_jac``/``extra_residual``, ``fun`` raising a ValueError or
+        IndexError at its first call (the message names ``x0`` and ``args``), ``fixed`` out of
         range, ``n_points < 1``, ``segments < 1`` or ``segments > 1`` with ``n_points > 1``,
         fewer residuals than unknowns, breakpoints with an autonomous system, RK4 grid mismatch,
         a size beyond its cap (``n_points``, ``segments``, ``rk4_steps``, ``max_steps``,
-        ``max_nfev``: :data:`flapping.periodic.settings.CAPS`).
+        ``max_nfev``: :data:`flapping.periodic.settings.CAPS`), a tolerance beyond its ceiling
+        (``rtol`` > 1e-3, ``atol`` > ``1e-2 max(1, |x0|)``, ``tol`` > ``1e-6 max(1, |x0|)``,
+        ``xtol`` or ``ftol`` > 1e-2).
+    NonFiniteError
+        A ValueError: a callable returned NaN or infinity at a finite state (with ``t``,
+        ``state``, ``source``, ``value``).
+    TypeError
+        ``args`` (and ``free_params``) do not fit the signature of ``fun``, ``jac`` or
+        ``param_jac``, or a callable (``extra_residual`` too) returned None, a string, or complex
+        or boolean values (checked at the first call).
     ConvergenceError
         Levenberg-Marquardt stopped without reaching ``residual_norm <= tol``, the integration
         failed (or ran out of its step budget), the period collapsed, or the answer is an
         equilibrium; carries the last iterate (unknowns), the residual norm, the iteration
-        count, and the :class:`PeriodicOrbit` as ``result``.
+        count, and the :class:`PeriodicOrbit` as ``result``; when an integration failed, where
+        it stopped: ``t``, ``state`` and ``source``.
 
     Warns
     -----
@@ -569,14 +605,15 @@ def find_periodic_orbit(
     jacobian = check.choice("jacobian", jacobian, JACOBIANS)
     n_points, delta = _check_shape_options(integration, n_points, delta)
     segments = _check_segments(integration, segments, n_points)
-    stopping = _check_stopping(o["tol"], xtol, ftol, o["max_nfev"], min_period, T_init)
+    opt.check_scaled("atol", integration.atol, x_init, opt.TOL_CEILING)
+    stopping = _check_stopping(o["tol"], xtol, ftol, o["max_nfev"], min_period, T_init, x_init)
     fixed_given = _check_fixed(fixed, x_init.size)
     p_init = None if free_params is None else check.vector("free_params",
                                                                  np.atleast_1d(free_params))
     funs, jacs, pjacs = _check_callables(fun, jac, param_jac, len(b) + 1, p_init is not None)
-    setup = ShootingSetup(funs, jacs, pjacs, tuple(args), x_init, T_init, p_init, fixed_given,
-                          bool(autonomous), b, integration, n_points, delta, extra_residual, 0,
-                          jacobian, segments)
+    setup = ShootingSetup(funs, jacs, pjacs, check.call_args(args), x_init, T_init, p_init,
+                          fixed_given, bool(autonomous), b, integration, n_points, delta,
+                          extra_residual, 0, jacobian, segments)
     counter = seg.Counter()
     f0, n_extra = _probe(setup, counter)
     setup, phase = _phase_condition(replace(setup, n_extra=n_extra),
@@ -586,8 +623,12 @@ def find_periodic_orbit(
     problem.counter.n = counter.n  # the probe's evaluations count
     orbit = _result(problem, _solve(problem, stopping), stopping, phase)
     if not orbit.success:
+        where = problem.failure if orbit.message.startswith("the iteration failed") else None
         raise ConvergenceError(f"no periodic orbit found: {orbit.message}", x=orbit.unknowns,
-                               residual=orbit.residual_norm, iterations=orbit.nit, result=orbit)
+                               residual=orbit.residual_norm, iterations=orbit.nit, result=orbit,
+                               t=None if where is None else where.t,
+                               state=None if where is None else where.state,
+                               source=None if where is None else where.source)
     if setup.autonomous:
         _warn_if_multiple(problem, orbit)
     return orbit

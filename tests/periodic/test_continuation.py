@@ -224,6 +224,15 @@ def test_stop_reasons_and_bad_input():
     assert len(short) == 4 and "step budget" in short.message and not short.success
 
 
+@pytest.mark.parametrize("tol", [1e6, 1.0, 1e-2])
+def test_a_corrector_tol_that_accepts_non_solutions_is_refused(tol):
+    # tol = 1e6 used to "reach p_end" through points on no periodic orbit; the corrector's tol
+    # is relative, and above the closure monodromy accepts (1e-6) a point is on no orbit
+    with pytest.raises(ValueError, match=r"`tol` must be a real number in \(0, 1e-06\]"):
+        continue_orbit(f_rossler, X_ROSSLER_25, 5.749, 2.5, 2.6, jac=j_rossler, tol=tol,
+                       max_points=5)
+
+
 def test_table_and_plot(rossler_branch):
     rows = rossler_branch.to_table()
     assert len(rows) == len(rossler_branch)
@@ -249,3 +258,9 @@ def test_location_corrects_to_locate_tol(monkeypatch):
     continue_orbit(f_rossler, X_ROSSLER_25, 5.749, 2.8, 2.86, jac=j_rossler, tol=1e-8,
                    locate_tol=3e-11)
     assert seen == [3e-11]
+
+
+def test_a_first_step_outside_its_bounds_names_ds_and_the_bounds():
+    with pytest.raises(ValueError, match=r"`ds` must lie in \[`ds_min`, `ds_max`\] = "
+                                         r"\[1e-06, 0\.5\].*got ds = 1\.0"):
+        continue_orbit(f_rossler, X_ROSSLER_25, 5.749, 2.5, 2.6, jac=j_rossler, ds=1.0)

@@ -297,3 +297,24 @@ def test_the_work_cap_counts_an_offered_maps_evaluations():
         find_periodic_orbit_fixed_step(fun, [0.25], 2.0 * math.pi, free_params=[0.0],
                                        fixed=[0], switches=[_kink], max_nfev=2000)
     assert offer.calls > 0 and info.value.result.status == 5
+
+
+# ---- tolerance ceilings at the entry (issue 26, item 6) -----------------------------------------
+
+
+@pytest.mark.parametrize(("name", "value", "message"), [
+    ("error_tol", 1e6, r"`error_tol` must be a real number in \[1e-13, 0\.01\]"),
+    ("multiplier_tol", 1e6, r"`multiplier_tol` must be a real number in \[1e-13, 0\.01\]"),
+    ("tol", 1e6, r"`tol` must be at most 1e-06 \* max\(1, \|x0\|\)"),
+])
+def test_a_tolerance_too_loose_to_mean_anything_is_refused(name, value, message):
+    # each used to return success=True ("converged") at 16 steps, whatever the accuracy
+    with pytest.raises(ValueError, match=message):
+        find_periodic_orbit_fixed_step(forced_oscillator, X0, PERIOD, args=ARGS,
+                                       **{name: value})
+
+
+def test_the_loosest_error_tol_is_accepted():
+    orbit = find_periodic_orbit_fixed_step(forced_oscillator, [0.3, 0.1], PERIOD, args=ARGS,
+                                           error_tol=1e-2)
+    assert orbit.success

@@ -198,3 +198,34 @@ def test_bools_strings_and_bad_numbers_are_refused(kwargs, match):
     call.update(kwargs)
     with pytest.raises(ValueError, match=match):
         monodromy(lorenz, [1.0, 1.0, 1.0], call.pop("period"), **call)
+
+
+# ---- bad inputs and blow-ups (issue 26, item 6) -------------------------------------------------
+
+
+def test_a_blow_up_in_monodromy_carries_time_state_and_source():
+    # x' = x^2 blows up at t = 1, inside the period 2: where, as attributes
+    with pytest.raises(ConvergenceError, match="could not be integrated") as error:
+        monodromy(lambda t, x: x**2, [1.0], 2.0)
+    exc = error.value
+    assert exc.source in ("step budget", "integrator", "state")
+    assert exc.t == pytest.approx(1.0, abs=1e-3)
+    assert exc.state.shape == (1,) and exc.state[0] > 1e3
+
+
+@pytest.mark.parametrize("multipliers", [[math.nan], [1.0, complex(math.nan, 0.0)], ["a"]])
+def test_floquet_exponents_refuse_multipliers_that_are_not_numbers(multipliers):
+    # [nan] used to return [nan+nanj]
+    with pytest.raises(ValueError, match="`multipliers` must"):
+        floquet_exponents(multipliers, 1.0)
+
+
+def test_no_multipliers_have_no_trivial_one():
+    # used to be numpy's "attempt to get argmin of an empty sequence"
+    with pytest.raises(ValueError, match="`multipliers` must not be empty"):
+        nontrivial_multipliers([])
+
+
+def test_an_infinite_multiplier_keeps_its_infinite_exponent():
+    # the edge case that must keep working: an overflowed |mu| is a number, not a mistake
+    assert floquet_exponents([math.inf], 2.0)[0].real == math.inf

@@ -311,3 +311,128 @@ def test_method_may_be_an_ode_solver_class():
     a = flow(lorenz, (0.0, T_AB), X_AB, method="RK4", period=T_AB)
     b = flow(lorenz, (0.0, T_AB), X_AB, method=RK4, period=T_AB)
     np.testing.assert_array_equal(a.x, b.x)
+
+
+# ---- t_eval: every bad value answered (issue 26, item 6) ----------------------------------------
+
+
+@pytest.mark.parametrize(("t_span", "t_eval", "message"), [
+    ((0.0, 1.0), [0.0, math.nan, 1.0], "`t_eval` must be finite"),  # was success=True, NaN rows
+    ((0.0, 1.0), [0.0, math.inf], "`t_eval` must be finite"),
+    ((0.0, 1.0), [0.5, 0.1, 1.0], r"`t_eval` must be sorted increasing.*0\.5 before 0\.1"),
+    ((1.0, 0.0), [0.0, 0.5, 1.0], r"`t_eval` must be sorted decreasing \(t1 < t0\)"),
+    ((0.0, 1.0), [0.0, 2.0], r"`t_eval` must lie within t_span \[0\.0, 1\.0\]"),
+    ((0.0, 1.0), ["a", "b"], "`t_eval` must be an array of real numbers"),
+    ((0.0, 1.0), [0.1 + 1j], "`t_eval` must be an array of real numbers"),
+    ((0.0, 1.0), [[0.0, 1.0]], "`t_eval` must be a 1-D array"),
+])
+def test_a_bad_t_eval_is_a_valueerror_naming_it(t_span, t_eval, message):
+    with pytest.raises(ValueError, match=message):
+        flow(lambda t, x: -x, t_span, [1.0], t_eval=t_eval)
+
+
+def test_t_eval_beyond_its_cap_is_refused_at_once():
+    # 1e7 points used to run for minutes (one dense-output evaluation each, in Python)
+    from flapping.periodic.settings import CAPS
+
+    too_many = np.linspace(0.0, 1.0, CAPS["t_eval"] + 1)
+    with pytest.raises(ValueError, match=rf"`t_eval` must have at most {CAPS['t_eval']} points"):
+        flow(lambda t, x: -x, (0.0, 1.0), [1.0], t_eval=too_many)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.floats(0.0, 1.0), min_size=1, max_size=20), st.integers(0, 19),
+       st.sampled_from([math.nan, math.inf, -math.inf]))
+def test_any_non_finite_time_in_t_eval_is_refused(times, where, bad):
+    times = sorted(times)
+    times.insert(where % (len(times) + 1), bad)
+    with pytest.raises(ValueError, match="`t_eval` must be finite"):
+        flow(lambda t, x: -x, (0.0, 1.0), [1.0], t_eval=times)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.floats(0.0, 1.0), min_size=1, max_size=20), st.booleans())
+def test_any_sorted_t_eval_within_the_span_is_answered_at_those_times(times, backwards):
+    times = sorted(times, reverse=backwards)
+    t_span = (1.0, 0.0) if backwards else (0.0, 1.0)
+    res = flow(lambda t, x: -x, t_span, [1.0], t_eval=times, rtol=1e-10, atol=1e-12)
+    assert res.success
+    np.testing.assert_array_equal(res.t, times)
+    x0 = 1.0  # x(t) = x(t0) exp(-(t - t0))
+    np.testing.assert_allclose(res.x[0], x0 * np.exp(-(np.array(times) - t_span[0])),
+                               rtol=1e-8)
+
+
+# ---- blow-ups carry where they happened --------------------------------------------------------
+
+
+def test_a_non_finite_value_of_fun_carries_time_state_and_source():
+    from flapping.errors import NonFiniteError
+
+    def f(t, x):
+        return -x if t < 0.5 else np.full(1, np.nan)
+
+    with pytest.raises(NonFiniteError) as error:
+        flow(f, (0.0, 1.0), [1.0])
+    exc = error.value
+    assert isinstance(exc, ValueError)  # a bad value of the user's callable
+    assert exc.source == "fun" and exc.t >= 0.5
+    assert exc.state.shape == (1,) and 0.0 < exc.state[0] < 1.0  # x(t) = exp(-t), t ~ 0.5
+    assert np.isnan(exc.value).all()
+
+
+def test_a_field_that_overflows_with_its_solution_says_it_is_blowing_up():
+    from flapping.errors import NonFiniteError
+
+    # x' = x**4 from 1e10: a trial stage reaches a finite, huge state where x**4 overflows
+    with pytest.raises(NonFiniteError, match="the solution is blowing up") as error:
+        flow(lambda t, x: x * x * x * x, (0.0, 1.0), [1e10])
+    assert error.value.source == "fun" and error.value.state[0] > 1e100
+
+
+def test_a_failed_flow_says_where_it_stopped():
+    # x' = x^2, x(0) = 1 blows up at t = 1: the step budget stops it there, and says so
+    res = flow(lambda t, x: x**2, (0.0, 2.0), [1.0])
+    assert not res.success
+    assert res.failure is not None and res.failure.source == "step budget"
+    assert res.failure.t == pytest.approx(1.0, abs=1e-3)
+    assert res.failure.state[0] > 1e3
+
+
+def test_a_successful_flow_has_no_failure():
+    assert flow(lambda t, x: -x, (0.0, 1.0), [1.0]).failure is None
+
+
+def test_a_failed_variational_flow_says_where_it_stopped_in_the_state_alone():
+    var = variational_flow(lambda t, x: x**2, None, (0.0, 2.0), [1.0])
+    assert not var.success
+    assert var.failure is not None and var.failure.state.shape == (1,)  # not the matrices
+    assert var.failure.t == pytest.approx(1.0, abs=1e-3)
+
+
+def test_rk4_breakpoints_off_the_grid_name_breakpoints_and_rk4_steps():
+    with pytest.raises(ValueError, match=r"`breakpoints` must fall on a step boundary.*"
+                                         r"breakpoint 0\.3 does not: choose `rk4_steps`"):
+        flow(lambda t, x: -x, (0.0, 1.0), [1.0], method="RK4", period=1.0, breakpoints=[0.3],
+             rk4_steps=4)
+
+
+def test_more_output_times_than_the_step_budget_are_refused_at_once():
+    # each output time is a restart: 10**7 of them used to take a minute before failing
+    with pytest.raises(ValueError, match=r"`t_out` has 100001 times, more than max_steps"):
+        variational_flow(lambda t, x: -x, None, (0.0, 1.0), [1.0],
+                         t_out=np.linspace(0.0, 1.0, 100_001))
+
+
+@pytest.mark.parametrize(("t_out", "message"), [([math.nan], "`t_out` must be finite"),
+                                                ([0.5, 2.0], r"within t_span .* got 2\.0"),
+                                                ([[0.5]], "`t_out` must be a 1-D")])
+def test_bad_output_times_are_named(t_out, message):
+    with pytest.raises(ValueError, match=message):
+        variational_flow(lambda t, x: -x, None, (0.0, 1.0), [1.0], t_out=t_out)
+
+
+def test_output_times_in_any_order_are_reported_in_that_order():
+    var = variational_flow(lambda t, x: -x, None, (0.0, 1.0), [1.0], t_out=[1.0, 0.5],
+                           rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(var.x[0], np.exp([-1.0, -0.5]), rtol=1e-9)

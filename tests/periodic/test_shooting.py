@@ -411,3 +411,32 @@ def test_the_test_fields_take_a_batch_of_states_as_solve_ivp_vectorized_passes()
         for j in range(states.shape[1]):
             np.testing.assert_array_equal(batch[:, j], field(0.0, states[:, j]))
     assert lorenz_jac(0.0, [1.0, 2.0, 3.0]).shape == (3, 3)  # a list, as before
+
+
+# ---- a blow-up in the user's ODE says where (issue 26, item 6) ----------------------------------
+
+
+def test_a_blow_up_during_shooting_carries_time_state_and_source():
+    # x' = x^2, x(0) = 1 blows up at t = 1 < T = 2: the ConvergenceError says when and where,
+    # as attributes a caller can read (it used to hold the message alone)
+    with pytest.raises(ConvergenceError, match="step budget exceeded") as error:
+        find_periodic_orbit(lambda t, x: x**2, [1.0], 2.0, autonomous=False)
+    exc = error.value
+    assert exc.source == "step budget"
+    assert exc.t == pytest.approx(1.0, abs=1e-3)
+    assert exc.state.shape == (1,) and exc.state[0] > 1e3
+
+
+def test_a_blow_up_in_one_segment_of_multiple_shooting_says_where():
+    # segments of length 2 from x = 1: the first blows up at t = 1
+    with pytest.raises(ConvergenceError, match="segment 0") as error:
+        find_periodic_orbit(lambda t, x: x**2, [1.0], 4.0, autonomous=False, segments=2)
+    assert error.value.source == "step budget"
+    assert error.value.t == pytest.approx(1.0, abs=1e-3)
+
+
+def test_a_convergence_failure_without_a_failed_integration_has_no_where():
+    # Levenberg-Marquardt stopped short (max_nfev = 1): no integration failed, nothing to locate
+    with pytest.raises(ConvergenceError) as error:
+        find_periodic_orbit(rossler, [0.0, -6.8, 0.03], 5.9, max_nfev=1)
+    assert error.value.t is None and error.value.state is None and error.value.source is None
