@@ -44,14 +44,11 @@ __all__ = ["AUTO", "BACKEND_NAMES", "Adaptive", "Backend", "Compiled", "FixedSte
 #: The shorthand that lets :func:`~flapping.hover.problem.choose_backend` pick the path.
 AUTO = "auto"
 
-#: Smallest relative tolerance float64 can deliver (scipy's ``100 * eps``).
-RTOL_FLOOR = 100 * 2.220446049250313e-16
-
-#: Loosest accepted tolerance of any kind (relative or absolute integration tolerance, residual
-#: norm, error target): beyond 1 % nothing the solves report means anything (a multiplier known to
-#: 1e-2 cannot tell a stable orbit from an unstable one near the unit circle). A coarse, quick
-#: solve is still possible; ``rtol=1`` or ``1e300`` is a typo, refused.
-LOOSEST_TOL = 1e-2
+#: The tolerance ranges are the periodic-orbit layer's (:mod:`flapping.periodic.settings`, one
+#: place, each with its reason): ``rtol`` in [100 eps, 1e-3] (raised to the floor with a
+#: warning), a residual ``tol`` at most 1e-6 (the closure of a point on an orbit), ``atol`` and
+#: every error target at most 1e-2. A coarse, quick solve is possible; ``rtol=1`` or ``1e300`` is
+#: a typo, refused whichever path runs.
 
 #: Largest step count per half-stroke a fixed-step solve may start with (the fixed-step and
 #: kernel paths refine at most to 4096).
@@ -62,22 +59,25 @@ class OptionWarning(UserWarning):
     """An option was given for an integration path that does not run, and is ignored."""
 
 
-def _tol(name: str, value: Any, *, floor: float = 0.0) -> float:
-    """A tolerance in (floor, LOOSEST_TOL], or a ValueError naming ``name`` and the range."""
-    return check.real(name, value, low=floor, high=LOOSEST_TOL, low_open=floor == 0.0)
+def _tol(name: str, value: Any, *, residual: bool = False) -> float:
+    """A tolerance in (0, ceiling], or a ValueError naming ``name`` and the range (the ceiling:
+    the periodic layer's residual one for a residual tolerance, its accuracy one otherwise)."""
+    from flapping.periodic import settings  # loaded with the first solve, not with the package
+
+    high = settings.RESIDUAL_CEILING if residual else settings.TOL_CEILING
+    return check.real(name, value, low=0.0, high=high, low_open=True)
 
 
 def _rtol(name: str, value: Any) -> float:
-    """A relative tolerance in [100 eps, LOOSEST_TOL]: raised to the floor with a warning, as
-    scipy's solve_ivp does."""
-    rtol = _tol(name, value)
-    if rtol < RTOL_FLOOR:
-        from flapping.errors import ToleranceWarning
+    """A relative tolerance in (0, 1e-3], raised to 100 eps with a warning below it (as scipy's
+    solve_ivp does)."""
+    from flapping.periodic import settings
 
-        warnings.warn(f"`{name}` = {rtol:.3g} is below what float64 can deliver (100 * eps = "
-                      f"{RTOL_FLOOR:.3g}, as in scipy's solve_ivp): raised to {RTOL_FLOOR:.3g}",
-                      ToleranceWarning, stacklevel=5)
-        rtol = RTOL_FLOOR
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        rtol = settings.check_rtol(name, value)
+    for w in caught:  # re-issued here, so that it points at the caller's line
+        warnings.warn(w.message, w.category, stacklevel=5)
     return rtol
 
 
@@ -150,7 +150,7 @@ class FixedStep(_Backend):
     multiplier_tol : float, optional
         Target of the multipliers' error estimate (None: estimated, not enforced).
     tol : float
-        Largest accepted norm of the periodicity residual, in (0, 1e-2].
+        Largest accepted norm of the periodicity residual, in (0, 1e-6].
     max_nfev : int, optional
         Cap on the evaluations of the right-hand side of one solve (None: the solver's own).
     """
@@ -168,7 +168,7 @@ class FixedStep(_Backend):
         if self.multiplier_tol is not None:
             object.__setattr__(self, "multiplier_tol",
                                _tol("multiplier_tol", self.multiplier_tol))
-        object.__setattr__(self, "tol", _tol("tol", self.tol))
+        object.__setattr__(self, "tol", _tol("tol", self.tol, residual=True))
         if self.max_nfev is not None:
             object.__setattr__(self, "max_nfev",
                                check.integer("max_nfev", self.max_nfev, low=1, high=10**8))
@@ -196,13 +196,13 @@ class Adaptive(_Backend):
         ``"DOP853"``, another :func:`scipy.integrate.solve_ivp` method, or ``"RK4"`` (the
         paper's fixed step, ``rk4_steps`` per period).
     rtol, atol : float
-        Tolerances of the orbit's integrations, rtol in [100 eps, 1e-2], atol in (0, 1e-2].
+        Tolerances of the orbit's integrations, rtol in [100 eps, 1e-3], atol in (0, 1e-2].
     analysis_rtol, analysis_atol : float
         Tolerances of the integrations that analyse a found orbit (its monodromy, averaged
         Jacobian, samples' force budget, perturbations): a decade tighter than the orbit's, so
         that the analysis adds no error of its own.
     tol : float
-        Largest accepted norm of the shooting residual, in (0, 1e-2].
+        Largest accepted norm of the shooting residual, in (0, 1e-6].
     jacobian : {"variational", "finite-difference"}, optional
         Jacobian of the shooting residual. None: variational for the linear loads (analytic),
         finite differences for the blade-element loads.
@@ -232,8 +232,9 @@ class Adaptive(_Backend):
         object.__setattr__(self, "method", check_method(self.method))
         for name in ("rtol", "analysis_rtol"):
             object.__setattr__(self, name, _rtol(name, getattr(self, name)))
-        for name in ("atol", "analysis_atol", "tol"):
+        for name in ("atol", "analysis_atol"):
             object.__setattr__(self, name, _tol(name, getattr(self, name)))
+        object.__setattr__(self, "tol", _tol("tol", self.tol, residual=True))
         if self.jacobian is not None:
             check.choice("jacobian", self.jacobian, JACOBIANS)
         object.__setattr__(self, "rk4_steps",
