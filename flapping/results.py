@@ -163,7 +163,7 @@ class Floquet:
 
     @property
     def max_modulus(self) -> float:
-        """Largest |multiplier|."""
+        """Largest modulus of a multiplier."""
         return float(abs(self.multipliers[0]))
 
     @property
@@ -178,8 +178,8 @@ class Floquet:
 
     @property
     def liouville_error(self) -> float:
-        """|det M / exp(int trace J) - 1| from the logarithms (NaN without the trace integral,
-        or for a multiplier that is 0 or infinite in floating point)."""
+        """``abs(det M / exp(int trace J) - 1)`` from the logarithms (NaN without the trace
+        integral, or for a multiplier that is 0 or infinite in floating point)."""
         modulus = np.abs(self.multipliers)
         if not (math.isfinite(self.trace_integral) and np.all(np.isfinite(modulus))
                 and np.all(modulus > 0.0)):
