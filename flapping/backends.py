@@ -145,7 +145,7 @@ class FixedStep(_Backend):
         Steps per half-stroke to start with, in [2, 4096] (doubled until the error estimates
         meet ``error_tol``).
     error_tol : float
-        Target of every unknown's Richardson error estimate, relative to max(1, |value|), in
+        Target of every unknown's Richardson error estimate, relative to max(1, abs(value)), in
         (0, 1e-2].
     multiplier_tol : float, optional
         Target of the multipliers' error estimate (None: estimated, not enforced).
