@@ -20,6 +20,8 @@ from typing import Any
 
 import numpy as np
 
+from flapping.results import Status
+
 __all__ = ["ConvergenceError", "NonFiniteError", "DomainError", "HoverDriftWarning",
            "ClosureWarning", "AliasedPeriodWarning", "ToleranceWarning", "PlausibilityWarning",
            "require_success"]
@@ -51,10 +53,13 @@ class ConvergenceError(RuntimeError):
         What failed at ``t``: ``"state"`` (the solution overflowed), ``"fun"``, ``"jac"`` or
         ``"param_jac"`` (the callable returned NaN or infinity), ``"step budget"`` or
         ``"integrator"`` (the integrator gave up).
+    status : Status, optional
+        The outcome from the one status table (:class:`flapping.results.Status`), when the
+        solver reports one.
 
     Attributes
     ----------
-    x, residual, iterations, result, t, state, source
+    x, residual, iterations, result, t, state, source, status
         As given (``None`` when not known); ``x`` and ``state`` are float64 copies.
     """
 
@@ -69,6 +74,7 @@ class ConvergenceError(RuntimeError):
         t: float | None = None,
         state: Any = None,
         source: str | None = None,
+        status: Status | None = None,
     ) -> None:
         details = []
         if residual is not None:
@@ -84,6 +90,7 @@ class ConvergenceError(RuntimeError):
         self.t = None if t is None else float(t)
         self.state = None if state is None else np.array(state, dtype=float)
         self.source = source
+        self.status = status
 
 
 class NonFiniteError(ValueError):

@@ -59,8 +59,9 @@ MESSAGES: dict[Status, str] = {
     Status.NON_FINITE: "the integration produced a non-finite value",
     Status.SINGULAR: "the Jacobian of the periodicity residual is singular",
     Status.TOLERANCE_NOT_MET: "the error tolerances were not met with the largest step count",
-    Status.MAX_EVALUATIONS: "the solve reached its cap on evaluations of the right-hand side",
-    Status.RESIDUAL_ABOVE_TOL: "the iteration stopped with a residual norm above `tol`",
+    Status.MAX_EVALUATIONS: "the solve reached its cap on evaluations of the right-hand side "
+                            "(`max_nfev`)",
+    Status.RESIDUAL_ABOVE_TOL: "Newton's method stopped with a residual norm above `tol`",
     Status.INTEGRATION_FAILED: "an integration failed (step size below its floor or step "
                                "budget exhausted)",
     Status.INVALID_INPUT: "the input was refused (a parameter outside its range)",

@@ -44,6 +44,7 @@ from flapping.periodic import settings as opt
 from flapping.periodic._checks import probe_fields
 from flapping.periodic._fixedmap import NonFinite, OutOfWork, PeriodMap
 from flapping.periodic._readonly import freeze
+from flapping.results import MESSAGES, Status
 
 __all__ = [
     "DEFAULT_STEPS",
@@ -69,16 +70,11 @@ ERROR_TOL_FLOOR = 1e-13
 #: Default cap on the evaluations of ``fun`` in one solve, and the largest cap accepted.
 MAX_NFEV, MAX_NFEV_CAP = 10**6, 10**8
 
-#: The solve's outcome, by :attr:`FixedStepOrbit.status`.
-STATUS: dict[int, str] = {
-    0: "converged: Newton's step below xtol and the error estimates within their tolerances",
-    1: "Newton's method reached its iteration cap",
-    2: "the Jacobian of the periodicity residual is singular",
-    3: "the integration produced a non-finite value",
-    4: "the error tolerances were not met with the largest step count",
-    5: "the solve reached its cap on evaluations of `fun` (max_nfev)",
-    6: "Newton's method stopped with a residual norm above `tol`",
-}
+#: The solve's outcome, by :attr:`FixedStepOrbit.status`: the package's one status table
+#: (:class:`flapping.results.Status`), restricted to the outcomes this solver reports.
+STATUS: dict[Status, str] = {status: MESSAGES[status] for status in (
+    Status.SUCCESS, Status.MAX_ITERATIONS, Status.SINGULAR, Status.NON_FINITE,
+    Status.TOLERANCE_NOT_MET, Status.MAX_EVALUATIONS, Status.RESIDUAL_ABOVE_TOL)}
 
 #: Newton's stopping rule (every step below XTOL max(1, |z_i|)) and its iteration cap per step
 #: count; a fresh Jacobian is computed when a step shrinks by less than _CONTRACTION.
@@ -110,8 +106,8 @@ class FixedStepOrbit:
     params : ndarray or None
         Converged free parameters.
     success : bool
-        True if :attr:`status` is 0.
-    status : int
+        True if :attr:`status` is ``Status.SUCCESS``.
+    status : Status
         Machine-readable outcome (:data:`STATUS`).
     message : str
         The outcome in words.
@@ -149,7 +145,7 @@ class FixedStepOrbit:
     period: float
     params: np.ndarray | None
     success: bool
-    status: int
+    status: Status
     message: str
     residual: np.ndarray
     residual_norm: float
@@ -244,7 +240,7 @@ class _Newton:
     J: np.ndarray | None
     nit: int
     step: float
-    status: int
+    status: Status
 
 
 def _newton(problem: _Problem, z: np.ndarray, n: int, J: np.ndarray | None) -> _Newton:
@@ -279,11 +275,11 @@ def _newton(problem: _Problem, z: np.ndarray, n: int, J: np.ndarray | None) -> _
         step = float(np.max(np.abs(dz) / np.maximum(1.0, np.abs(z))))
         back, z = (z, dz), z + dz
         if step <= _XTOL or (fresh and step <= _STALL and step > 0.5 * prev):
-            return _Newton(z, J, it, step, 0)
+            return _Newton(z, J, it, step, Status.SUCCESS)
         if step > _CONTRACTION * prev:
             J = None  # slow contraction: a fresh Jacobian for the next step
         prev = step
-    return _Newton(z, J, _MAX_ITER, step, 1)
+    return _Newton(z, J, _MAX_ITER, step, Status.MAX_ITERATIONS)
 
 
 @dataclass
@@ -333,7 +329,7 @@ class _Solve:
         self.problem, self.n, self.tols = problem, n, tols
         self.z = problem.z0.copy()
         self.J: np.ndarray | None = None
-        self.nit, self.step, self.status = 0, math.inf, 0
+        self.nit, self.step, self.status = 0, math.inf, Status.SUCCESS
         self.estimate: _Estimate | None = None
 
     def run(self) -> None:
@@ -343,11 +339,11 @@ class _Solve:
                 if not self._level():
                     return
         except np.linalg.LinAlgError:
-            self.status = 2
+            self.status = Status.SINGULAR
         except NonFinite:
-            self.status = 3
+            self.status = Status.NON_FINITE
         except OutOfWork:
-            self.status = 5
+            self.status = Status.MAX_EVALUATIONS
 
     def _level(self) -> bool:
         """One step count: Newton, the last pass, the estimate; True if more steps are needed."""
@@ -359,9 +355,9 @@ class _Solve:
         self.estimate = est = _estimate(self.problem, self.z, self.n)
         ratio = self.ratio(est)
         if ratio <= 1.0 or self.n >= MAX_STEPS:
-            self.status = 0 if ratio <= 1.0 else 4
+            self.status = Status.SUCCESS if ratio <= 1.0 else Status.TOLERANCE_NOT_MET
             if not self.status and float(np.linalg.norm(est.residual)) > self.tols.residual:
-                self.status = 6
+                self.status = Status.RESIDUAL_ABOVE_TOL
             return False
         self.n, self.J = _next_steps(self.n, ratio), est.J
         return True
@@ -488,8 +484,9 @@ def find_periodic_orbit_fixed_step(
         ``args`` does not fit a callable's signature, or a callable returned None, a string,
         or complex or boolean values at the guess.
     ConvergenceError
-        If the solve fails (:data:`STATUS` 1-6), with the last iterate, its residual norm, the
-        iteration count and the :class:`FixedStepOrbit` as ``result``.
+        If the solve fails (any :data:`STATUS` but ``SUCCESS``), with the last iterate, its
+        residual norm, the iteration count, the status and the :class:`FixedStepOrbit` as
+        ``result``.
     """
     if check.boolean("autonomous", autonomous):
         raise ValueError("find_periodic_orbit_fixed_step solves forced systems (known period) "
@@ -524,7 +521,7 @@ def find_periodic_orbit_fixed_step(
     if not result.success:
         raise ConvergenceError(f"no periodic orbit found: {result.message}", x=result.unknowns,
                                residual=result.residual_norm, iterations=result.nit,
-                               result=result)
+                               result=result, status=result.status)
     return result
 
 

@@ -21,6 +21,7 @@ from flapping.periodic.testproblems import (
     forced_oscillator_orbit,
     lorenz,
 )
+from flapping.results import Status
 
 ZETA, OMEGA0, OMEGA, AMPLITUDE = 0.1, 1.0, 2.0, 1.0
 ARGS = (ZETA, OMEGA0, OMEGA, AMPLITUDE)
@@ -38,7 +39,7 @@ def _square_wave(k):
 def test_forced_oscillator_orbit_and_multipliers_are_exact_to_the_tolerance(jac):
     orbit = find_periodic_orbit_fixed_step(forced_oscillator, [0.3, 0.1], PERIOD, args=ARGS,
                                            jac=jac)
-    assert orbit.success and orbit.status == 0
+    assert orbit.success and orbit.status is Status.SUCCESS and str(orbit.status) == "success"
     assert orbit.jacobian == ("finite-difference" if jac is None else "variational")
     # error_tol 1e-10 on the unknowns (Richardson, with a factor 2 of safety)
     np.testing.assert_allclose(orbit.x0, X0, rtol=0, atol=1e-10)
@@ -121,7 +122,7 @@ def test_the_work_cap_ends_the_solve_with_its_diagnostics():
     with pytest.raises(ConvergenceError, match="cap") as info:
         find_periodic_orbit_fixed_step(forced_oscillator, [0.3, 0.1], PERIOD, args=ARGS,
                                        max_nfev=500)
-    assert info.value.result.status == 5 and not info.value.result.success
+    assert info.value.result.status is Status.MAX_EVALUATIONS and not info.value.result.success
 
 
 def test_a_diverging_iteration_fails_cleanly():
@@ -296,7 +297,7 @@ def test_the_work_cap_counts_an_offered_maps_evaluations():
     with pytest.raises(ConvergenceError, match="cap") as info:
         find_periodic_orbit_fixed_step(fun, [0.25], 2.0 * math.pi, free_params=[0.0],
                                        fixed=[0], switches=[_kink], max_nfev=2000)
-    assert offer.calls > 0 and info.value.result.status == 5
+    assert offer.calls > 0 and info.value.result.status is Status.MAX_EVALUATIONS
 
 
 # ---- tolerance ceilings at the entry (issue 26, item 6) -----------------------------------------
