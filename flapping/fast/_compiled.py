@@ -41,6 +41,7 @@ half-stroke is smooth, so the global error is O(h^8).
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numba
 import numpy as np
@@ -75,10 +76,15 @@ def _jit(fn, **options):
 
 
 def _helper(fn):
-    """A function called from compiled code (and from the tests): :func:`_jit` without the C
-    wrapper numba would also compile for it, for calls through a function pointer, which the
-    kernel makes none of. (Its CPython wrapper stays: without it, a call from Python crashes.)"""
-    return _jit(fn, no_cfunc_wrapper=True)
+    """A function called from compiled code (and from the tests): ``numba.njit`` without numba's
+    disk cache (its machine code is linked into each entry point's, which is cached) and without
+    the C wrapper numba would also compile, for calls through a function pointer (the kernel
+    makes none). Its CPython wrapper stays: without it, a call from Python crashes."""
+    return numba.njit(**_NO_C_WRAPPER)(fn)
+
+
+# numba's own option (its internal functions use it), absent from the stubs of njit's keywords.
+_NO_C_WRAPPER: dict[str, Any] = {"no_cfunc_wrapper": True}
 
 
 # The generated formulas (plain Python, from the SymPy derivation), compiled here.
