@@ -208,8 +208,9 @@ def load() -> ModuleType:
     Each entry point of :mod:`flapping.fast._compiled` is compiled on its first call (see
     :func:`run`), so a call compiles only what it uses: the orbit and its multipliers
     (:func:`solve_hover`, the default path) compile ``newton_and_estimate`` and what it calls
-    (~3-5 s of CPU with an empty cache, ~0.1 s to load from numba's cache); the sampled orbit,
-    the quadrature along it and :func:`monodromy_at` compile their own on first use.
+    (5-7 s of CPU with an empty cache, measured on a busy 2-core machine; ~0.1 s to load from
+    numba's cache); the sampled orbit, the quadrature along it and :func:`monodromy_at` compile
+    their own on first use.
 
     Returns
     -------
@@ -264,8 +265,11 @@ def _cached(fn: Any, cache: Path) -> bool:
     numba names it ``<module>.<function>-<first line>.py<X><Y>.nbi`` (numba 0.60-0.68); a stale
     index (an edited source) passes here and then compiles: the note comes after, not before.
     """
-    code = fn.py_func.__code__
-    module = fn.py_func.__module__.rsplit(".", 1)[-1]
+    py_func = getattr(fn, "py_func", None)
+    if py_func is None:  # not numba's (a wrapper a benchmark put in its place): nothing to say
+        return True
+    code = py_func.__code__
+    module = py_func.__module__.rsplit(".", 1)[-1]
     version = f"py{sys.version_info.major}{sys.version_info.minor}"
     return (cache / f"{module}.{code.co_name}-{code.co_firstlineno}.{version}.nbi").is_file()
 
