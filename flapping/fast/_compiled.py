@@ -1,7 +1,24 @@
 """The numba-compiled parts of the hover kernel (imported only when the kernel is first used).
 
-Everything here runs inside ``numba.njit(cache=True)`` and trusts its inputs; the checks, the
-choice of step count and the error estimate are in :mod:`flapping.fast.kernel`.
+Everything here runs inside numba and trusts its inputs; the checks, the choice of step count and
+the error estimate are in :mod:`flapping.fast.kernel`.
+
+What is compiled, and how often. numba compiles a function the first time it is called, and the
+code of every compiled function it calls is linked into the caller's and optimised and translated
+to machine code again there, once per level of calls; numba's ``inline='always'`` costs more still
+(it copies and retypes the callee at every call site). So the levels are few: the entry points
+(:func:`newton_and_estimate`, with Newton's method in it; :func:`variational_period`,
+:func:`sample_period`, :func:`states_at`, :func:`orbit_quadrature`) call small helpers and the
+right-hand sides, and each entry point is compiled (or loaded from numba's cache,
+``cache=True``) on its first call, so the orbit and its multipliers compile only what they use.
+The right-hand sides have no flag choosing between the plain and the variational state (numba
+typed both branches of such a flag, so both sets of generated derivatives were compiled
+everywhere), and there is no NumPy slice assignment, ``np.linalg`` call or array expression: a
+slice assignment compiled numba's shape-mismatch message (string formatting, ~1.5 s), and
+``np.linalg.solve`` and ``det`` their checks and copies; LAPACK's ``dgesv`` and ``dgetrf``, which
+they call, are called directly with the same arguments, so every number is the same to the last
+bit. With an empty cache the default path (orbit, multipliers, averaged Jacobian) compiles in
+~6-8 s of CPU instead of ~19 s (measured on a loaded 2-core machine).
 
 State layouts (float64 arrays):
 
@@ -24,6 +41,7 @@ half-stroke is smooth, so the global error is O(h^8).
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numba
 import numpy as np
@@ -32,7 +50,7 @@ import numpy as np
 # which refuses a real matrix with complex eigenvalues (an oscillatory mode's pair): called here
 # directly for the real and imaginary parts. Internal names: if a numba release moves them, the
 # import fails loudly here rather than the multipliers changing.
-from numba.np.linalg import _LAPACK, _dummy_liveness_func
+from numba.np.linalg import _LAPACK, F_INT_nptype, _dummy_liveness_func
 
 from flapping.fast import _dop853, _generated
 
@@ -40,7 +58,7 @@ from flapping.fast import _dop853, _generated
 CACHED = True
 
 
-def _jit(fn):
+def _jit(fn, **options):
     """``numba.njit(cache=True)``, or without the disk cache if numba finds no writable place.
 
     numba looks for one at decoration time (``NUMBA_CACHE_DIR``, then ``__pycache__`` beside this
@@ -49,17 +67,29 @@ def _jit(fn):
     """
     global CACHED
     try:
-        return numba.njit(cache=True)(fn)
+        return numba.njit(cache=True, **options)(fn)
     except RuntimeError as error:
         if "cannot cache" not in str(error):
             raise
         CACHED = False
-        return numba.njit(fn)
+        return numba.njit(**options)(fn)
+
+
+def _helper(fn):
+    """A function called from compiled code (and from the tests): ``numba.njit`` without numba's
+    disk cache (its machine code is linked into each entry point's, which is cached) and without
+    the C wrapper numba would also compile, for calls through a function pointer (the kernel
+    makes none). Its CPython wrapper stays: without it, a call from Python crashes."""
+    return numba.njit(**_NO_C_WRAPPER)(fn)
+
+
+# numba's own option (its internal functions use it), absent from the stubs of njit's keywords.
+_NO_C_WRAPPER: dict[str, Any] = {"no_cfunc_wrapper": True}
 
 
 # The generated formulas (plain Python, from the SymPy derivation), compiled here.
-derivatives = _jit(_generated.derivatives)
-derivatives_and_amplitude = _jit(_generated.derivatives_and_amplitude)
+derivatives = _helper(_generated.derivatives)
+derivatives_and_amplitude = _helper(_generated.derivatives_and_amplitude)
 
 N_STAGES = _dop853.N_STAGES
 RK_A = np.ascontiguousarray(_dop853.A)
@@ -84,9 +114,13 @@ EIGEN_NOT_CONVERGED = 2
 _DGEEV = _LAPACK().numba_ez_rgeev(numba.float64)
 _DGEEV_KIND = ord("d")
 _DGEEV_NO_VECTORS = ord("N")
+# And those behind numba's np.linalg.solve (dgesv) and np.linalg.det (dgetrf), called directly
+# with the arguments numba passes (see :func:`_solve`, :func:`_det_is_zero`).
+_DGESV = _LAPACK().numba_xgesv(numba.float64)
+_DGETRF = _LAPACK().numba_xxgetrf(numba.float64)
 
 
-@_jit
+@_helper
 def _phase(t, amp, sign, p):  # pragma: no cover - compiled
     """phi, phi_dot, |phi_dot| and the sines and cosines of phi and 2 phi at time t (eq. 39)."""
     wt = p[1] * t
@@ -96,7 +130,7 @@ def _phase(t, amp, sign, p):  # pragma: no cover - compiled
     return phi, phidot, sign * phidot, sphi, cphi, 2.0 * sphi * cphi, cphi * cphi - sphi * sphi
 
 
-@_jit
+@_helper
 def plain_rhs(t, x, amp, sign, k, p, d, out):  # pragma: no cover - compiled
     """dx/dt of eq. (2) with eq. (29)'s loads, and z' = -u sin(theta) + w cos(theta)."""
     phi, phidot, absphidot, sphi, cphi, s2phi, c2phi = _phase(t, amp, sign, p)
@@ -110,7 +144,7 @@ def plain_rhs(t, x, amp, sign, k, p, d, out):  # pragma: no cover - compiled
     out[4] = -u * sth + w * cth
 
 
-@_jit
+@_helper
 def variational_rhs(t, y, amp, sign, k, p, d, out):  # pragma: no cover - compiled
     """d/dt of the variational state: x, Y' = J Y, s' = J s + df/dPhi, and trace J."""
     phi, phidot, absphidot, sphi, cphi, s2phi, c2phi = _phase(t, amp, sign, p)
@@ -145,28 +179,28 @@ def variational_rhs(t, y, amp, sign, k, p, d, out):  # pragma: no cover - compil
     out[31] = u * cth + w * sth  # forward speed: no variations needed (nothing depends on x_e)
 
 
-@_jit
-def _rk_step(variational, t, h, y, amp, sign, k, p, d, stages, tmp):  # pragma: no cover
-    """One fixed step of the 8th-order Dormand-Prince formula, in place on y.
+@_helper
+def _stage_state(s, h, y, stages, tmp):  # pragma: no cover - compiled
+    """tmp = y + h sum_j a_sj k_j: the state at which stage s of a step is evaluated.
 
-    The stage sums run over contiguous rows of ``stages`` (the inner loop over the state
-    vectorises) and skip the zero couplings and weights of the tableau (16 of the 66 a_ij, 4 of
-    the 12 b_j); each sum adds its terms in the order of the plain double loop, so the result
-    is the same to the last bit.
+    The sums run over contiguous rows of ``stages`` (the inner loop over the state vectorises)
+    and skip the zero couplings of the tableau (16 of the 66 a_ij); each sum adds its terms in
+    the order of the plain double loop, so the result is the same to the last bit.
     """
     n = y.size
-    for s in range(N_STAGES):
-        for i in range(n):
-            tmp[i] = y[i]
-        for j in range(s):
-            a = h * RK_A[s, j]
-            if a != 0.0:
-                for i in range(n):
-                    tmp[i] += a * stages[j, i]
-        if variational:
-            variational_rhs(t + RK_C[s] * h, tmp, amp, sign, k, p, d, stages[s])
-        else:
-            plain_rhs(t + RK_C[s] * h, tmp, amp, sign, k, p, d, stages[s])
+    for i in range(n):
+        tmp[i] = y[i]
+    for j in range(s):
+        a = h * RK_A[s, j]
+        if a != 0.0:
+            for i in range(n):
+                tmp[i] += a * stages[j, i]
+
+
+@_helper
+def _step_end(h, y, stages, tmp):  # pragma: no cover - compiled
+    """y += h sum_s b_s k_s in place, skipping the zero weights (4 of the 12 b_s)."""
+    n = y.size
     for i in range(n):
         tmp[i] = 0.0
     for s in range(N_STAGES):
@@ -178,46 +212,51 @@ def _rk_step(variational, t, h, y, amp, sign, k, p, d, stages, tmp):  # pragma: 
         y[i] += h * tmp[i]
 
 
-@_jit
-def integrate_period(variational, y, amp, n_steps, k, p, samples):  # pragma: no cover
-    """Integrate y in place over one period, ``n_steps`` per half-stroke; returns the RHS count.
+@_helper
+def _plain_step(t, h, y, amp, sign, k, p, d, stages, tmp):  # pragma: no cover - compiled
+    """One fixed step of the 8th-order Dormand-Prince formula on the plain state, in place.
 
-    Segment 0 is the backward stroke (|phi_dot| = -phi_dot), segment 1 the forward stroke. If
-    ``samples`` has more than one row, the state after every step is stored in it (row 0 is the
-    initial state; row i the state at t = i h).
+    :func:`variational_period` takes the same step with :func:`variational_rhs` in its loop: one
+    function per state rather than a flag choosing the right-hand side (numba typed and compiled
+    both branches of such a flag) and one level of compiled calls less on the default path.
     """
-    period = 2.0 * math.pi / p[1]
-    h = 0.5 * period / n_steps
-    d = np.empty(24)
-    stages = np.empty((N_STAGES, y.size))
-    tmp = np.empty(y.size)
-    store = samples.shape[0] > 1
-    if store:
-        samples[0, :] = y
-    row = 1
-    for segment in range(2):
-        sign = -1.0 if segment == 0 else 1.0
-        t0 = 0.5 * period * segment
-        for i in range(n_steps):
-            _rk_step(variational, t0 + i * h, h, y, amp, sign, k, p, d, stages, tmp)
-            if store:
-                samples[row, :] = y
-                row += 1
-    return 2 * n_steps * N_STAGES
+    for s in range(N_STAGES):
+        _stage_state(s, h, y, stages, tmp)
+        plain_rhs(t + RK_C[s] * h, tmp, amp, sign, k, p, d, stages[s])
+    _step_end(h, y, stages, tmp)
 
 
 @_jit
 def variational_period(z, n_steps, k, p):  # pragma: no cover - compiled
-    """The variational state after one period from x0 = z[:4] (z = 0) at Phi = z[4]."""
+    """The variational state after one period from x0 = z[:4] (z = 0) at Phi = z[4].
+
+    ``n_steps`` per half-stroke: segment 0 is the backward stroke (|phi_dot| = -phi_dot),
+    segment 1 the forward stroke.
+    """
     y = np.zeros(N_VAR)
-    y[:4] = z[:4]
+    for i in range(4):
+        y[i] = z[i]
     for j in range(4):
         y[5 + 5 * j] = 1.0  # Y = [I; 0] (row-major 5 x 4: element (j, j) at 5 + 4 j + j)
-    integrate_period(True, y, z[4], n_steps, k, p, np.empty((1, 1)))
+    amp = z[4]
+    period = 2.0 * math.pi / p[1]
+    h = 0.5 * period / n_steps
+    d = np.empty(24)
+    stages = np.empty((N_STAGES, N_VAR))
+    tmp = np.empty(N_VAR)
+    for segment in range(2):
+        sign = -1.0 if segment == 0 else 1.0
+        t0 = 0.5 * period * segment
+        for step in range(n_steps):  # one Dormand-Prince step (as _plain_step's)
+            t = t0 + step * h
+            for s in range(N_STAGES):
+                _stage_state(s, h, y, stages, tmp)
+                variational_rhs(t + RK_C[s] * h, tmp, amp, sign, k, p, d, stages[s])
+            _step_end(h, y, stages, tmp)
     return y
 
 
-@_jit
+@_helper
 def residual_and_jacobian(y, z):  # pragma: no cover - compiled
     """The hover residual x(T) - x(0) (z(0) = 0) and its Jacobian in (u0, w0, q0, theta0, Phi)."""
     r = np.empty(5)
@@ -230,41 +269,69 @@ def residual_and_jacobian(y, z):  # pragma: no cover - compiled
     return r, J
 
 
-@_jit
-def newton(z, n_steps, k, p, max_iter, xtol):  # pragma: no cover - compiled
-    """Newton's method on the hover residual, from z = (u0, w0, q0, theta0, Phi), in place.
-
-    Stops when the next Newton step would be below ``xtol`` (relative to max(1, |z_i|)) in every
-    unknown, leaving z at the last integrated point, to which the returned variational state
-    belongs. Returns (status, iterations, residual norm, y).
-    """
-    y = np.zeros(N_VAR)
-    norm = math.inf
-    for it in range(1, max_iter + 1):
-        if not (0.0 < z[4] <= 0.5 * math.pi):
-            return AMPLITUDE_OUT_OF_RANGE, it - 1, norm, y
-        y = variational_period(z, n_steps, k, p)
-        r, J = residual_and_jacobian(y, z)
-        norm = math.sqrt(np.sum(r * r))
-        if not (np.all(np.isfinite(r)) and np.all(np.isfinite(J))):
-            return NOT_FINITE, it, norm, y
-        if abs(np.linalg.det(J)) == 0.0:
-            return SINGULAR, it, norm, y
-        dz = np.linalg.solve(J, -r)
-        # Keep the amplitude step within a third of the way to either end of (0, pi/2].
-        limit = min(z[4], 0.5 * math.pi - z[4] + 1e-3) / 3.0
-        scale = min(1.0, limit / abs(dz[4])) if dz[4] != 0.0 else 1.0
-        small = True
-        for i in range(5):
-            if abs(dz[i]) > xtol * max(1.0, abs(z[i])):
-                small = False
-        if small:  # z is the root to rounding level; y and the residual belong to it
-            return CONVERGED, it, norm, y
-        z += scale * dz
-    return MAX_ITERATIONS, max_iter, norm, y
+@_helper
+def _all_finite(r, J):  # pragma: no cover - compiled
+    """Whether every entry of the vector r and of the matrix J is finite."""
+    for i in range(r.size):
+        if not math.isfinite(r[i]):
+            return False
+    for i in range(J.shape[0]):
+        for j in range(J.shape[1]):
+            if not math.isfinite(J[i, j]):
+                return False
+    return True
 
 
-@_jit
+@_helper
+def _fortran_copy(m):  # pragma: no cover - compiled
+    """The square matrix m copied to Fortran order (its transpose in C order), as LAPACK reads
+    it and as numba's np.linalg functions copy it."""
+    n = m.shape[0]
+    a = np.empty((n, n))
+    for i in range(n):
+        for j in range(n):
+            a[j, i] = m[i, j]
+    return a
+
+
+@_helper
+def _det_is_zero(m):  # pragma: no cover - compiled
+    """``np.linalg.det(m) == 0`` for a finite square m, computed as numba computes det: LAPACK's
+    LU factorisation (dgetrf) of a Fortran-ordered copy, det = +-exp(sum log |u_ii|), zero if a
+    pivot is exactly zero (dgetrf's info > 0) or if the exponential underflows."""
+    n = m.shape[0]
+    a = _fortran_copy(m)
+    ipiv = np.empty(n, dtype=F_INT_nptype)
+    info = _DGETRF(_DGEEV_KIND, n, n, a.ctypes, n, ipiv.ctypes)
+    _dummy_liveness_func([a.size, ipiv.size])  # alive through the call
+    if info > 0:
+        return True
+    log_det = 0.0
+    for i in range(n):
+        log_det = log_det + math.log(abs(a[i, i]))
+    return math.exp(log_det) == 0.0
+
+
+@_helper
+def _solve_negated(m, b):  # pragma: no cover - compiled
+    """``np.linalg.solve(m, -b)``, as numba computes it: its checks, then LAPACK's dgesv on a
+    Fortran-ordered copy of m and a copy of -b, with the same arguments."""
+    n = m.shape[0]
+    if not _all_finite(b, m):
+        raise np.linalg.LinAlgError("Array must not contain infs or NaNs.")
+    a = _fortran_copy(m)
+    x = np.empty(n)
+    for i in range(n):
+        x[i] = -b[i]
+    ipiv = np.empty(n, dtype=F_INT_nptype)
+    info = _DGESV(_DGEEV_KIND, n, 1, a.ctypes, n, ipiv.ctypes, x.ctypes, n)
+    _dummy_liveness_func([a.size, x.size, ipiv.size])  # alive through the call
+    if info > 0:
+        raise np.linalg.LinAlgError("Matrix is singular to machine precision.")
+    return x
+
+
+@_helper
 def eigenvalues(m, out):  # pragma: no cover - compiled
     """Eigenvalues of the real square matrix ``m`` into the complex ``out``: LAPACK's dgeev, as
     ``np.linalg.eigvals``. Returns :data:`EIGEN_OK`, or the failure (non-finite entries, or
@@ -290,7 +357,7 @@ def eigenvalues(m, out):  # pragma: no cover - compiled
     return EIGEN_OK
 
 
-@_jit
+@_helper
 def sort_multipliers(w):  # pragma: no cover - compiled
     """In place: by descending modulus (a stable sort), in a complex-conjugate pair the positive
     imaginary part first (the order of :func:`flapping.fast.kernel._sorted`)."""
@@ -311,7 +378,13 @@ def sort_multipliers(w):  # pragma: no cover - compiled
 
 @_jit
 def newton_and_estimate(z, n_steps, k, p, max_iter, xtol, factor):  # pragma: no cover
-    """:func:`newton` at ``n_steps``, then the Richardson estimates, in one call.
+    """Newton's method on the hover residual at ``n_steps``, then the Richardson estimates.
+
+    Newton runs from z = (u0, w0, q0, theta0, Phi), in place, and stops when its next step would
+    be below ``xtol`` (relative to max(1, |z_i|)) in every unknown, leaving z at the last
+    integrated point, to which the variational state y belongs. One compiled function with the
+    estimates: a Newton of its own would be one more level of compiled calls, in which numba
+    optimises and translates the whole integration again (~1 s with an empty cache).
 
     Returns (status, iterations, residual norm, y, r, z_err, multipliers, multiplier_err,
     eigen_status): ``y`` the variational state of the last Newton integration and ``r`` its
@@ -323,14 +396,50 @@ def newton_and_estimate(z, n_steps, k, p, max_iter, xtol, factor):  # pragma: no
     and norm are meaningful; ``eigen_status`` is :data:`EIGEN_OK` unless an eigenvalue problem
     failed.
     """
-    status, nit, norm, y = newton(z, n_steps, k, p, max_iter, xtol)
+    status, nit, norm = MAX_ITERATIONS, max_iter, math.inf
+    y = np.zeros(N_VAR)
+    r = np.zeros(5)
+    for it in range(1, max_iter + 1):
+        if not (0.0 < z[4] <= 0.5 * math.pi):
+            status, nit = AMPLITUDE_OUT_OF_RANGE, it - 1
+            break
+        nit = it
+        y = variational_period(z, n_steps, k, p)
+        r, J = residual_and_jacobian(y, z)
+        norm = 0.0
+        for i in range(5):  # np.sum(r * r): its sum, term by term from 0
+            norm += r[i] * r[i]
+        norm = math.sqrt(norm)
+        if not _all_finite(r, J):
+            status = NOT_FINITE
+            break
+        if _det_is_zero(J):
+            status = SINGULAR
+            break
+        dz = _solve_negated(J, r)
+        # Keep the amplitude step within a third of the way to either end of (0, pi/2].
+        limit = min(z[4], 0.5 * math.pi - z[4] + 1e-3) / 3.0
+        scale = min(1.0, limit / abs(dz[4])) if dz[4] != 0.0 else 1.0
+        small = True
+        for i in range(5):
+            if abs(dz[i]) > xtol * max(1.0, abs(z[i])):
+                small = False
+        if small:  # z is the root to rounding level; y and the residual belong to it
+            status = CONVERGED
+            break
+        for i in range(5):
+            z[i] += scale * dz[i]
     multipliers = np.zeros(4, dtype=np.complex128)
     if status != CONVERGED:
         return status, nit, norm, y, np.zeros(5), np.zeros(5), multipliers, 0.0, EIGEN_OK
-    r, _ = residual_and_jacobian(y, z)
     coarse = variational_period(z, n_steps // 2, k, p)
     r_c, J_c = residual_and_jacobian(coarse, z)
-    z_err = np.abs(np.linalg.solve(J_c, -(r_c - r)) * factor)
+    change = np.empty(5)
+    for i in range(5):
+        change[i] = r_c[i] - r[i]
+    z_err = _solve_negated(J_c, change)
+    for i in range(5):
+        z_err[i] = abs(z_err[i] * factor)
     M = np.empty((4, 4))
     moved = np.empty((4, 4))
     for i in range(4):
@@ -354,11 +463,28 @@ def newton_and_estimate(z, n_steps, k, p, max_iter, xtol, factor):  # pragma: no
 
 @_jit
 def sample_period(x0, amp, n_steps, k, p):  # pragma: no cover - compiled
-    """The plain state (u, w, q, theta, z) after each of 2 n_steps steps over one period."""
-    y = np.zeros(N_PLAIN)
-    y[:4] = x0
+    """The plain state (u, w, q, theta, z) over one period: row 0 the start, row i after step i
+    (``n_steps`` per half-stroke, at t = i h)."""
     samples = np.empty((2 * n_steps + 1, N_PLAIN))
-    integrate_period(False, y, amp, n_steps, k, p, samples)
+    y = np.zeros(N_PLAIN)
+    for i in range(4):
+        y[i] = x0[i]
+    for i in range(N_PLAIN):
+        samples[0, i] = y[i]
+    period = 2.0 * math.pi / p[1]
+    h = 0.5 * period / n_steps
+    d = np.empty(24)
+    stages = np.empty((N_STAGES, N_PLAIN))
+    tmp = np.empty(N_PLAIN)
+    row = 1
+    for segment in range(2):
+        sign = -1.0 if segment == 0 else 1.0
+        t0 = 0.5 * period * segment
+        for i in range(n_steps):
+            _plain_step(t0 + i * h, h, y, amp, sign, k, p, d, stages, tmp)
+            for j in range(N_PLAIN):
+                samples[row, j] = y[j]
+            row += 1
     return samples
 
 
@@ -372,27 +498,21 @@ def states_at(x0, amp, n_steps, k, p, times):  # pragma: no cover - compiled
     d = np.empty(24)
     stages = np.empty((N_STAGES, N_PLAIN))
     tmp = np.empty(N_PLAIN)
+    y = np.empty(N_PLAIN)
     for i in range(times.size):
         segment = 0 if times[i] < half else 1
         j = min(int((times[i] - segment * half) / h), n_steps - 1)
         t_grid = segment * half + j * h
-        y = samples[segment * n_steps + j].copy()
+        for m in range(N_PLAIN):
+            y[m] = samples[segment * n_steps + j, m]
         sign = -1.0 if segment == 0 else 1.0
-        _rk_step(False, t_grid, times[i] - t_grid, y, amp, sign, k, p, d, stages, tmp)
-        out[i] = y
+        _plain_step(t_grid, times[i] - t_grid, y, amp, sign, k, p, d, stages, tmp)
+        for m in range(N_PLAIN):
+            out[i, m] = y[m]
     return out
 
 
-@_jit
-def _advance(t0, t1, y, amp, sign, k, p, h_max, d, stages, tmp):  # pragma: no cover - compiled
-    """Carry the plain state y from t0 to t1 (one half-stroke) in equal steps of at most h_max."""
-    n = max(1, int(math.ceil((t1 - t0) / h_max)))
-    h = (t1 - t0) / n
-    for j in range(n):
-        _rk_step(False, t0 + j * h, h, y, amp, sign, k, p, d, stages, tmp)
-
-
-@_jit
+@_helper
 def _add_jacobian(d, x, g, weight, total):  # pragma: no cover - compiled
     """total += weight J, with J the Jacobian of eq. (2) + eq. (29)'s loads at x (eqs. 44-47)."""
     u, w, q, th = x[0], x[1], x[2], x[3]
@@ -427,7 +547,8 @@ def orbit_quadrature(x0, amp, k, p, nodes, weights, min_steps):  # pragma: no co
     total = np.zeros((4, 4))
     velocity = np.zeros(2)
     y = np.zeros(N_PLAIN)
-    y[:4] = x0
+    for i in range(4):
+        y[i] = x0[i]
     d = np.empty(24)
     stages = np.empty((N_STAGES, N_PLAIN))
     tmp = np.empty(N_PLAIN)
@@ -435,10 +556,17 @@ def orbit_quadrature(x0, amp, k, p, nodes, weights, min_steps):  # pragma: no co
         sign = -1.0 if segment == 0 else 1.0
         a = half * segment
         t = a
-        for i in range(nodes.size):
-            t_node = h * nodes[i] + a + h
-            _advance(t, t_node, y, amp, sign, k, p, h_max, d, stages, tmp)
-            t = t_node
+        # To each node; after the backward stroke's, on to the stroke reversal, where the
+        # forward stroke starts.
+        for i in range(nodes.size + 1 - segment):
+            t_next = h * nodes[i] + a + h if i < nodes.size else half
+            n = max(1, int(math.ceil((t_next - t) / h_max)))  # equal steps of at most h_max
+            step = (t_next - t) / n
+            for j in range(n):
+                _plain_step(t + j * step, step, y, amp, sign, k, p, d, stages, tmp)
+            t = t_next
+            if i == nodes.size:
+                break
             phi, phidot, absphidot, sphi, cphi, s2phi, c2phi = _phase(t, amp, sign, p)
             derivatives(phi, phidot, absphidot, sphi, cphi, s2phi, c2phi, k, d)
             weight = h * weights[i]
@@ -446,6 +574,9 @@ def orbit_quadrature(x0, amp, k, p, nodes, weights, min_steps):  # pragma: no co
             sth, cth = math.sin(y[3]), math.cos(y[3])
             velocity[0] += weight * (y[0] * cth + y[1] * sth)
             velocity[1] += weight * (y[0] * sth - y[1] * cth)
-        if segment == 0:  # on to the stroke reversal, where the forward stroke starts
-            _advance(t, half, y, amp, sign, k, p, h_max, d, stages, tmp)
-    return total / period, velocity / period
+    for i in range(4):
+        for j in range(4):
+            total[i, j] /= period
+    for i in range(2):
+        velocity[i] /= period
+    return total, velocity

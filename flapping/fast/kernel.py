@@ -35,9 +35,11 @@ writable, else numba's user-wide cache directory (``$XDG_CACHE_HOME/numba`` or
 ``~/.cache/numba`` on Linux, one sub-directory per installed package directory), which is where an
 installed wheel in a read-only ``site-packages`` caches (checked for numba 0.60-0.68:
 ``numba.core.caching.UserWideCacheLocator``). If no place is writable the kernel still runs,
-compiled again in every process. The first use in an environment compiles (12-30 s of CPU) and says
-so once (a :class:`KernelCompileWarning`); every use logs one INFO line on the ``"flapping"``
-logger with the time and the cache directory. Later processes load the cache in ~0.1-0.5 s.
+compiled again in every process. Each compiled entry point is compiled on its first call (see
+:func:`run`): the first orbit and multipliers in an environment compile what they use (3-10 s
+of CPU) and say so once (a :class:`KernelCompileWarning`); the first call of every entry point
+logs one INFO line on the ``"flapping"`` logger with the time and the cache directory. Later
+processes load the cache in ~0.1 s.
 """
 
 from __future__ import annotations
@@ -48,6 +50,7 @@ import hashlib
 import importlib.util
 import logging
 import math
+import sys
 import time
 import warnings
 from collections.abc import Mapping
@@ -81,6 +84,7 @@ __all__ = [
     "cache_dir",
     "numba_available",
     "load",
+    "run",
     "solve_hover",
     "monodromy_at",
     "orbit_quadrature",
@@ -178,8 +182,8 @@ class KernelCompileWarning(UserWarning):
     """
 
 
-#: Seconds above which the first load of the kernel is worth a note (loading the cache takes
-#: ~0.1-0.5 s; compiling ~12 s).
+#: Seconds above which the first call of an entry point is worth a note (loading the cache takes
+#: ~0.1 s; compiling seconds).
 _NOTE_AFTER_S = 1.0
 
 
@@ -192,15 +196,21 @@ def numba_available() -> bool:
 
 _MODULE: list[ModuleType] = []
 
+#: The entry points of :mod:`flapping.fast._compiled` called (so compiled, or loaded from numba's
+#: cache) in this process, and whether the process has said that numba compiles (said once).
+_READY: set[str] = set()
+_NOTED: list[bool] = []
+
 
 def load() -> ModuleType:
-    """Import the kernel's numba code and compile it, or load it from the cache, once.
+    """Import the kernel's numba code, once per process; nothing is compiled here.
 
-    The first call in a process runs every compiled function once on the hawkmoth, so that
-    compiling (first use in an environment: ~12 s of CPU) or loading the on-disk cache
-    (~0.1-0.5 s) happens here, timed: one INFO line on the ``"flapping"`` logger reports it, and
-    a :class:`KernelCompileWarning` says so when numba compiles (before it starts, if no cache
-    exists; after, if it took more than a second anyway).
+    Each entry point of :mod:`flapping.fast._compiled` is compiled on its first call (see
+    :func:`run`), so a call compiles only what it uses: the orbit and its multipliers
+    (:func:`solve_hover`, the default path) compile ``newton_and_estimate`` and what it calls
+    (5-7 s of CPU with an empty cache, measured on a busy 2-core machine; ~0.1 s to load from
+    numba's cache); the sampled orbit, the quadrature along it and :func:`monodromy_at` compile
+    their own on first use.
 
     Returns
     -------
@@ -213,19 +223,55 @@ def load() -> ModuleType:
         If numba is not installed (``pip install flapping[fast]``).
     """
     if not _MODULE:
-        start = time.perf_counter()
         from flapping.fast import _compiled
 
         cache = cache_dir(_compiled)
         if cache is not None:
             _drop_stale_cache(cache, Path(__file__).with_name("_generated.py"))
-        fresh = cache is None or not any(cache.glob("_compiled.newton-*.nbi"))
-        if fresh:
-            _note_compiling(cache)
-        _touch(_compiled)
-        _announce(time.perf_counter() - start, _compiled_anew(_compiled), cache, noted=fresh)
         _MODULE.append(_compiled)
     return _MODULE[0]
+
+
+def run(kc: ModuleType, name: str, *args: Any) -> Any:
+    """Call the compiled entry point ``name`` of ``kc`` (:func:`load`) with ``args``.
+
+    Its first call in a process compiles it (first use in an environment, or after an upgrade)
+    or loads it from numba's on-disk cache, timed: one INFO line on the ``"flapping"`` logger
+    reports it, and a :class:`KernelCompileWarning` (once per process) says that numba compiles:
+    before it starts if the cache holds no entry for the function, after if it took more than a
+    second anyway.
+    """
+    fn = getattr(kc, name)
+    if name in _READY:
+        return fn(*args)
+    cache = cache_dir(kc)
+    if (cache is None or not _cached(fn, cache)) and not _NOTED:
+        _note_compiling(cache)
+        _NOTED.append(True)
+    start = time.perf_counter()
+    out = fn(*args)
+    seconds = time.perf_counter() - start
+    compiled = bool(getattr(fn, "stats", None) and fn.stats.cache_misses)
+    _announce(seconds, compiled, cache, noted=bool(_NOTED), name=name)
+    if compiled and seconds > _NOTE_AFTER_S:
+        _NOTED.append(True)
+    _READY.add(name)
+    return out
+
+
+def _cached(fn: Any, cache: Path) -> bool:
+    """Whether numba's cache in ``cache`` has an index file for the compiled function ``fn``.
+
+    numba names it ``<module>.<function>-<first line>.py<X><Y>.nbi`` (numba 0.60-0.68); a stale
+    index (an edited source) passes here and then compiles: the note comes after, not before.
+    """
+    py_func = getattr(fn, "py_func", None)
+    if py_func is None:  # not numba's (a wrapper a benchmark put in its place): nothing to say
+        return True
+    code = py_func.__code__
+    module = py_func.__module__.rsplit(".", 1)[-1]
+    version = f"py{sys.version_info.major}{sys.version_info.minor}"
+    return (cache / f"{module}.{code.co_name}-{code.co_firstlineno}.{version}.nbi").is_file()
 
 
 def cache_dir(compiled: ModuleType | None = None) -> Path | None:
@@ -242,29 +288,8 @@ def cache_dir(compiled: ModuleType | None = None) -> Path | None:
         Where numba chose to cache (see the module notes); None if no place was writable.
     """
     compiled = load() if compiled is None else compiled
-    path = compiled.newton.stats.cache_path
+    path = compiled.newton_and_estimate.stats.cache_path
     return Path(path) if compiled.CACHED and path else None
-
-
-def _compiled_anew(compiled: ModuleType) -> bool:
-    """Whether numba compiled (rather than loaded) a kernel function in this process."""
-    return any(fn.stats.cache_misses for fn in (compiled.newton, compiled.orbit_quadrature,
-                                                 compiled.sample_period))
-
-
-def _touch(compiled: ModuleType) -> None:
-    """Run every entry point once (compiling it or loading it), with the argument types of use."""
-    from flapping.model.morphology import hawkmoth
-
-    problem = KernelProblem.of(hawkmoth())
-    z = np.append(np.zeros(4), problem.insect.stroke_amplitude)
-    compiled.newton(z.copy(), _MIN_STEPS, problem.k, problem.p, 2, _XTOL)
-    compiled.newton_and_estimate(z.copy(), _MIN_STEPS, problem.k, problem.p, 2, _XTOL, _FACTOR)
-    compiled.residual_and_jacobian(compiled.variational_period(z, _MIN_STEPS, problem.k,
-                                                               problem.p), z)
-    compiled.states_at(z[:4], z[4], _MIN_STEPS, problem.k, problem.p, np.array([0.001]))
-    nodes, weights = _gauss(2)
-    compiled.orbit_quadrature(z[:4], z[4], problem.k, problem.p, nodes, weights, _MIN_STEPS)
 
 
 def _cache_text(cache: Path | None) -> str:
@@ -276,19 +301,20 @@ def _cache_text(cache: Path | None) -> str:
 def _note_compiling(cache: Path | None) -> None:
     """The one-time note before numba compiles the kernel (no cache yet)."""
     warnings.warn(f"compiling flapping's hover kernel with numba (first use in this "
-                  f"environment: 10-30 s of CPU, once); {_cache_text(cache)}", KernelCompileWarning,
-                  stacklevel=4)
+                  f"environment: 3-10 s of CPU, once); {_cache_text(cache)}", KernelCompileWarning,
+                  stacklevel=5)
 
 
-def _announce(seconds: float, compiled: bool, cache: Path | None, noted: bool) -> None:
+def _announce(seconds: float, compiled: bool, cache: Path | None, noted: bool,
+              name: str = "") -> None:
     """One INFO line on the "flapping" logger; a note if numba compiled for long, unannounced."""
     what = "compiled" if compiled else "loaded from the cache"
-    _LOG.info("hover kernel %s in %.2f s (numba cache: %s)", what, seconds,
-              cache if cache is not None else "none")
+    _LOG.info("hover kernel%s %s in %.2f s (numba cache: %s)", f" ({name})" if name else "",
+              what, seconds, cache if cache is not None else "none")
     if compiled and seconds > _NOTE_AFTER_S and not noted:
         warnings.warn(f"flapping's hover kernel was compiled with numba in {seconds:.1f} s "
                       f"(first use in this environment or after an upgrade); "
-                      f"{_cache_text(cache)}", KernelCompileWarning, stacklevel=4)
+                      f"{_cache_text(cache)}", KernelCompileWarning, stacklevel=5)
 
 
 def _drop_stale_cache(cache: Path, generated: Path) -> None:
@@ -314,7 +340,7 @@ def _drop_stale_cache(cache: Path, generated: Path) -> None:
 
 
 def warm_up() -> float:
-    """Run every compiled function once on the hawkmoth; returns the seconds it took.
+    """Run every compiled entry point once on the hawkmoth; returns the seconds it took.
 
     The first call in an environment compiles (seconds); later processes load the on-disk cache.
     """
@@ -323,7 +349,8 @@ def warm_up() -> float:
     start = time.perf_counter()
     problem = KernelProblem.of(hawkmoth())
     sol = solve_hover(problem)
-    sample_orbit(problem, np.zeros(4), problem.insect.stroke_amplitude, 8)
+    monodromy_at(problem, sol.x0, sol.amplitude)
+    states_at(problem, sol.x0, sol.amplitude, [0.25 * problem.period])  # samples the period too
     orbit_quadrature(problem, sol.x0, sol.amplitude)
     return time.perf_counter() - start
 
@@ -624,8 +651,8 @@ def _newton_and_estimate(kc: ModuleType, problem: KernelProblem, z: np.ndarray, 
     state, the iterations, the residual, the estimated error of z (5,), the largest multiplier
     error and the multipliers (sorted as :func:`_sorted`).
     """
-    status, nit, norm, y, r, z_err, multipliers, shift, eigen = kc.newton_and_estimate(
-        z, n, problem.k, problem.p, _MAX_ITER, _XTOL, _FACTOR)
+    status, nit, norm, y, r, z_err, multipliers, shift, eigen = run(
+        kc, "newton_and_estimate", z, n, problem.k, problem.p, _MAX_ITER, _XTOL, _FACTOR)
     if status != kc.CONVERGED:
         raise ConvergenceError(
             f"no hover orbit for {problem.insect.name} with the compiled kernel "
@@ -795,8 +822,8 @@ def monodromy_at(
     n = _steps(n_steps)
     kc = load()
     while True:
-        y = kc.variational_period(z, n, problem.k, problem.p)
-        coarse = kc.variational_period(z, n // _COARSE, problem.k, problem.p)
+        y = run(kc, "variational_period", z, n, problem.k, problem.p)
+        coarse = run(kc, "variational_period", z, n // _COARSE, problem.k, problem.p)
         M = _monodromy(y)
         err = _eigenvalue_shift(np.linalg.eigvals(M), M, (M - _monodromy(coarse)) * _FACTOR)
         if err <= tol:
@@ -879,8 +906,8 @@ def orbit_quadrature(problem: KernelProblem | Insect, x0: ArrayLike, amplitude: 
     x = _validation.vector("x0", x0, size=4)
     amp = check_amplitude(amplitude)
     nodes, weights = _gauss(_validation.integer("n_nodes", n_nodes, low=1, high=_MAX_NODES))
-    J, v = load().orbit_quadrature(x, amp, problem.k, problem.p, nodes, weights,
-                                   _QUADRATURE_STEPS)
+    J, v = run(load(), "orbit_quadrature", x, amp, problem.k, problem.p, nodes, weights,
+               _QUADRATURE_STEPS)
     return OrbitQuadrature(_read_only(J), _read_only(v), nodes.size)
 
 
@@ -912,7 +939,8 @@ def sample_orbit(problem: KernelProblem, x0: ArrayLike, amplitude: float,
         raise ValueError(f"`n_samples` must be an even integer in [2, {_MAX_SAMPLES}]; got "
                          f"{n_samples!r}")
     x = _validation.vector("x0", x0, size=4)
-    samples = load().sample_period(x, check_amplitude(amplitude), n // 2, problem.k, problem.p)
+    samples = run(load(), "sample_period", x, check_amplitude(amplitude), n // 2, problem.k,
+                  problem.p)
     t = np.linspace(0.0, problem.period, n + 1)
     return t, np.ascontiguousarray(samples[:, :4].T), float(samples[-1, 4])
 
@@ -948,5 +976,5 @@ def states_at(problem: KernelProblem, x0: ArrayLike, amplitude: float, times: Ar
         raise ValueError(f"`times` must lie in [0, T] = [0, {problem.period:g}] s")
     n = _validation.integer("n_steps", n_steps, low=1, high=_MAX_STEPS)
     x = _validation.vector("x0", x0, size=4)
-    out = load().states_at(x, check_amplitude(amplitude), n, problem.k, problem.p, t)
+    out = run(load(), "states_at", x, check_amplitude(amplitude), n, problem.k, problem.p, t)
     return np.ascontiguousarray(out[:, :4].T)

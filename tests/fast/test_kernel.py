@@ -6,6 +6,7 @@ accurate than that on Phi and ~1e-10 on the multipliers away from a coalescing p
 """
 
 import math
+import os
 import subprocess
 import sys
 
@@ -224,3 +225,37 @@ def test_default_tolerances_hold_against_a_fine_solve(frequency):
     assert math.degrees(abs(sol.amplitude - ref.amplitude)) < kernel.AMPLITUDE_TOL_DEG
     gap = np.max(np.abs(np.sort_complex(sol.multipliers) - np.sort_complex(ref.multipliers)))
     assert gap < kernel.MULTIPLIER_TOL and gap <= sol.multiplier_error
+
+
+def test_the_first_orbit_compiles_only_what_it_uses(tmp_path):
+    # With an empty numba cache, a solve compiles newton_and_estimate (and what it calls), one
+    # specialisation, and none of the other entry points (load() used to compile them all, ~2x
+    # the CPU). A fresh process: this one has compiled everything already.
+    code = ("import warnings; warnings.simplefilter('ignore'); import flapping; "
+            "from flapping.fast import kernel; kernel.solve_hover(flapping.hawkmoth()); "
+            "kc = kernel.load(); print({n: len(getattr(kc, n).signatures) for n in "
+            "('newton_and_estimate', 'variational_period', 'sample_period', 'states_at', "
+            "'orbit_quadrature')})")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env={**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}, timeout=600)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip().splitlines()[-1] == str(
+        {"newton_and_estimate": 1, "variational_period": 1, "sample_period": 0, "states_at": 0,
+         "orbit_quadrature": 0})
+    assert any(tmp_path.rglob("_compiled.newton_and_estimate-*.nbi"))
+
+
+def test_a_solve_reports_the_compile_once_and_each_entry_point_once(tmp_path):
+    # One KernelCompileWarning per process, before numba compiles (the cache holds nothing),
+    # and one INFO line per entry point on its first call.
+    code = ("import logging, warnings; logging.basicConfig(level=logging.INFO); "
+            "warnings.simplefilter('always'); import flapping; "
+            "from flapping.fast import kernel; p = kernel.KernelProblem.of(flapping.hawkmoth()); "
+            "s = kernel.solve_hover(p); kernel.solve_hover(p); "
+            "kernel.monodromy_at(p, s.x0, s.amplitude)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env={**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}, timeout=600)
+    assert out.returncode == 0, out.stderr
+    assert out.stderr.count("KernelCompileWarning") == 1
+    assert out.stderr.count("hover kernel (newton_and_estimate) compiled") == 1
+    assert out.stderr.count("hover kernel (variational_period)") == 1

@@ -83,3 +83,16 @@ def test_fwuavs_procedure_converges_onto_our_exponents_when_refined():
 def test_the_monarch_is_refused_with_a_convergence_error_saying_why():
     with pytest.raises(ConvergenceError, match="stroke reversal"):
         hover_floquet("monarch")
+
+
+def test_the_hawkmoths_exponents_are_the_ones_computed_before_the_speed_up():
+    # Computed on 2026-12-03 before the model's evaluation was made faster (same equations; the
+    # faster code gives them to the bit). Tolerance: the method's accuracy at the default
+    # rtol = 1e-11, measured against rtol = 1e-12: 4e-10 relative (rtol 1e-10: 3e-8). A change
+    # of the arithmetic's order moves them by ~1e-13; a change of the integration would not pass.
+    r = hover_floquet("hawkmoth")
+    np.testing.assert_allclose(r.longitudinal.real, [-1.7758957011796377, -4.630048434248125],
+                               rtol=1e-9)
+    assert r.lateral.real == pytest.approx(-1.482035276245892, rel=1e-9)
+    np.testing.assert_allclose(r.x0[3:6], [-0.11980044476313688, 0.0, 0.006140098680065467],
+                               rtol=0, atol=1e-12)

@@ -203,3 +203,48 @@ def test_the_body_rate_term_changes_the_force_only_through_the_body_rate():
     still = Motion(**{**vars(motion), "W": np.zeros(3)})
     np.testing.assert_allclose(fwuav.aerodynamic_force(still, v),
                                rotated.aerodynamic_force(still, v), rtol=1e-13)
+
+
+def test_the_jacobian_at_the_right_hand_sides_instant_reuses_its_wing_frames(monkeypatch):
+    # The integrators ask for f(t, x) and J(t, x) at the same instants: the wing frames (two
+    # thirds of the strip velocities' work, four cross products) are computed once for both.
+    import flapping.peers.fwuav.model as fw
+
+    model = FwuavHover("hawkmoth")
+    t, x = 0.3 * model.period, np.array([0.0, 0.0, 0.0, -0.12, 0.0, 0.006])
+    model.rhs(t, x)
+    calls = []
+    monkeypatch.setattr(fw, "_cross", lambda a, b: calls.append(1) or np.cross(a, b))
+    model.jac(t, x)
+    assert calls == []
+    model.jac(t + 1e-5, x)  # another instant: new frames
+    assert calls
+
+
+@pytest.mark.parametrize("name", ["hawkmoth", "monarch"])
+def test_remembered_frames_give_a_fresh_models_numbers(name):
+    # The frames are remembered per motion, the velocity enters afresh: after a call at another
+    # state (and at another instant) the same instant gives the fresh model's numbers, to the bit.
+    used, fresh = FwuavHover(name), FwuavHover(name)
+    t = 0.41 * used.period
+    x1, x2 = np.array([0, 0, 0, -0.12, 0.01, 0.006]), np.array([0, 0, 0, 0.2, -0.03, -0.1])
+    used.rhs(0.1 * used.period, x2)
+    used.rhs(t, x1)
+    used.jac(t, x1)
+    np.testing.assert_array_equal(used.rhs(t, x2), fresh.rhs(t, x2))
+    np.testing.assert_array_equal(used.jac(t, x2), FwuavHover(name).jac(t, x2))
+
+
+def test_a_strip_at_rest_adds_no_force_and_no_jacobian():
+    # The masked branch of the strip sums (a strip of zero velocity has no angle of attack):
+    # its force and Jacobian are those of the other strips alone.
+    from flapping.peers.fwuav.model import _strip_forces, _strip_jacobian
+
+    sp = species("hawkmoth")
+    U = np.array([[0.0, -1.2, 2.0, 0.7], [0.0, 0.0, 0.0, 0.0], [0.0, 0.4, -0.3, 1.1]])
+    w = np.array([3e-4, 2e-4, 1e-4, 2.5e-4])
+    np.testing.assert_allclose(_strip_forces(sp, U, w), _strip_forces(sp, U[:, 1:], w[1:]),
+                               rtol=1e-15, atol=0)
+    np.testing.assert_allclose(_strip_jacobian(sp, U, w), _strip_jacobian(sp, U[:, 1:], w[1:]),
+                               rtol=1e-15, atol=0)
+    assert np.all(np.isfinite(_strip_jacobian(sp, U, w)))
