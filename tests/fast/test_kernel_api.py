@@ -252,7 +252,7 @@ def test_the_cache_directory_holds_the_kernel_and_its_stamp():
     if cache is None:
         pytest.skip("numba found no writable cache directory here")
     assert (cache / "_compiled.generated-sha256").is_file()
-    assert any(cache.glob("_compiled.newton-*.nbi"))
+    assert any(cache.glob("_compiled.newton_and_estimate-*.nbi"))
 
 
 def _in_subprocess(code, **env):
