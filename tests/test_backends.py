@@ -218,3 +218,26 @@ def test_the_monodromy_has_one_type_whatever_the_path(aerodynamics):
     adaptive = hover_stability(find_hover_orbit(flapping.hawkmoth(), backend="adaptive"))
     assert find_hover_orbit(flapping.hawkmoth(), backend="adaptive").floquet is None
     assert adaptive.floquet.liouville_error < 1e-9
+
+
+def test_the_kernel_s_codes_are_the_one_table_s():
+    from flapping.fast import _compiled
+
+    codes = {"CONVERGED": Status.SUCCESS, "MAX_ITERATIONS": Status.MAX_ITERATIONS,
+             "AMPLITUDE_OUT_OF_RANGE": Status.LEFT_DOMAIN, "NOT_FINITE": Status.NON_FINITE,
+             "SINGULAR": Status.SINGULAR}
+    for name, status in codes.items():
+        assert getattr(_compiled, name) == int(status), name
+
+
+def test_a_failed_kernel_solve_carries_its_status(monkeypatch):
+    # No refinement allowed from 4 steps: the tolerances cannot be met. The error says so with
+    # the one table's status, which a sweep row reports as its word.
+    from flapping.fast import kernel
+
+    monkeypatch.setattr(kernel, "_MAX_REFINEMENTS", 0)
+    with pytest.raises(ConvergenceError) as info:
+        kernel.solve_hover(flapping.hawkmoth(), n_steps=4, amplitude_tol_deg=1e-11,
+                           multiplier_tol=1e-12)
+    assert info.value.status is Status.TOLERANCE_NOT_MET
+    assert status_of(info.value) is Status.TOLERANCE_NOT_MET

@@ -63,11 +63,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 import flapping._validation as _validation
+from flapping.backends import Compiled
 from flapping.errors import ConvergenceError
 from flapping.fast import _generated
 from flapping.model.aerodynamics import AeroConstants, aero_constants, trim_angle_of_attack
 from flapping.model.kinematics import check_alpha_m, check_amplitude
 from flapping.model.morphology import Insect
+from flapping.results import Status
 
 __all__ = [
     "AMPLITUDE_TOL_DEG",
@@ -93,8 +95,8 @@ __all__ = [
 ]
 
 #: Default accuracy of the stroke amplitude [deg] and of every Floquet multiplier (absolute).
-AMPLITUDE_TOL_DEG = 1e-9
-MULTIPLIER_TOL = 1e-8
+AMPLITUDE_TOL_DEG: float = Compiled.amplitude_tol_deg
+MULTIPLIER_TOL: float = Compiled.multiplier_tol
 
 #: Smallest accepted ``amplitude_tol_deg`` [deg]. Newton stops when its next step is below
 #: _XTOL = 1e-13 max(1, abs(Phi)) rad (the step is then rounding noise: the residual's rounding,
@@ -136,12 +138,10 @@ _MAX_NODES, _QUADRATURE_STEPS = 1 << 16, 32
 #: Samples per period of :func:`sample_orbit` at most (a cap on the work and the memory).
 _MAX_SAMPLES = 2**20
 
-_STATUS = {
-    1: "Newton's method reached its iteration cap",
-    2: "an iterate's stroke amplitude left (0, 90] deg",
-    3: "the integration produced a non-finite value",
-    4: "the Jacobian of the hover residual is singular",
-}
+#: The compiled code's outcome codes are the values of the package's one status table
+#: (:class:`flapping.results.Status`; a test holds them equal): the wrapper reads them as such.
+_CODES = (Status.SUCCESS, Status.MAX_ITERATIONS, Status.LEFT_DOMAIN, Status.NON_FINITE,
+          Status.SINGULAR)
 
 #: The :class:`~flapping.model.morphology.Insect` fields the kernel follows, and how each enters.
 #: :meth:`KernelProblem.of` refuses an insect whose other fields differ from their defaults, so
@@ -656,8 +656,9 @@ def _newton_and_estimate(kc: ModuleType, problem: KernelProblem, z: np.ndarray, 
     if status != kc.CONVERGED:
         raise ConvergenceError(
             f"no hover orbit for {problem.insect.name} with the compiled kernel "
-            f"({n} steps per half-stroke): {_STATUS[status]} (Phi = "
-            f"{math.degrees(z[4]):.6g} deg)", x=z, residual=float(norm), iterations=int(nit))
+            f"({n} steps per half-stroke): {Status(status).message} (Phi = "
+            f"{math.degrees(z[4]):.6g} deg)", x=z, residual=float(norm), iterations=int(nit),
+            status=Status(status))
     if eigen != kc.EIGEN_OK:  # the messages of np.linalg.eigvals
         raise np.linalg.LinAlgError("Array must not contain infs or NaNs"
                                     if eigen == kc.EIGEN_NOT_FINITE else
@@ -764,7 +765,8 @@ def _solve(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int, tol_am
         raise ConvergenceError(
             f"the compiled kernel could not meet the tolerances with {n} steps per half-stroke "
             f"(estimated errors: Phi {math.degrees(z_err[4]):.2e} deg, multipliers "
-            f"{mu_err:.2e})", x=z, residual=float(np.linalg.norm(r)), iterations=total_nit)
+            f"{mu_err:.2e})", x=z, residual=float(np.linalg.norm(r)), iterations=total_nit,
+            status=Status.TOLERANCE_NOT_MET)
     period = problem.period
     return HoverSolution(
         x0=_read_only(z[:4].copy()), amplitude=float(z[4]), alpha_m=problem.alpha_m,
@@ -831,7 +833,8 @@ def monodromy_at(
         if n >= _MAX_STEPS:
             raise ConvergenceError(
                 f"the compiled kernel could not integrate the monodromy to multiplier_tol = "
-                f"{tol:g} with {n} steps per half-stroke (estimated error {err:.2e})", x=z)
+                f"{tol:g} with {n} steps per half-stroke (estimated error {err:.2e})", x=z,
+                status=Status.TOLERANCE_NOT_MET)
         n = _next_steps(n, err / tol)
 
 

@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 import flapping._validation as check
+from flapping.backends import FixedStep
 from flapping.errors import ConvergenceError, DomainError
 from flapping.periodic import _segments as seg
 from flapping.periodic import settings as opt
@@ -409,9 +410,9 @@ def find_periodic_orbit_fixed_step(
     switches: Sequence[Any] = (),
     args: tuple[Any, ...] = (),
     n_steps: int | None = None,
-    error_tol: float = 1e-10,
+    error_tol: float = FixedStep.error_tol,
     multiplier_tol: float | None = None,
-    tol: float = 1e-10,
+    tol: float = FixedStep.tol,
     max_nfev: int | None = None,
 ) -> FixedStepOrbit:
     """Periodic orbit of a forced system by Newton's method on a fixed-step DOP853 period map.
