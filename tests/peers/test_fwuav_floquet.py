@@ -96,3 +96,12 @@ def test_the_hawkmoths_exponents_are_the_ones_computed_before_the_speed_up():
     assert r.lateral.real == pytest.approx(-1.482035276245892, rel=1e-9)
     np.testing.assert_allclose(r.x0[3:6], [-0.11980044476313688, 0.0, 0.006140098680065467],
                                rtol=0, atol=1e-12)
+
+
+def test_the_backend_argument_is_the_package_s():
+    from flapping.backends import Adaptive
+    from flapping.peers.fwuav import hover_floquet
+
+    assert hover_floquet("hawkmoth", backend=Adaptive(rtol=1e-11)) is hover_floquet("hawkmoth")
+    with pytest.raises(ValueError, match="adaptive path only"):
+        hover_floquet("hawkmoth", backend="compiled")

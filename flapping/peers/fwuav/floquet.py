@@ -31,6 +31,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import flapping._validation as check
+from flapping.backends import AUTO, Adaptive, as_backend
 from flapping.errors import ConvergenceError, require_success
 from flapping.peers.fwuav.data import SPECIES, Species, species
 from flapping.peers.fwuav.model import FwuavHover
@@ -173,16 +174,21 @@ def _cached(name: str, rtol: float, quadrature: str, n_strips: int, body_rate_te
     return _build(species(name), rtol, quadrature, n_strips, body_rate_term)
 
 
-def hover_floquet(name: str, *, rtol: float = 1e-11, quadrature: str = "fwuav",
-                  n_strips: int = 50, body_rate_term: str = "fwuav") -> HoverFloquet:
+def hover_floquet(name: str, *, backend: Adaptive | str = Adaptive.name,
+                  rtol: float | None = None, quadrature: str = "fwuav", n_strips: int = 50,
+                  body_rate_term: str = "fwuav") -> HoverFloquet:
     """The hover orbit of FWUAV's insect ``name`` and its six Floquet exponents.
 
     Parameters
     ----------
     name : str
         ``hawkmoth``, ``bumblebee``, ``fruit_fly`` or ``monarch``.
+    backend : "adaptive" or Adaptive, optional
+        The path (:mod:`flapping.backends`): FWUAV's model runs on the adaptive one only; its
+        ``rtol`` is every integration's (default :class:`~flapping.backends.Adaptive`'s).
     rtol : float, optional
-        Relative tolerance of every integration, in [1e-13, 1e-3] (absolute: ``rtol / 10``).
+        Shorthand for ``backend``'s ``rtol``: relative tolerance of every integration, in
+        [1e-13, 1e-3] (absolute: ``rtol / 10``).
     quadrature : {"fwuav", "gauss"}, optional
         Span quadrature of the aerodynamic force (FWUAV's by default).
     n_strips : int, optional
@@ -207,6 +213,13 @@ def hover_floquet(name: str, *, rtol: float = 1e-11, quadrature: str = "fwuav",
         model").
     """
     species(name)
+    spec = as_backend(backend)
+    if spec == AUTO:
+        spec = Adaptive()
+    if not isinstance(spec, Adaptive):
+        raise ValueError(f"hover_floquet runs FWUAV's model on the adaptive path only; got "
+                         f"backend={backend!r}")
+    rtol = spec.rtol if rtol is None else rtol
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-13 <= rtol <= 1e-3:
         raise ValueError(f"`rtol` must be a number in [1e-13, 1e-3]; got {rtol!r}")
     FwuavHover(name, n_strips=n_strips, quadrature=quadrature,
