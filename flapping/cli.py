@@ -44,7 +44,7 @@ from flapping.hover.stability import HoverStability, hover_stability
 from flapping.model import presets as species
 from flapping.model.dynamics import AERODYNAMIC_MODELS, STATE_NAMES
 from flapping.model.insect_file import resolve_insect
-from flapping.model.morphology import Insect
+from flapping.model.morphology import Insect, explain_blowup
 from flapping.peers.fwuav import cli as fwuav_cli
 from flapping.studies.atlas import robust_hover_orbit
 from flapping.studies.sweep import SWEEPABLE, sweep_hover
@@ -396,7 +396,11 @@ def _species(as_json: bool) -> int:
 
 
 def _hover(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
-    """The ``hover`` subcommand: the report as text or one JSON object."""
+    """The ``hover`` subcommand: the report as text or one JSON object.
+
+    A failure is one line, naming the insect's implausible fields, if any, as the likely cause
+    (:func:`~flapping.model.morphology.explain_blowup`).
+    """
     insect = _insect_argument(parser, args.insect, args.geometry)
     try:
         report = hover_report(insect, args.aerodynamics)
@@ -404,7 +408,9 @@ def _hover(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     except (ValueError, ConvergenceError, ArithmeticError) as exc:
         if _is_interrupt(exc):
             raise KeyboardInterrupt from exc
-        print(f"{parser.prog}: error: {_one_line(exc)}", file=sys.stderr)
+        why = explain_blowup(insect)  # the fields to check, if some look like no insect's
+        print(f"{parser.prog}: error: {_one_line(exc)}" + (f" ({why})" if why else ""),
+              file=sys.stderr)
         return 1
     _raise_if_interrupted()  # a Ctrl-C that a solver caught and recovered from
     return 0 if _write(text) else 1

@@ -372,3 +372,18 @@ def test_ctrl_c_while_the_command_line_loads_exits_130_with_one_line():
     _, err = run.process.communicate(timeout=240)
     assert run.process.returncode == 130
     assert one_error_line(err).endswith("interrupted")
+
+
+def test_a_failed_hover_names_the_likely_culprit_field(capsys, monkeypatch, tmp_path):
+    # Issue 26: a blow-up ended in "`fun` returned a non-finite value" without naming the field
+    # that caused it. The solver is replaced by one that fails, as the hover layer does for such
+    # an insect (a hawkmoth of 10 ug: its wings lift 1e5 times its weight).
+    def failing(*args, **kwargs):
+        raise ValueError("`fun` returned a non-finite value at t = 0.001")
+    monkeypatch.setattr(cli, "hover_report", failing)
+    path = tmp_path / "light.toml"
+    path.write_text('preset = "hawkmoth"\nmass = 1e-8\n')
+    assert cli.main(["hover", "--insect", str(path)]) == 1
+    line = [x for x in capsys.readouterr().err.splitlines() if ": error:" in x]
+    assert len(line) == 1 and "likely cause: " in line[0] and "non-finite" in line[0]
+    assert "`mass` (" in line[0]

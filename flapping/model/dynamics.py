@@ -45,6 +45,7 @@ from flapping.model.aerodynamics import (
     AeroConstants,
     BladeElementModel,
     aero_constants,
+    check_nodes,
     trim_angle_of_attack,
 )
 from flapping.model.inertia import (
@@ -194,7 +195,8 @@ class LongitudinalDynamics:
     aerodynamics : {"linear", "small-angle", "exact"}
         Which aerodynamic model gives the loads (see the module docstring).
     n_nodes : int
-        Span quadrature nodes for the blade-element models, >= 2.
+        Span quadrature nodes for the blade-element models, in [2, 4096]
+        (:data:`~flapping.model.aerodynamics.MAX_NODES`).
 
     Attributes
     ----------
@@ -239,7 +241,7 @@ class LongitudinalDynamics:
             alpha_m = trim_angle_of_attack(insect, insect.stroke_amplitude)
         alpha_m = check_alpha_m(alpha_m)
         aerodynamics = _validation.choice("aerodynamics", aerodynamics, AERODYNAMIC_MODELS)
-        n_nodes = _validation.integer("n_nodes", n_nodes, low=2)
+        n_nodes = check_nodes(n_nodes)
         blade = None
         if aerodynamics != "linear":
             blade = BladeElementModel(insect, alpha_m, amplitude, aerodynamics, n_nodes)

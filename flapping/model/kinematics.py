@@ -37,9 +37,14 @@ __all__ = [
     "reversed_flow_fraction",
     "check_amplitude",
     "check_alpha_m",
+    "MAX_SAMPLES",
 ]
 
 _SNAP = 1e-9  # phases this close to a reversal are taken to be at it
+
+#: Most samples per period :func:`reversed_flow_fraction` takes: its fraction resolves 1/n, and
+#: 4e6 samples (2.4e-7) already cost ~0.2 GB of temporaries; 1e12 would allocate terabytes.
+MAX_SAMPLES = 1 << 22
 
 #: Breakpoints of the half-strokes as fractions of the period (stroke reversal at 0 and 1/2).
 HALF_STROKE_BREAKPOINTS: tuple[float, ...] = (0.5,)
@@ -296,7 +301,7 @@ def reversed_flow_fraction(radius: float, u: float, amplitude: float, frequency:
     frequency : float
         Flapping frequency f [Hz], > 0.
     n_samples : int
-        Samples per period, >= 1.
+        Samples per period, in [1, :data:`MAX_SAMPLES`].
 
     Returns
     -------
@@ -312,7 +317,7 @@ def reversed_flow_fraction(radius: float, u: float, amplitude: float, frequency:
     u = _validation.real("u", u, unit="m/s")
     amplitude = check_amplitude(amplitude)
     frequency = _validation.positive("frequency", frequency, unit="Hz")
-    n_samples = _validation.integer("n_samples", n_samples, low=1)
+    n_samples = _validation.integer("n_samples", n_samples, low=1, high=MAX_SAMPLES)
     t = np.arange(n_samples) / (n_samples * frequency)
     phi = flapping_angle(t, amplitude, frequency)
     return float(np.mean(np.abs(radius * flapping_rate(t, amplitude, frequency))

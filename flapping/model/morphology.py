@@ -463,8 +463,13 @@ class Insect:
         c(r) = c_bar / B(p, q) * (r/R)**(p-1) * (1 - r/R)**(q-1). Singular (integrably) at the root
         when p < 1; returned as zero outside the open interval (0, R), including at the root
         and tip themselves where the true value may be infinite.
+
+        Raises
+        ------
+        ValueError
+            If ``r`` is not a finite real number or array of them.
         """
-        r_hat = np.asarray(r, dtype=float) / self.semi_span
+        r_hat = _validation.array("r", r) / self.semi_span
         p, q = self._shape
         inside = (r_hat > 0.0) & (r_hat < 1.0)
         safe = np.where(inside, r_hat, 0.5)
