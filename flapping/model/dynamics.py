@@ -103,7 +103,7 @@ def _check_call(t: Any, x: Any, n: int, stroke: Any, amplitude: Any) -> None:
 
 def _refuse_call(t: Any, x: Any, n: int, stroke: Any, amplitude: Any) -> None:
     """:func:`_check_call`'s slow path: the first bad argument, named (returns if none is)."""
-    _validation.real("t", t, unit="s")
+    _validation.real("t", t)
     if n:
         state = _validation.array("x", x)
         if state.ndim != 1 or state.size < n:
@@ -112,7 +112,7 @@ def _refuse_call(t: Any, x: Any, n: int, stroke: Any, amplitude: Any) -> None:
     if stroke is not None and _validation.real("stroke", stroke) not in (1.0, -1.0):
         raise ValueError(f"`stroke` must be +1 (forward), -1 (backward) or None; got {stroke!r}")
     if amplitude is not None:
-        _validation.real("amplitude", amplitude, unit="rad")
+        _validation.real("amplitude", amplitude)
 
 
 def _check_velocity_args(u: Any, w: Any, theta: Any) -> None:
@@ -122,8 +122,8 @@ def _check_velocity_args(u: Any, w: Any, theta: Any) -> None:
             return
     except TypeError:
         pass
-    for name, value, unit in (("u", u, "m/s"), ("w", w, "m/s"), ("theta", theta, "rad")):
-        _validation.real(name, value, unit=unit)
+    for name, value in (("u", u), ("w", w), ("theta", theta)):
+        _validation.real(name, value)
 
 
 def inertial_velocity(u: float, w: float, theta: float) -> tuple[float, float]:

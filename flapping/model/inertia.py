@@ -54,8 +54,8 @@ def stroke_phase(insect: Insect, t: float, amplitude: float) -> tuple[float, flo
         (the dynamics call the unchecked :func:`_stroke_phase` inside integrations).
     """
     _validation.instance("insect", insect, Insect)
-    return _stroke_phase(insect, _validation.real("t", t, unit="s"),
-                         _validation.real("amplitude", amplitude, unit="rad"))
+    return _stroke_phase(insect, _validation.real("t", t),
+                         _validation.real("amplitude", amplitude))
 
 
 def _stroke_phase(insect: Insect, t: float, amplitude: float) -> tuple[float, float, float]:

@@ -224,7 +224,7 @@ def stroke_sign_scalar(t: float, frequency: float) -> float:
     """
     if type(t) is not float or not math.isfinite(t) or type(frequency) is not float \
             or not frequency > 0.0 or not math.isfinite(frequency):
-        t = _validation.real("t", t, unit="s")
+        t = _validation.real("t", t)
         frequency = _validation.positive("frequency", frequency, unit="Hz")
     phase = (t * frequency) % 1.0
     snapped = round(phase * 2.0) / 2.0

@@ -126,3 +126,11 @@ def test_the_check_costs_little_beside_the_right_hand_side(models):
                               number=2000, repeat=5))
     rhs = min(timeit.repeat(lambda: model._rhs(0.003, x, 1.0), number=2000, repeat=5))
     assert check < 0.5 * rhs
+
+
+def test_stability_derivatives_refuse_an_empty_time_sample():
+    # An empty sample returned empty arrays whose cycle means are NaN (with a numpy warning).
+    from flapping.model.derivatives import stability_derivatives
+
+    with pytest.raises(ValueError, match="`t` must hold at least one time"):
+        stability_derivatives(hawkmoth(), [])
