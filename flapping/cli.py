@@ -464,7 +464,12 @@ def _raise_if_interrupted() -> None:
 
 
 def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
-    args = parser.parse_args(argv)
+    given = list(sys.argv[1:] if argv is None else argv)
+    if "--version" in given and len(given) > 1:
+        # argparse prints the version and exits 0 whatever follows ("--version extra").
+        parser.error("argument --version: takes no other arguments; got "
+                     + " ".join(a for a in given if a != "--version")[:80])
+    args = parser.parse_args(given)
     if args.command == "sweep":
         return _sweep(parser, args)
     if args.command == "species":

@@ -387,3 +387,12 @@ def test_a_failed_hover_names_the_likely_culprit_field(capsys, monkeypatch, tmp_
     line = [x for x in capsys.readouterr().err.splitlines() if ": error:" in x]
     assert len(line) == 1 and "likely cause: " in line[0] and "non-finite" in line[0]
     assert "`mass` (" in line[0]
+
+
+@pytest.mark.parametrize("argv", [["--version", "extra"], ["hover", "--version"]])
+def test_version_with_other_arguments_is_a_bad_argument(capsys, argv):
+    # `flapping --version extra` printed the version and exited 0, ignoring "extra".
+    with pytest.raises(SystemExit) as exit_:
+        cli.main(argv)
+    assert exit_.value.code == 2
+    assert "--version" in one_error_line(capsys.readouterr().err)
