@@ -7,6 +7,7 @@ exits with status 130 and one line, as a Ctrl-C anywhere later does, not with a 
 ``__init__``'s to handle.)
 """
 
+import os
 import sys
 from collections.abc import Sequence
 
@@ -31,7 +32,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         from flapping.cli import main as cli_main
     except KeyboardInterrupt:
-        prog = "flapping" if sys.argv and sys.argv[0].endswith("flapping") else \
+        # as flapping.cli names itself (that module may be the one that was interrupted)
+        prog = "flapping" if sys.argv and os.path.basename(sys.argv[0]) == "flapping" else \
             "python -m flapping"
         print(f"{prog}: interrupted", file=sys.stderr)
         return _INTERRUPTED
