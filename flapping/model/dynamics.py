@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 
@@ -62,7 +62,8 @@ from flapping.model.kinematics import (
 )
 from flapping.model.morphology import Insect
 
-__all__ = ["STATE_NAMES", "AERODYNAMIC_MODELS", "LongitudinalDynamics", "inertial_velocity",
+__all__ = ["STATE_NAMES", "AERODYNAMIC_MODELS", "LongitudinalDynamics", "UncheckedCalls",
+           "inertial_velocity",
            "inertial_velocity_jac"]
 
 #: Names of the state components, in order.
@@ -179,6 +180,24 @@ def inertial_velocity_jac(u: float, w: float, theta: float) -> np.ndarray:
     return np.array([[c, s, 0.0, -u * s + w * c], [-s, c, 0.0, -u * c - w * s]])
 
 
+class UncheckedCalls(NamedTuple):
+    """A model's calls without the argument check of the public methods, for solvers that make
+    their own arguments and call them millions of times (:attr:`LongitudinalDynamics.unchecked`).
+
+    Same signatures and results as :meth:`LongitudinalDynamics.rhs`, ``jac``, ``loads``,
+    ``amplitude_jac``, ``stroke_mean_jac`` and ``derivatives`` on valid arguments; on a
+    non-finite state they return what the arithmetic gives (an integrator reports the overflow),
+    where the public methods raise ValueError.
+    """
+
+    rhs: Callable[..., np.ndarray]
+    jac: Callable[..., np.ndarray]
+    loads: Callable[..., np.ndarray]
+    amplitude_jac: Callable[..., np.ndarray]
+    stroke_mean_jac: Callable[..., np.ndarray]
+    derivatives: Callable[..., tuple[float, ...]]
+
+
 @dataclass(frozen=True, init=False)
 class LongitudinalDynamics:
     """Longitudinal flight dynamics of a flapping insect in the calling convention of ``solve_ivp``.
@@ -202,6 +221,10 @@ class LongitudinalDynamics:
     ----------
     insect, amplitude, alpha_m, aerodynamics, n_nodes
         The arguments, validated (amplitude and alpha_m as floats, defaults filled in).
+    unchecked : UncheckedCalls
+        :meth:`rhs`, :meth:`jac`, :meth:`loads`, :meth:`amplitude_jac`,
+        :meth:`stroke_mean_jac` and :meth:`derivatives` without their argument check: the
+        solvers' entry (as :meth:`segment_functions`).
 
     Raises
     ------
@@ -231,6 +254,8 @@ class LongitudinalDynamics:
     # Blade-element models at other amplitudes (shooting with Phi free evaluates a few of them
     # over and over; building one costs ~25 load evaluations). Bounded: oldest dropped first.
     _blades: dict[float, BladeElementModel] = field(init=False, repr=False, compare=False)
+    #: The calls without their argument check, for solvers (see :class:`UncheckedCalls`).
+    unchecked: UncheckedCalls = field(init=False, repr=False, compare=False)
 
     def __init__(self, insect: Insect, amplitude: float | None = None,
                  alpha_m: float | None = None, aerodynamics: str = "linear",
@@ -251,6 +276,9 @@ class LongitudinalDynamics:
                       _inertia=WingInertia.of(insect))
         for name, value in values.items():
             object.__setattr__(self, name, value)
+        object.__setattr__(self, "unchecked", UncheckedCalls(
+            self._rhs, self._jac, self._loads, self._amplitude_jac, self._stroke_mean_jac,
+            self._derivatives))
 
     # ---------------------------------------------------------------- basics
     @property

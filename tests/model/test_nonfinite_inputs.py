@@ -134,3 +134,20 @@ def test_stability_derivatives_refuse_an_empty_time_sample():
 
     with pytest.raises(ValueError, match="`t` must hold at least one time"):
         stability_derivatives(hawkmoth(), [])
+
+
+@pytest.mark.parametrize("kind", ["linear", "exact", "winged"])
+def test_the_unchecked_calls_are_the_public_ones_without_the_check(models, kind):
+    # For the hover layer's solvers (they call rhs, jac and the sensitivities with arguments
+    # they made): same answers on good input, the arithmetic's answer on a non-finite state.
+    import pickle
+
+    model = models[kind]
+    fast = model.unchecked
+    for name in ("rhs", "jac", "amplitude_jac", "stroke_mean_jac", "loads"):
+        assert np.array_equal(getattr(fast, name)(0.003, STATE, 1.0, 1.0),
+                              getattr(model, name)(0.003, STATE, 1.0, 1.0)), name
+    assert fast.derivatives(0.003) == model.derivatives(0.003)
+    assert np.isnan(fast.rhs(0.003, [NAN, 0.0, 0.0, 0.0], 1.0)).any()
+    copy = pickle.loads(pickle.dumps(model))  # (process pools pickle models)
+    assert copy.unchecked.rhs.__self__ is copy
