@@ -152,3 +152,27 @@ def test_the_unchecked_calls_are_the_public_ones_without_the_check(models, kind)
         assert np.isnan(fast.rhs(0.003, [NAN, 0.0, 0.0, 0.0], 1.0)).any()
     copy = pickle.loads(pickle.dumps(model))  # (process pools pickle models)
     assert copy.unchecked.rhs.__self__ is copy
+
+
+@pytest.mark.parametrize("call, name, bound", [
+    (lambda: __import__("flapping.model.aerodynamics", fromlist=["x"]).span_quadrature(
+        hawkmoth(), n_nodes=10**9), "n_nodes", "4096"),
+    (lambda: __import__("flapping.model.aerodynamics", fromlist=["x"]).wing_loads(
+        0.0, STATE, hawkmoth(), 0.5, n_nodes=10**8), "n_nodes", "4096"),
+    (lambda: LongitudinalDynamics(hawkmoth(), aerodynamics="exact", n_nodes=10**9), "n_nodes",
+     "4096"),
+    (lambda: kinematics.reversed_flow_fraction(0.01, 0.1, 1.0, 26.0, n_samples=10**12),
+     "n_samples", "4194304"),
+])
+def test_a_huge_work_size_is_refused_by_name_not_allocated(call, name, bound):
+    # Reproducers: MemoryError ("Unable to allocate 7.45 GiB" / "7.28 TiB"), or gigabytes taken
+    # from a shared machine before that.
+    with pytest.raises(ValueError, match=rf"`{name}` must be an integer in \[\d, {bound}\]"):
+        call()
+
+
+def test_the_chord_refuses_a_non_finite_radius():
+    # Reproducer: hawkmoth().chord(nan) returned 0 (NaN is "outside the wing").
+    with pytest.raises(ValueError, match="`r`"):
+        hawkmoth().chord(NAN)
+    assert hawkmoth().chord(-1.0) == 0.0  # outside the wing: zero, as documented
