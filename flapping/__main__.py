@@ -1,8 +1,44 @@
-"""``python -m flapping``: the command line of :mod:`flapping.cli`."""
+"""``python -m flapping`` and the console script ``flapping``: the command line of
+:mod:`flapping.cli`.
 
+The command line's modules are imported inside :func:`main`, so that a Ctrl-C while they load
+exits with status 130 and one line, as a Ctrl-C anywhere later does, not with a traceback.
+(Ctrl-C while ``import flapping`` itself runs, before this module is reached, is the package's
+``__init__``'s to handle.)
+"""
+
+import os
 import sys
+from collections.abc import Sequence
 
-from flapping.cli import main
+#: Exit status after Ctrl-C (128 + SIGINT), as :mod:`flapping.cli` returns it.
+_INTERRUPTED = 130
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line (:func:`flapping.cli.main`); 130 and one line if Ctrl-C lands while
+    its modules load.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status (see ``flapping --help``).
+    """
+    try:
+        from flapping.cli import main as cli_main
+    except KeyboardInterrupt:
+        # as flapping.cli names itself (that module may be the one that was interrupted)
+        prog = "flapping" if sys.argv and os.path.basename(sys.argv[0]) == "flapping" else \
+            "python -m flapping"
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return _INTERRUPTED
+    return cli_main(argv)
+
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -9,8 +9,10 @@ file (:mod:`flapping.model.insect_file`), and ``flapping species [--json]`` list
 (:mod:`flapping.studies.sweep`).
 
 Exit status: 0 on success; 1 if the solver fails (no convergence, a failed integration, or a result
-that is not a finite number); 2 for bad arguments; 130 after Ctrl-C (a sweep has printed the rows
-it finished). Errors and warnings are one line each on standard error, never a traceback.
+that is not a finite number; for a sweep, if no point gave an orbit); 2 for bad arguments; 130
+after Ctrl-C (a sweep has printed the rows it finished), wherever it lands: a KeyboardInterrupt
+that surfaces inside compiled (numba) code as another exception, such as SystemError, is an
+interrupt too. Errors and warnings are one line each on standard error, never a traceback.
 
 The JSON report (:func:`hover_report`) is in SI units (angles in rad unless the key ends in
 ``_deg``), and its ``units`` member gives the unit of every key. It never contains NaN or infinity:
@@ -43,7 +45,7 @@ from flapping.hover.stability import HoverStability, hover_stability
 from flapping.model import presets as species
 from flapping.model.dynamics import AERODYNAMIC_MODELS, STATE_NAMES
 from flapping.model.insect_file import resolve_insect
-from flapping.model.morphology import Insect
+from flapping.model.morphology import Insect, explain_blowup
 from flapping.peers.fwuav import cli as fwuav_cli
 from flapping.studies.atlas import robust_hover_orbit
 from flapping.studies.sweep import SWEEPABLE, sweep_hover
@@ -112,7 +114,8 @@ orbit of an insect and its Floquet multipliers."""
 
 _EXIT_CODES = """exit status:
   0  success
-  1  the solver failed: no convergence, a failed integration, or a result that is not finite
+  1  the solver failed: no convergence, a failed integration, or a result that is not finite;
+     a sweep in which no point gave an orbit (every row says why)
   2  bad command-line arguments
   130  interrupted (Ctrl-C); a sweep has printed the rows it finished"""
 
@@ -399,19 +402,80 @@ def _species(as_json: bool) -> int:
 
 
 def _hover(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
-    """The ``hover`` subcommand: the report as text or one JSON object."""
+    """The ``hover`` subcommand: the report as text or one JSON object.
+
+    A failure is one line, naming the insect's implausible fields, if any, as the likely cause
+    (:func:`~flapping.model.morphology.explain_blowup`).
+    """
     insect = _insect_argument(parser, args.insect, args.geometry)
     try:
         report = hover_report(insect, args.aerodynamics)
         text = json.dumps(report, allow_nan=False) if args.json else _text(report)
     except (ValueError, ConvergenceError, ArithmeticError) as exc:
-        print(f"{parser.prog}: error: {_one_line(exc)}", file=sys.stderr)
+        if _is_interrupt(exc):
+            raise KeyboardInterrupt from exc
+        why = explain_blowup(insect)  # the fields to check, if some look like no insect's
+        print(f"{parser.prog}: error: {_one_line(exc)}" + (f" ({why})" if why else ""),
+              file=sys.stderr)
         return 1
+    _raise_if_interrupted()  # a Ctrl-C that a solver caught and recovered from
     return 0 if _write(text) else 1
 
 
+# =========================================================================== Ctrl-C
+#: Set by the SIGINT handler of :func:`main` (a one-element list: no global statement).
+_SIGINT_SEEN: list[bool] = [False]
+
+
+def _on_sigint(signum: int, frame: Any) -> None:
+    """Python's own Ctrl-C (raise KeyboardInterrupt), remembered: compiled code can turn the
+    KeyboardInterrupt into another exception (numba: SystemError), or a solver can catch it."""
+    _SIGINT_SEEN[0] = True
+    raise KeyboardInterrupt
+
+
+@contextlib.contextmanager
+def _sigint_remembered() -> Iterator[None]:
+    """Install :func:`_on_sigint` for the block (in the main thread; elsewhere, nothing)."""
+    _SIGINT_SEEN[0] = False
+    try:
+        previous = signal.signal(signal.SIGINT, _on_sigint)
+    except ValueError:  # not the main thread: signals are not ours to handle
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _is_interrupt(exc: BaseException) -> bool:
+    """True if ``exc`` is, or was caused by, a Ctrl-C (a KeyboardInterrupt in its chain, as
+    numba's SystemError "returned a result with an exception set" carries it, or any exception
+    raised after the SIGINT handler ran)."""
+    seen: set[int] = set()
+    chain: BaseException | None = exc
+    while chain is not None and id(chain) not in seen:
+        if isinstance(chain, KeyboardInterrupt):
+            return True
+        seen.add(id(chain))
+        chain = chain.__cause__ or chain.__context__
+    return _SIGINT_SEEN[0]
+
+
+def _raise_if_interrupted() -> None:
+    """KeyboardInterrupt if Ctrl-C was pressed and something swallowed it."""
+    if _SIGINT_SEEN[0]:
+        raise KeyboardInterrupt
+
+
 def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
-    args = parser.parse_args(argv)
+    given = list(sys.argv[1:] if argv is None else argv)
+    if "--version" in given and len(given) > 1:
+        # argparse prints the version and exits 0 whatever follows ("--version extra").
+        parser.error("argument --version: takes no other arguments; got "
+                     + " ".join(a for a in given if a != "--version")[:80])
+    args = parser.parse_args(given)
     if args.command == "sweep":
         return _sweep(parser, args)
     if args.command == "species":
@@ -437,17 +501,22 @@ def main(argv: Sequence[str] | None = None) -> int:
         with status 2 and one line on standard error; ``--help`` and ``--version`` with 0.
         Warnings are printed once each, one line each, after the output.
     """
-    parser = _parser()
-    with warnings.catch_warnings(record=True) as caught:
+    prog = _prog()
+    with warnings.catch_warnings(record=True) as caught, _sigint_remembered():
         warnings.simplefilter("always")
         try:
-            status = _run(parser, argv)
+            status = _run(_parser(), argv)
         except KeyboardInterrupt:
-            print(f"{parser.prog}: interrupted", file=sys.stderr)
+            print(f"{prog}: interrupted", file=sys.stderr)
+            status = _INTERRUPTED
+        except Exception as exc:
+            if not _is_interrupt(exc):
+                raise
+            print(f"{prog}: interrupted", file=sys.stderr)  # e.g. numba's SystemError
             status = _INTERRUPTED
         finally:
             for message in dict.fromkeys(_one_line(w.message) for w in caught):
-                print(f"{parser.prog}: warning: {message}", file=sys.stderr)
+                print(f"{prog}: warning: {message}", file=sys.stderr)
     return status
 
 
@@ -600,11 +669,12 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     """The ``sweep`` subcommand: rows on standard output, a block at a time (studies.sweep).
 
     Ctrl-C stops it after the rows finished so far (exit 130); a bad grid exits 2; a sweep that
-    cannot run (pandas or tqdm missing) exits 1.
+    cannot run (pandas or tqdm missing), or in which no point gave an orbit (every row failed,
+    e.g. every value of the grid is refused by Insect), exits 1 with a one-line summary.
     """
     grid = _sweep_grid(parser, args)
     insect = PRESETS[args.insect]()
-    total, done = math.prod(len(v) for v in grid.values()), 0
+    total, done, solved, first_failure = math.prod(len(v) for v in grid.values()), 0, 0, ""
     pool = None
     try:
         from concurrent.futures import ProcessPoolExecutor
@@ -617,18 +687,37 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         with tqdm(total=total, disable=not show, unit="orbit", desc="hover sweep") as bar:
             for block in _blocks(grid, _BLOCK_POINTS * args.workers):
                 table = sweep_hover(insect, block, progress=False, executor=pool)
+                _raise_if_interrupted()  # a Ctrl-C that a solver caught: this block is not kept
                 with _sigint_deferred():  # a row is written whole, and counted, or not at all
                     if not _write(_rows_text(table, args.json, header=done == 0 and not args.json)):
                         return 1
                     done += len(table)
                 bar.update(len(table))
+                solved += int((table["status"] >= 0).sum())
+                if not first_failure and solved == 0 and len(table):
+                    first_failure = str(table["message"].iloc[0])
     except KeyboardInterrupt:
-        print(f"{parser.prog}: interrupted: {done} of {total} points written", file=sys.stderr)
-        return _INTERRUPTED
+        return _sweep_interrupted(parser.prog, done, total)
     except (ValueError, ImportError) as exc:
+        if _is_interrupt(exc):
+            return _sweep_interrupted(parser.prog, done, total)
         print(f"{parser.prog}: error: {_one_line(exc)}", file=sys.stderr)
         return 1
+    except Exception as exc:  # numba turns a Ctrl-C in compiled code into a SystemError
+        if not _is_interrupt(exc):
+            raise
+        return _sweep_interrupted(parser.prog, done, total)
     finally:
         if pool is not None:
             pool.shutdown(wait=False, cancel_futures=True)
+    if solved == 0 and total > 0:
+        print(f"{parser.prog}: error: no point of the sweep gave an orbit ({total} of {total} "
+              f"rows failed; the first: {_one_line(first_failure)[:300]})", file=sys.stderr)
+        return 1
     return 0
+
+
+def _sweep_interrupted(prog: str, done: int, total: int) -> int:
+    """The one line after Ctrl-C in a sweep, and the exit status."""
+    print(f"{prog}: interrupted: {done} of {total} points written", file=sys.stderr)
+    return _INTERRUPTED

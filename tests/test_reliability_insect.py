@@ -19,8 +19,20 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from flapping.errors import PlausibilityWarning
-from flapping.model.morphology import MAGNITUDE_LIMIT, PLAUSIBLE_RANGES, Insect, hawkmoth
+from flapping.model.morphology import (
+    MAGNITUDE_LIMIT,
+    PHYSICAL_RANGES,
+    PLAUSIBLE_RANGES,
+    Insect,
+    beta_shape_parameters,
+    explain_blowup,
+    hawkmoth,
+    implausible_fields,
+    r2_range,
+    support_amplitude,
+)
 from flapping.model.presets import PRESETS
+from flapping.model.presets import preset as preset_insect
 
 #: Every numeric field of Insect (read from the dataclass: a new field is covered unasked).
 NUMERIC_FIELDS = [f.name for f in dataclasses.fields(Insect)
@@ -86,18 +98,36 @@ def test_no_gravity_is_refused_naming_gravity(gravity):
 
 # ------------------------------------------------------------------------------ plausibility
 def _outside(name: str) -> list[float]:
-    """A value below and one above the plausible range, where the model accepts them."""
+    """Values below and above the plausible range, where the model accepts them (tenfold or
+    twofold beyond the ends: the physical ranges are about ten times wider)."""
     low, high, _ = PLAUSIBLE_RANGES[name]
     step = 0.1 * (high - low)
-    below, above = (low / 10, high * 10) if low > 0 else (low - step, high + step)
-    return [v for v in (below, above) if _accepted(name, v)]
+    if low > 0:
+        candidates = [(low / 10, low / 2), (high * 10, high * 2)]
+    else:
+        candidates = [(low - step,), (high + step,)]
+    found = []
+    for side in candidates:
+        found += [v for v in side if _accepted(name, v)][:1]
+    return found
+
+
+def _changes(name: str, value: float) -> dict[str, float]:
+    """``{name: value}``, with the wing's other size scaled to keep the hawkmoth's R^2/S (a
+    wing length alone off the plausible range makes a needle or a sail, which is refused)."""
+    ratio = hawkmoth().semi_span ** 2 / hawkmoth().wing_area
+    if name == "semi_span":
+        return {name: value, "wing_area": value**2 / ratio}
+    if name == "wing_area":
+        return {name: value, "semi_span": math.sqrt(value * ratio)}
+    return {name: value}
 
 
 def _accepted(name: str, value: float) -> bool:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PlausibilityWarning)
         try:
-            hawkmoth(**{name: value})
+            hawkmoth(**_changes(name, value))
         except ValueError:
             return False
     return True
@@ -118,7 +148,7 @@ def test_wings_heavier_than_a_quarter_of_the_insect_warn():
 def test_an_implausible_value_warns_naming_field_value_and_range(name, value):
     low, high, _ = PLAUSIBLE_RANGES[name]
     with pytest.warns(PlausibilityWarning, match=f"`{name}`") as caught:
-        hawkmoth(**{name: value})
+        hawkmoth(**_changes(name, value))
     message = next(str(w.message) for w in caught if f"`{name}`" in str(w.message))
     assert f"{value:.6g}" in message and f"[{low:.6g}, {high:.6g}]" in message
 
@@ -128,16 +158,25 @@ def test_every_plausibility_range_is_exercised():
     assert {name for name, _ in FIELD_CASES} == set(PLAUSIBLE_RANGES) - set(DERIVED)
 
 
-def test_a_one_megahertz_wing_beat_warns():
-    # Reproducer: hawkmoth(frequency=1e12) "hovered" at 4406 m/s without a word.
-    with pytest.warns(PlausibilityWarning, match=r"`frequency` = 1e\+12 Hz"):
+def test_a_terahertz_wing_beat_is_refused_naming_the_physical_range():
+    # Reproducer (issue 26): hawkmoth(frequency=1e12) "hovered" at 4406 m/s with a warning only.
+    with pytest.raises(ValueError, match=r"`frequency` must be a real number in "
+                                         r"\[0.1, 10000\] Hz; got 1000000000000.0"):
         hawkmoth(frequency=1e12)
 
 
-@pytest.mark.parametrize("area", [1e-7, 1e-2])
+@pytest.mark.parametrize("area", [1e-4, 1e-2])
 def test_a_needle_or_a_sail_warns_about_the_aspect_ratio(area):
-    # R^2/S of the hawkmoth's 51.9 mm wing: 27 with 0.1 mm^2, 0.27 with 100 cm^2.
+    # R^2/S of the hawkmoth's 51.9 mm wing: 27 with 1 cm^2, 0.27 with 100 cm^2.
     with pytest.warns(PlausibilityWarning, match="semi_span\\*\\*2 / wing_area"):
+        hawkmoth(wing_area=area)
+
+
+@pytest.mark.parametrize("area", [1e-7, 1.0])
+def test_a_wing_no_planform_has_is_refused_naming_both_sizes(area):
+    # R^2/S = 2.7e4 (a 2 um chord on a 52 mm wing) or 2.7e-3 (a 19 m chord): no wing.
+    with pytest.raises(ValueError, match=r"`semi_span`\*\*2 / `wing_area`.* must be in "
+                                         r"\[0.05, 200\]"):
         hawkmoth(wing_area=area)
 
 
@@ -183,3 +222,93 @@ def test_the_default_hawkmoth_does_not_warn():
         hawkmoth()
         Insect(**{f.name: getattr(hawkmoth(), f.name) for f in dataclasses.fields(Insect)
                   if f.init})
+
+
+# ------------------------------------------------------------------------------ physical ranges
+def _beyond(name: str) -> list[float]:
+    """A value just below and one just above the physical range of ``name``."""
+    low, high, _ = PHYSICAL_RANGES[name]
+    return [low / 2 if low > 0 else low - 1.0, 2 * high if high > 0 else high + 1.0]
+
+
+@pytest.mark.parametrize("name, value", [(name, value) for name in PHYSICAL_RANGES
+                                         for value in _beyond(name)])
+def test_a_value_beyond_the_physical_range_is_refused_naming_field_and_range(name, value):
+    low, high, _ = PHYSICAL_RANGES[name]
+    with pytest.raises(ValueError, match=f"`{name}` must be a real number in") as error:
+        hawkmoth(**{name: value})
+    message = str(error.value)
+    assert f"{low:g}" in message or name == "stroke_amplitude"  # (in rad: 0.0174533)
+    assert f"{high:g}" in message or name == "stroke_amplitude"
+
+
+@pytest.mark.parametrize("name, value", [("mass", 1e-12), ("semi_span", 10.0),
+                                         ("frequency", 1e12), ("pitch_inertia", 1e3),
+                                         ("air_density", 1e3), ("stroke_amplitude", 1e-3)])
+def test_absurd_insects_of_the_user_test_are_refused_at_construction(name, value):
+    # Reproducers (issue 26): mass=1e-12 and semi_span=10 ended in "`fun` returned a
+    # non-finite value" deep in the hover solve; frequency=1e12 "hovered" at 4406 m/s.
+    with pytest.raises(ValueError, match=f"`{name}` must be"):
+        hawkmoth(**{name: value})
+
+
+@pytest.mark.parametrize("r1", [0.3, 0.44, 0.5, 0.7])
+def test_r2_is_refused_with_ellingtons_admissible_range_not_1e30(r1):
+    # Reproducer: the message of a bad r2 quoted the range [-1e+30, 1e+30].
+    low, high = r2_range(r1)
+    for r2 in (r1 - 0.01, high + 0.01, math.nan):
+        with pytest.raises(ValueError, match="`r2` must") as error:
+            hawkmoth(r1=r1, r2=r2)
+        assert "1e+30" not in str(error.value)
+        if not math.isnan(r2):
+            assert f"{high:.6g}" in str(error.value) and f"{low:.6g}" in str(error.value)
+    hawkmoth(r1=r1, r2=0.5 * (low + high))  # the middle of the range is a planform
+
+
+def test_r2_range_ends_where_the_squared_chord_stops_being_integrable():
+    # At the upper end the smaller beta shape parameter is 1/2 (I_02 diverges there).
+    for r1 in (0.2, 0.44, 0.6):
+        low, high = r2_range(r1)
+        p, q = beta_shape_parameters(r1, high * (1 - 1e-9))
+        assert min(p, q) == pytest.approx(0.5, rel=1e-6) and low == r1
+
+
+# ------------------------------------------------------------------------------ culprits
+def test_a_plausible_insect_has_no_implausible_field():
+    assert hawkmoth().implausible_fields() == {}
+    assert explain_blowup(hawkmoth()) == ""
+    for name in PRESETS:
+        for geometry in ("paper", "measured"):
+            assert implausible_fields(preset_insect(name, geometry=geometry)) == {}, (name, geometry)
+
+
+@pytest.mark.parametrize("changes, culprits", [
+    ({"mass": 1e-8}, {"mass", "pitch_inertia"}),    # plausible alone: 1e-5 of the hawkmoth
+    ({"pitch_inertia": 1e-15}, {"pitch_inertia", "mass"}),
+    ({"frequency": 5e3}, {"frequency"}),
+    ({"wing_area": 1e-4}, {"semi_span", "wing_area"}),
+    ({"hinge_height": 0.3}, {"hinge_height"}),
+    ({"mass": 5.0}, {"mass", "pitch_inertia"}),     # a 5 kg hawkmoth, too light to pitch
+    ({"mass": 8e-3, "pitch_inertia": 8e-7}, {"mass"}),  # too heavy to lift at 90 deg
+])
+def test_implausible_fields_name_the_culprits_of_a_blowup(changes, culprits):
+    # Reproducer (issue 26): such insects ended in "`fun` returned a non-finite value" (or a
+    # diverging amplitude) without naming a field; the hover layer can now say which.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        insect = hawkmoth(**changes)
+    found = insect.implausible_fields()
+    assert set(found) == culprits
+    text = explain_blowup(insect)
+    assert text.startswith("likely cause: ") and all(f"`{name}`" in text for name in culprits)
+
+
+def test_support_amplitude_is_eq_40_at_45_degrees():
+    # The hawkmoth's nominal 60.5 deg at its trimmed alpha_m carries the weight; at 45 deg less.
+    moth = hawkmoth()
+    phi = support_amplitude(moth)
+    k21 = 0.5 * moth.air_density * moth.lift_slope * moth.span_integral(2, 1)
+    assert 2 * math.pi**2 * moth.frequency**2 * phi**2 * k21 == pytest.approx(moth.weight)
+    assert phi < moth.stroke_amplitude
+    with pytest.raises(ValueError, match="`insect`"):
+        support_amplitude("hawkmoth")

@@ -69,6 +69,8 @@ from flapping.model.morphology import Insect, _span_integral
 
 __all__ = [
     "VARIANTS",
+    "MAX_NODES",
+    "check_nodes",
     "SpanQuadrature",
     "span_quadrature",
     "trim_angle_of_attack",
@@ -92,6 +94,18 @@ _MAX_CHORD_POWER = 4
 
 
 # =========================================================================== span quadrature
+#: Most span quadrature nodes a blade-element model may ask for: a cap on the work (building a
+#: model evaluates its loads at every node about 25 times; scipy's Gauss-Jacobi rule for 1e9
+#: nodes would allocate gigabytes). The default 32 nodes meet the loads to ~1e-6 relative, 128
+#: to rounding for the smooth sections; 4096 is far beyond any accuracy float64 can show.
+MAX_NODES = 1 << 12
+
+
+def check_nodes(n_nodes: object) -> int:
+    """``n_nodes`` as an int in [2, :data:`MAX_NODES`], or a ValueError naming it."""
+    return _validation.integer("n_nodes", n_nodes, low=2, high=MAX_NODES)
+
+
 @dataclass(frozen=True, eq=False)
 class SpanQuadrature:
     """Gauss-Jacobi rules for ``2 int_0^R c(r)**n g(r) dr`` (both wings), n = 0..4.
@@ -145,7 +159,7 @@ def span_quadrature(insect: Insect, n_nodes: int = 32) -> SpanQuadrature:
     insect : Insect
         Supplies R, c_bar and the beta shape (p, q).
     n_nodes : int
-        Nodes per rule, >= 2.
+        Nodes per rule, in [2, :data:`MAX_NODES`].
 
     Returns
     -------
@@ -157,7 +171,7 @@ def span_quadrature(insect: Insect, n_nodes: int = 32) -> SpanQuadrature:
         If n_nodes is not an integer >= 2.
     """
     _validation.instance("insect", insect, Insect)
-    n_nodes = _validation.integer("n_nodes", n_nodes, low=2)
+    n_nodes = check_nodes(n_nodes)
     return _span_quadrature_cached(
         float(insect.semi_span), float(insect.mean_chord),
         float(insect.beta_p), float(insect.beta_q), n_nodes,
@@ -554,7 +568,7 @@ class BladeElementModel:
         Stroke amplitude Phi [rad] in (0, pi/2]; default ``insect.stroke_amplitude``.
     variant : {"small-angle", "exact"}
     n_nodes : int
-        Gauss-Jacobi nodes per chord power, >= 2 (default 32).
+        Gauss-Jacobi nodes per chord power, in [2, :data:`MAX_NODES`] (default 32).
 
     Attributes
     ----------
@@ -584,7 +598,7 @@ class BladeElementModel:
     def __init__(self, insect: Insect, alpha_m: float, amplitude: float | None = None,
                  variant: str = "small-angle", n_nodes: int = 32) -> None:
         _validation.instance("insect", insect, Insect)
-        n_nodes = _validation.integer("n_nodes", n_nodes, low=2)
+        n_nodes = check_nodes(n_nodes)
         alpha_m = check_alpha_m(alpha_m)
         values = dict(
             insect=insect, alpha_m=alpha_m, amplitude=_amplitude(insect, amplitude),
@@ -808,7 +822,7 @@ def wing_loads(t: ArrayLike, state: Sequence[Any], insect: Insect, alpha_m: floa
     stroke_sign : float, optional
         +1/-1, overrides the stroke sign from t (for evaluation at reversal / per segment).
     n_nodes : int
-        Gauss-Jacobi nodes per chord power, >= 2.
+        Gauss-Jacobi nodes per chord power, in [2, :data:`MAX_NODES`].
 
     Returns
     -------
@@ -834,7 +848,7 @@ def wing_loads(t: ArrayLike, state: Sequence[Any], insect: Insect, alpha_m: floa
     _validation.instance("insect", insect, Insect)
     model = _cached_model(insect, check_alpha_m(alpha_m), _amplitude(insect, amplitude),
                           _validation.choice("variant", variant, VARIANTS),
-                          _validation.integer("n_nodes", n_nodes, low=2))
+                          check_nodes(n_nodes))
     return model.loads(t, u, w, q, stroke_sign)
 
 

@@ -125,8 +125,8 @@ def stability_derivatives(
     Raises
     ------
     ValueError
-        If an argument is outside its range (the message names it), t is not finite, or the
-        insect cannot trim (eq. 40) when alpha_m is not given.
+        If an argument is outside its range (the message names it), t is empty or not finite,
+        or the insect cannot trim (eq. 40) when alpha_m is not given.
     """
     _validation.instance("insect", insect, Insect)
     amplitude = check_amplitude(insect.stroke_amplitude if amplitude is None else amplitude)
@@ -134,6 +134,8 @@ def stability_derivatives(
         alpha_m = trim_angle_of_attack(insect, insect.stroke_amplitude)
     alpha_m = check_alpha_m(alpha_m)
     t = _validation.array("t", t)
+    if t.size == 0:  # the cycle means of an empty sample are NaN, not an answer
+        raise ValueError("`t` must hold at least one time; got an empty array")
     phi = flapping_angle(t, amplitude, insect.frequency)
     if insect.stroke_mean != 0.0:  # phi = phi_bar + Phi cos(2 pi f t); phi_bar = 0 adds nothing
         phi = phi + insect.stroke_mean

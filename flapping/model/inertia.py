@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import flapping._validation as _validation
 from flapping.model import _inertia_generated as _gen
 from flapping.model.morphology import Insect
 
@@ -45,7 +46,20 @@ def stroke_phase(insect: Insect, t: float, amplitude: float) -> tuple[float, flo
     Returns
     -------
     tuple of 3 floats
+
+    Raises
+    ------
+    ValueError
+        If ``insect`` is not an Insect, or ``t`` or ``amplitude`` is not a finite real number
+        (the dynamics call the unchecked :func:`_stroke_phase` inside integrations).
     """
+    _validation.instance("insect", insect, Insect)
+    return _stroke_phase(insect, _validation.real("t", t),
+                         _validation.real("amplitude", amplitude))
+
+
+def _stroke_phase(insect: Insect, t: float, amplitude: float) -> tuple[float, float, float]:
+    """:func:`stroke_phase` of trusted arguments (inside right-hand sides)."""
     omega = 2.0 * math.pi * insect.frequency
     c, s = math.cos(omega * t), math.sin(omega * t)
     return (insect.stroke_mean + amplitude * c, -omega * amplitude * s,
@@ -87,6 +101,35 @@ class WingInertia:
     def _mass_matrix(self, phi: float) -> np.ndarray:
         return np.array(_gen.mass_matrix(phi, self.constants), dtype=float).reshape(3, 3)
 
+    def _accelerations(self, phase: Sequence[float], x: Sequence[float],
+                      loads: Sequence[float] | np.ndarray) -> np.ndarray:
+        """:meth:`accelerations` of trusted arguments (inside right-hand sides)."""
+        forcing = _gen.forcing(phase[0], phase[1], phase[2], x[0], x[1], x[2], x[3], self.constants)
+        rhs = np.asarray(loads, dtype=float) + np.array(forcing, dtype=float)
+        return np.linalg.solve(self._mass_matrix(phase[0]), rhs)
+
+    def _state_jac(self, phase: Sequence[float], x: Sequence[float],
+                  loads_jac: np.ndarray) -> np.ndarray:
+        """:meth:`state_jac` of trusted arguments (inside right-hand sides)."""
+        values = _gen.forcing_state_jac(phase[0], phase[1], phase[2], x[0], x[1], x[2], x[3],
+                                        self.constants)
+        forcing = np.array(values, dtype=float).reshape(3, 4)
+        return np.linalg.solve(self._mass_matrix(phase[0]), loads_jac + forcing)
+
+    def _stroke_jac(self, phase: Sequence[float], x: Sequence[float],
+                   loads: Sequence[float] | np.ndarray,
+                   dphase: Sequence[float], dloads: Sequence[float]) -> np.ndarray:
+        """:meth:`stroke_jac` of trusted arguments (inside right-hand sides)."""
+        k = self.constants
+        a = self._mass_matrix(phase[0])
+        acc = self._accelerations(phase, x, loads)
+        values = _gen.forcing_kinematic_jac(phase[0], phase[1], phase[2], x[0], x[1], x[2], x[3],
+                                            k)
+        dforcing = np.array(values, dtype=float).reshape(3, 3) @ np.asarray(dphase, dtype=float)
+        da = np.array(_gen.mass_matrix_phi_jac(phase[0], k), dtype=float).reshape(3, 3)
+        db = np.asarray(dloads, dtype=float) + dforcing
+        return np.linalg.solve(a, db - da @ acc * dphase[0])
+
     def accelerations(self, phase: Sequence[float], x: Sequence[float],
                       loads: Sequence[float] | np.ndarray) -> np.ndarray:
         """(u_dot, w_dot, q_dot) = A^-1 (loads + F).
@@ -103,10 +146,16 @@ class WingInertia:
         Returns
         -------
         numpy.ndarray, shape (3,)
+
+        Raises
+        ------
+        ValueError
+            If an entry of ``phase``, ``x`` (its first four) or ``loads`` is not a finite real
+            number, or one is missing (the message names the argument). The dynamics call the
+            unchecked implementation inside integrations.
         """
-        forcing = _gen.forcing(phase[0], phase[1], phase[2], x[0], x[1], x[2], x[3], self.constants)
-        rhs = np.asarray(loads, dtype=float) + np.array(forcing, dtype=float)
-        return np.linalg.solve(self._mass_matrix(phase[0]), rhs)
+        _check_arrays(("phase", phase, 3), ("x", x, 4), ("loads", loads, 3))
+        return self._accelerations(phase, x, loads)
 
     def state_jac(self, phase: Sequence[float], x: Sequence[float],
                   loads_jac: np.ndarray) -> np.ndarray:
@@ -118,11 +167,16 @@ class WingInertia:
             As for :meth:`accelerations`.
         loads_jac : ndarray, shape (3, 4)
             d(X, Z, M)/d(u, w, q, theta) [N per unit state].
+
+        Raises
+        ------
+        ValueError
+            If an entry of ``phase``, ``x`` (its first four) or ``loads_jac`` is not a finite real
+            number, or one is missing (the message names the argument). The dynamics call the
+            unchecked implementation inside integrations.
         """
-        values = _gen.forcing_state_jac(phase[0], phase[1], phase[2], x[0], x[1], x[2], x[3],
-                                        self.constants)
-        forcing = np.array(values, dtype=float).reshape(3, 4)
-        return np.linalg.solve(self._mass_matrix(phase[0]), loads_jac + forcing)
+        _check_arrays(("phase", phase, 3), ("x", x, 4), ("loads_jac", loads_jac, None))
+        return self._state_jac(phase, x, loads_jac)
 
     def stroke_jac(self, phase: Sequence[float], x: Sequence[float],
                    loads: Sequence[float] | np.ndarray,
@@ -139,13 +193,24 @@ class WingInertia:
             How the stroke moves with p (e.g. (1, 0, 0) for the mean stroke angle).
         dloads : array_like
             d(X, Z, M)/dp [N per unit p].
+
+        Raises
+        ------
+        ValueError
+            If an entry of ``phase``, ``x``, ``loads``, ``dphase`` or ``dloads`` is not a finite
+            real number, or one is missing (the message names the argument). The dynamics call
+            the unchecked implementation inside integrations.
         """
-        k = self.constants
-        a = self._mass_matrix(phase[0])
-        acc = self.accelerations(phase, x, loads)
-        values = _gen.forcing_kinematic_jac(phase[0], phase[1], phase[2], x[0], x[1], x[2], x[3],
-                                            k)
-        dforcing = np.array(values, dtype=float).reshape(3, 3) @ np.asarray(dphase, dtype=float)
-        da = np.array(_gen.mass_matrix_phi_jac(phase[0], k), dtype=float).reshape(3, 3)
-        db = np.asarray(dloads, dtype=float) + dforcing
-        return np.linalg.solve(a, db - da @ acc * dphase[0])
+        _check_arrays(("phase", phase, 3), ("x", x, 4), ("loads", loads, 3), ("dphase", dphase, 3),
+                      ("dloads", dloads, 3))
+        return self._stroke_jac(phase, x, loads, dphase, dloads)
+
+
+def _check_arrays(*arguments: tuple[str, object, int | None]) -> None:
+    """Each (name, value, size): ``value`` finite, with at least ``size`` entries (any shape if
+    size is None), else a ValueError naming it."""
+    for name, value, size in arguments:
+        array = _validation.array(name, value)
+        if size is not None and (array.ndim != 1 or array.size < size):
+            raise ValueError(f"`{name}` must be a 1-D array of at least {size} numbers; got "
+                             f"shape {array.shape}")

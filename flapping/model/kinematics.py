@@ -13,8 +13,9 @@ integrators should restart at :data:`HALF_STROKE_BREAKPOINTS`.
 
 The two kinematic parameters have one accepted range each, checked by :func:`check_amplitude` and
 :func:`check_alpha_m` wherever the model takes them (morphology, aerodynamics, derivatives,
-dynamics). The formula functions trust their inputs: they run inside integrations. This module
-imports nothing else from :mod:`flapping.model`.
+dynamics). The public formula functions check their arguments too (a NaN time or angle is a
+ValueError naming it, not a NaN answer); the right-hand sides call the unchecked ``_`` forms
+inside integrations. This module imports nothing else from :mod:`flapping.model`.
 """
 
 from __future__ import annotations
@@ -36,9 +37,14 @@ __all__ = [
     "reversed_flow_fraction",
     "check_amplitude",
     "check_alpha_m",
+    "MAX_SAMPLES",
 ]
 
 _SNAP = 1e-9  # phases this close to a reversal are taken to be at it
+
+#: Most samples per period :func:`reversed_flow_fraction` takes: its fraction resolves 1/n, and
+#: 4e6 samples (2.4e-7) already cost ~0.2 GB of temporaries; 1e12 would allocate terabytes.
+MAX_SAMPLES = 1 << 22
 
 #: Breakpoints of the half-strokes as fractions of the period (stroke reversal at 0 and 1/2).
 HALF_STROKE_BREAKPOINTS: tuple[float, ...] = (0.5,)
@@ -114,8 +120,16 @@ def flapping_angle(t: np.ndarray | float, amplitude: float, frequency: float) ->
     -------
     numpy.ndarray
         phi [rad], the shape of ``t`` (positive forward).
+
+    Raises
+    ------
+    ValueError
+        If an argument is not finite or outside its range (the message names it).
     """
-    return amplitude * np.cos(2.0 * math.pi * frequency * np.asarray(t, dtype=float))
+    t = _validation.array("t", t)
+    amplitude = check_amplitude(amplitude)
+    frequency = _validation.positive("frequency", frequency, unit="Hz")
+    return amplitude * np.cos(2.0 * math.pi * frequency * t)
 
 
 def flapping_rate(t: np.ndarray | float, amplitude: float, frequency: float) -> np.ndarray:
@@ -134,9 +148,17 @@ def flapping_rate(t: np.ndarray | float, amplitude: float, frequency: float) -> 
     -------
     numpy.ndarray
         phi_dot [rad/s], the shape of ``t``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is not finite or outside its range (the message names it).
     """
+    t = _validation.array("t", t)
+    amplitude = check_amplitude(amplitude)
+    frequency = _validation.positive("frequency", frequency, unit="Hz")
     omega = 2.0 * math.pi * frequency
-    return -omega * amplitude * np.sin(omega * np.asarray(t, dtype=float))
+    return -omega * amplitude * np.sin(omega * t)
 
 
 def stroke_sign(t: np.ndarray | float, frequency: float) -> np.ndarray:
@@ -160,7 +182,18 @@ def stroke_sign(t: np.ndarray | float, frequency: float) -> np.ndarray:
     Decided from the phase, not from the sign of a computed sine, so that it is exact away from
     reversal. At reversal itself the value is the one of the half-stroke that *starts* there;
     integrators that need the left limit use :func:`segment_stroke_sign` per segment.
+
+    Raises
+    ------
+    ValueError
+        If ``t`` is not finite or ``frequency`` not positive (the message names it).
     """
+    return _stroke_sign(_validation.array("t", t),
+                        _validation.positive("frequency", frequency, unit="Hz"))
+
+
+def _stroke_sign(t: np.ndarray | float, frequency: float) -> np.ndarray:
+    """:func:`stroke_sign` of trusted arguments (inside right-hand sides)."""
     phase = np.mod(np.asarray(t, dtype=float) * frequency, 1.0)
     # t * f rounds: snap phases within 1e-9 of a reversal onto it, so that k T and k T + T/2
     # consistently start their half-stroke.
@@ -183,7 +216,16 @@ def stroke_sign_scalar(t: float, frequency: float) -> float:
     -------
     float
         -1.0 on the backward half-stroke, +1.0 on the forward one (eq. 11).
+
+    Raises
+    ------
+    ValueError
+        If ``t`` is not finite or ``frequency`` not positive (the message names it).
     """
+    if type(t) is not float or not math.isfinite(t) or type(frequency) is not float \
+            or not frequency > 0.0 or not math.isfinite(frequency):
+        t = _validation.real("t", t)
+        frequency = _validation.positive("frequency", frequency, unit="Hz")
     phase = (t * frequency) % 1.0
     snapped = round(phase * 2.0) / 2.0
     if abs(phase - snapped) < _SNAP:
@@ -203,8 +245,13 @@ def segment_stroke_sign(segment: int) -> float:
     -------
     float
         -1.0 for the backward stroke, +1.0 for the forward one.
+
+    Raises
+    ------
+    ValueError
+        If ``segment`` is not an integer.
     """
-    return -1.0 if segment % 2 == 0 else 1.0
+    return -1.0 if _validation.integer("segment", segment) % 2 == 0 else 1.0
 
 
 def geometric_pitch(alpha_m: float, sign: np.ndarray | float) -> np.ndarray:
@@ -221,8 +268,16 @@ def geometric_pitch(alpha_m: float, sign: np.ndarray | float) -> np.ndarray:
     -------
     numpy.ndarray
         alpha_g [rad].
+
+    Raises
+    ------
+    ValueError
+        If ``alpha_m`` is outside (0, pi/2) or a ``sign`` is not +1 or -1 (named).
     """
-    sign = np.asarray(sign, dtype=float)
+    alpha_m = check_alpha_m(alpha_m)
+    sign = _validation.array("sign", sign)
+    if not np.all(np.abs(sign) == 1.0):
+        raise ValueError(f"`sign` must be +1 (forward) or -1 (backward); got {sign!r}")
     return np.where(sign > 0, alpha_m, math.pi - alpha_m)
 
 
@@ -246,7 +301,7 @@ def reversed_flow_fraction(radius: float, u: float, amplitude: float, frequency:
     frequency : float
         Flapping frequency f [Hz], > 0.
     n_samples : int
-        Samples per period, >= 1.
+        Samples per period, in [1, :data:`MAX_SAMPLES`].
 
     Returns
     -------
@@ -262,7 +317,7 @@ def reversed_flow_fraction(radius: float, u: float, amplitude: float, frequency:
     u = _validation.real("u", u, unit="m/s")
     amplitude = check_amplitude(amplitude)
     frequency = _validation.positive("frequency", frequency, unit="Hz")
-    n_samples = _validation.integer("n_samples", n_samples, low=1)
+    n_samples = _validation.integer("n_samples", n_samples, low=1, high=MAX_SAMPLES)
     t = np.arange(n_samples) / (n_samples * frequency)
     phi = flapping_angle(t, amplitude, frequency)
     return float(np.mean(np.abs(radius * flapping_rate(t, amplitude, frequency))

@@ -29,7 +29,8 @@ from flapping.errors import PlausibilityWarning
 from flapping.model.kinematics import check_amplitude
 
 __all__ = ["Insect", "hawkmoth", "beta_shape_parameters", "lev_lift_slope", "MAGNITUDE_LIMIT",
-           "PLAUSIBLE_RANGES"]
+           "PLAUSIBLE_RANGES", "PHYSICAL_RANGES", "ASPECT_RATIO_RANGE", "r2_range",
+           "support_amplitude", "implausible_fields", "explain_blowup"]
 
 AspectRatioConvention = Literal["pair", "single"]
 
@@ -37,10 +38,8 @@ AspectRatioConvention = Literal["pair", "single"]
 ASPECT_RATIO_CONVENTIONS: tuple[AspectRatioConvention, ...] = ("pair", "single")
 
 #: Largest magnitude [SI] of any numeric :class:`Insect` field, and the inverse of the smallest
-#: magnitude of a positive one. Beyond it the model's products leave float64's range (span
-#: integrals reach R^-3 S^4, i.e. LIMIT^7; loads multiply these by rho f^2), so a value outside
-#: [1/LIMIT, LIMIT] is an error, not a warning. Plausible values lie far inside: see
-#: :data:`PLAUSIBLE_RANGES`.
+#: magnitude of a positive one: beyond it the model's products leave float64's range. Every
+#: field's hard range (:data:`PHYSICAL_RANGES`) lies far inside [1/LIMIT, LIMIT].
 MAGNITUDE_LIMIT = 1e30
 
 #: Magnitudes of real insects and flapping vehicles, generously bounded: (low, high, unit). A
@@ -71,25 +70,114 @@ PLAUSIBLE_RANGES: dict[str, tuple[float, float, str]] = {
     "wing_mass_ratio": (0.0, 0.25, "(2 wing_mass / mass)"),
 }
 
-#: Numeric fields of :class:`Insect`: (accepted range, unit). Ranges: "positive" (magnitude in
-#: [1/MAGNITUDE_LIMIT, MAGNITUDE_LIMIT]), "nonnegative" (0 or up to MAGNITUDE_LIMIT),
-#: "fraction" (of the chord, [0, 1]), "real" (magnitude up to MAGNITUDE_LIMIT), "amplitude"
-#: (:func:`~.kinematics.check_amplitude`), "stroke_mean" (real in (-pi/2, pi/2));
-#: r1 and r2 are checked together by :func:`beta_shape_parameters`. Gravity is positive: with
-#: g = 0 there is no weight to carry, so no hover (the angle alpha_m of eq. 40 is zero).
+#: Hard ranges of the numeric :class:`Insect` fields [SI]: (low, high, unit). A value outside
+#: is refused at construction (ValueError naming the field and this range); inside it but outside
+#: :data:`PLAUSIBLE_RANGES` it is accepted with a warning. Each range is the literature's span
+#: from the smallest insect to the largest flapping vehicle, widened about tenfold at each end
+#: (so that no real animal or MAV, measured in any unit-correct way, is refused), and narrow
+#: enough that a unit slip of 1000 (mm for m, g for kg) or an absurd magnitude (a 1e12 Hz wing
+#: beat that "hovers" at 4406 m/s, a 1e-12 kg moth whose loads overflow) is an error:
+#:
+#: - ``semi_span``: fairyflies (Mymaridae) have ~0.15 mm wings, Festo's SmartBird a 1 m half
+#:   span: [1e-5, 3] m (10 um to 3 m).
+#: - ``wing_area`` (one wing): ~4e-9 m^2 (a fairyfly's fringed wing) to ~0.3 m^2 (SmartBird):
+#:   [1e-11, 5] m^2. The chord is bounded through R^2/S, see :data:`ASPECT_RATIO_RANGE`.
+#: - ``frequency``: 1-2 Hz (large ornithopters, birds) to ~1000 Hz (Forcipomyia midges); the
+#:   book's species atlas follows a bumblebee to 1500 Hz on purpose: [0.1, 1e4] Hz.
+#: - ``stroke_amplitude``: (0, 90 deg] by eq. (39) (:func:`~.kinematics.check_amplitude`), and
+#:   at least 1 deg: insects beat 30-90 deg, the atlas's fast family reaches 2.6 deg; below
+#:   1 deg the nominal amplitude (which fixes alpha_m by eq. 40) is no wing beat.
+#: - ``mass``: ~1e-10 kg (fairyflies; a 1 mg thrips is 1e-6 kg) to ~0.1-0.5 kg flapping MAVs
+#:   (and 2 kg birds): [1e-11, 20] kg.
+#: - ``pitch_inertia``: m L^2 / 12 of a fairyfly (~2e-19) to a 20 kg, 1 m body (~2 kg m^2):
+#:   [1e-24, 10] kg m^2.
+#: - ``air_density``: Mars' surface (~0.015 kg/m^3) to Titan (5.4) and Venus (65): [1e-3, 100].
+#: - ``gravity``: > 0 (no weight, no hover: alpha_m of eq. 40 is zero); Ceres (0.28) to a few g:
+#:   [0.1, 100] m/s^2.
+#: - ``a0``: 2 pi for a thin aerofoil, 3-6 per rad measured on insect wings at low Reynolds
+#:   number: [0.1, 30] 1/rad.
+#: - ``mu1``, ``mu2``: Berman & Wang's fitted rotational damping coefficients (0.2); the fit has
+#:   no physical upper end, so the bound only keeps the loads in float64 range: [0, 1e6]
+#:   (issue 7's reproducers of a non-finite result use 7.5e4 and 1e6).
+#: - ``hinge_offset``, ``hinge_height``: millimetres in insects, centimetres in MAVs: [-5, 5] m.
+#: - ``wing_mass`` (one wing): [0, 10] kg, and below half of ``mass`` (the wings are part of
+#:   the insect).
+#: - ``r1``, ``r2``: Ellington's beta distribution (see :func:`beta_shape_parameters`): r1 in
+#:   (0, 1), and r2 in the open interval from r1 to the largest r2 whose squared chord is
+#:   integrable (insects: r1 = 0.4-0.6, r2 = 0.45-0.65).
+PHYSICAL_RANGES: dict[str, tuple[float, float, str]] = {
+    "semi_span": (1e-5, 3.0, "m"),
+    "wing_area": (1e-11, 5.0, "m^2"),
+    "frequency": (0.1, 1e4, "Hz"),
+    "stroke_amplitude": (math.radians(1.0), math.pi / 2, "rad"),
+    "mass": (1e-11, 20.0, "kg"),
+    "pitch_inertia": (1e-24, 10.0, "kg m^2"),
+    "air_density": (1e-3, 100.0, "kg/m^3"),
+    "gravity": (0.1, 100.0, "m/s^2"),
+    "a0": (0.1, 30.0, "1/rad"),
+    "mu1": (0.0, 1e6, ""),
+    "mu2": (0.0, 1e6, ""),
+    "hinge_offset": (-5.0, 5.0, "m"),
+    "hinge_height": (-5.0, 5.0, "m"),
+    "wing_mass": (0.0, 10.0, "kg"),
+}
+
+#: Hard range of one wing's aspect ratio R^2/S = R/c_bar (the mean chord over the wing length):
+#: insects 2.5-5 (damselflies ~10), the model's needle and sail tests 27 and 0.27; a chord 20
+#: times the wing length or a 200th of it is no wing (the blade-element strip theory of eq. 29
+#: needs the chord small beside R; this only refuses what no planform has).
+ASPECT_RATIO_RANGE: tuple[float, float] = (0.05, 200.0)
+
+#: Numeric fields of :class:`Insect`: (accepted range, unit). Ranges: "physical" (the closed
+#: range of :data:`PHYSICAL_RANGES`), "fraction" (of the chord, [0, 1]), "amplitude"
+#: (:func:`~.kinematics.check_amplitude` and at least :data:`PHYSICAL_RANGES`'s 1 deg),
+#: "stroke_mean" (real in (-pi/2, pi/2)), "r1" (in (0, 1)), "r2" (in (0, 1), then in the range
+#: r1 allows, :func:`beta_shape_parameters`), "radius" ((0, 1] or None).
 _FIELDS: dict[str, tuple[str, str]] = {
-    "semi_span": ("positive", "m"), "wing_area": ("positive", "m^2"),
-    "frequency": ("positive", "Hz"), "mass": ("positive", "kg"),
-    "pitch_inertia": ("positive", "kg m^2"), "air_density": ("positive", "kg/m^3"),
-    "a0": ("positive", "1/rad"), "gravity": ("positive", "m/s^2"),
-    "mu1": ("nonnegative", ""), "mu2": ("nonnegative", ""),
+    "semi_span": ("physical", "m"), "wing_area": ("physical", "m^2"),
+    "frequency": ("physical", "Hz"), "mass": ("physical", "kg"),
+    "pitch_inertia": ("physical", "kg m^2"), "air_density": ("physical", "kg/m^3"),
+    "a0": ("physical", "1/rad"), "gravity": ("physical", "m/s^2"),
+    "mu1": ("physical", ""), "mu2": ("physical", ""),
     "pitch_axis": ("fraction", ""), "center_of_pressure": ("fraction", ""),
-    "hinge_offset": ("real", "m"), "stroke_amplitude": ("amplitude", "rad"),
-    "hinge_height": ("real", "m"), "stroke_mean": ("stroke_mean", "rad"),
-    "r1": ("real", ""), "r2": ("real", ""),
-    "wing_mass": ("nonnegative", "kg"),
+    "hinge_offset": ("physical", "m"), "stroke_amplitude": ("amplitude", "rad"),
+    "hinge_height": ("physical", "m"), "stroke_mean": ("stroke_mean", "rad"),
+    "r1": ("r1", ""), "r2": ("r2", ""),
+    "wing_mass": ("physical", "kg"),
     "wing_mass_r1": ("radius", ""), "wing_mass_r2": ("radius", ""),
 }
+
+
+def r2_range(r1: float) -> tuple[float, float]:
+    """The open interval of r2 that Ellington's beta chord distribution admits with this r1.
+
+    r2 > r1 (a positive variance of the area about its centroid) and the beta shape parameters
+    p, q > 1/2 (the squared chord, which the blade-element loads integrate, is integrable):
+    r2^2 < r1^2 + r1 (1 - r1) / (1 + 1 / (2 min(r1, 1 - r1))).
+
+    Parameters
+    ----------
+    r1 : float
+        Non-dimensional radius of the first moment of wing area, in (0, 1).
+
+    Returns
+    -------
+    (float, float)
+        The bounds (low, high) of r2, both excluded.
+
+    Raises
+    ------
+    ValueError
+        If ``r1`` is not a real number in (0, 1).
+    """
+    r1 = _validation.real("r1", r1, low=0.0, high=1.0, low_open=True, high_open=True)
+    return r1, _r2_high(r1)
+
+
+def _r2_high(r1: float) -> float:
+    """The upper end of :func:`r2_range` (p or q = 1/2 there, k = 1 / (2 min(r1, 1 - r1)))."""
+    k = 1.0 / (2.0 * min(r1, 1.0 - r1))
+    return math.sqrt(r1**2 + r1 * (1.0 - r1) / (k + 1.0))
 
 
 def beta_shape_parameters(r1: float, r2: float) -> tuple[float, float]:
@@ -103,8 +191,8 @@ def beta_shape_parameters(r1: float, r2: float) -> tuple[float, float]:
     r1 : float
         Non-dimensional radius of the first moment of wing area, in (0, 1).
     r2 : float
-        Non-dimensional radius of the second moment of wing area, in (r1, sqrt(r1)), close
-        enough to r1 that the squared chord is integrable (p, q > 1/2).
+        Non-dimensional radius of the second moment of wing area, in :func:`r2_range` (r1's):
+        above r1, and close enough to it that the squared chord is integrable (p, q > 1/2).
 
     Returns
     -------
@@ -118,8 +206,10 @@ def beta_shape_parameters(r1: float, r2: float) -> tuple[float, float]:
         the argument and the range).
     """
     r1 = _validation.real("r1", r1, low=0.0, high=1.0, low_open=True, high_open=True)
-    # r1 < r2: positive variance; r2 < sqrt(r1): a mean square below the mean (p, q > 0).
-    r2 = _validation.real("r2", r2, low=r1, high=math.sqrt(r1), low_open=True, high_open=True)
+    # r1 < r2: positive variance; r2 below r2_range's end: p, q > 1/2 (an integrable c^2).
+    r2 = _validation.real("r2", r2, low=r1, high=_r2_high(r1), low_open=True, high_open=True,
+                          unit=f"(Ellington's beta distribution: r1 < r2 < {_r2_high(r1):.6g} "
+                               f"with r1 = {r1:.6g})")
     variance = r2**2 - r1**2
     k = r1 * (1.0 - r1) / variance - 1.0
     p, q = r1 * k, (1.0 - r1) * k
@@ -232,14 +322,16 @@ class Insect:
     ValueError
         If a field is outside its range; the message names the field and the range. Numbers of
         any real type (``int``, ``np.float32``, ``np.int64``, ...) are stored as Python floats;
-        bools and strings are refused. Magnitudes beyond :data:`MAGNITUDE_LIMIT` (positive
-        ones also below its inverse) are refused, including integers too large for float64.
+        bools and strings are refused. A value outside its field's physical range
+        (:data:`PHYSICAL_RANGES`: e.g. a wing beat of 1e12 Hz, a 1e-12 kg body, a 10 m wing),
+        an r2 outside :func:`r2_range` of r1, and a wing aspect ratio R^2/S outside
+        :data:`ASPECT_RATIO_RANGE` are refused, as are integers too large for float64.
 
     Warns
     -----
     PlausibilityWarning
-        For each value outside :data:`PLAUSIBLE_RANGES` (magnitudes no insect or flapping
-        vehicle has, e.g. a wing beat of 1e12 Hz), naming the field, its value and the range.
+        For each value inside its physical range but outside :data:`PLAUSIBLE_RANGES` (e.g. a
+        wing beat of 5 kHz), naming the field, its value and the range.
     """
 
     name: str
@@ -287,8 +379,31 @@ class Insect:
             object.__setattr__(self, "_shape", beta_shape_parameters(self.r1, self.r2))
         if changed is None or not _WING_MASS_FIELDS.isdisjoint(changed) or "mass" in changed:
             _check_wing_mass(self)
+        if changed is None or "semi_span" in changed or "wing_area" in changed:
+            _check_aspect_ratio(self)
         for message in _implausible(self):
             warnings.warn(message, PlausibilityWarning, stacklevel=stacklevel)
+
+    def implausible_fields(self) -> dict[str, str]:
+        """The fields likely to blame if this insect's hover solve blows up, each with why.
+
+        Every field is in its hard range (:data:`PHYSICAL_RANGES`), but a combination of
+        plausible magnitudes can still be no insect: a hawkmoth's wings on a 1 mg body lift a
+        million times its weight, and the integration of eq. (2) overflows. Named here: each
+        field outside :data:`PLAUSIBLE_RANGES` (a derived ratio names the fields it is made
+        of), a body radius of gyration sqrt(I_y / m_body) outside [0.01, 5] R, a hinge more than
+        3 R from the centre of gravity, and, if nothing else is named, a weight that the wings at
+        rest would carry with a stroke below 2 deg or not even at 90 deg (eq. 40 at
+        alpha_m = 45 deg, its best angle: :func:`support_amplitude`), blamed on ``mass``.
+
+        Returns
+        -------
+        dict of str to str
+            Field name -> a sentence with its value and the range it leaves (empty if the
+            insect looks like one). The hover layer appends these to a blow-up's message
+            (:func:`explain_blowup`).
+        """
+        return implausible_fields(self)
 
     # ----------------------------------------------------------------- geometry
     @property
@@ -348,8 +463,13 @@ class Insect:
         c(r) = c_bar / B(p, q) * (r/R)**(p-1) * (1 - r/R)**(q-1). Singular (integrably) at the root
         when p < 1; returned as zero outside the open interval (0, R), including at the root
         and tip themselves where the true value may be infinite.
+
+        Raises
+        ------
+        ValueError
+            If ``r`` is not a finite real number or array of them.
         """
-        r_hat = np.asarray(r, dtype=float) / self.semi_span
+        r_hat = _validation.array("r", r) / self.semi_span
         p, q = self._shape
         inside = (r_hat > 0.0) & (r_hat < 1.0)
         safe = np.where(inside, r_hat, 0.5)
@@ -501,6 +621,11 @@ def _span_integral(semi_span: float, mean_chord: float, p: float, q: float, m: f
 
 def _implausible(insect: Insect) -> list[str]:
     """One message per value outside :data:`PLAUSIBLE_RANGES` (field, value, range)."""
+    return [message for message in _implausible_each(insect) if message]
+
+
+def _implausible_each(insect: Insect) -> list[str]:
+    """For each entry of :data:`PLAUSIBLE_RANGES` in order, its message, or ``""`` if inside."""
     messages = []
     for name, (low, high, unit) in PLAUSIBLE_RANGES.items():
         if name == "aspect_ratio_1":
@@ -509,12 +634,135 @@ def _implausible(insect: Insect) -> list[str]:
             value, what = 2.0 * insect.wing_mass / insect.mass, "2 wing_mass / mass"
         else:
             value, what = getattr(insect, name), f"`{name}`"
-        if not low <= value <= high:
-            messages.append(
-                f"{what} = {value:.6g} {unit} of {insect.name!r} is outside the range of insects "
-                f"and flapping vehicles [{low:.6g}, {high:.6g}] {unit}; the model accepts it, but "
-                "check the units (SI: m, kg, s, rad)")
+        messages.append(
+            "" if low <= value <= high else
+            f"{what} = {value:.6g} {unit} of {insect.name!r} is outside the range of insects "
+            f"and flapping vehicles [{low:.6g}, {high:.6g}] {unit}; the model accepts it, but "
+            "check the units (SI: m, kg, s, rad)")
     return messages
+
+
+def _check_aspect_ratio(insect: Insect) -> None:
+    """One wing's R^2/S (R over the mean chord) in :data:`ASPECT_RATIO_RANGE`."""
+    low, high = ASPECT_RATIO_RANGE
+    ratio = insect.semi_span**2 / insect.wing_area
+    if not low <= ratio <= high:
+        raise ValueError(
+            f"`semi_span`**2 / `wing_area` (one wing's aspect ratio R / c_bar) must be in "
+            f"[{low:g}, {high:g}]; got {ratio:.6g} (`semi_span` = {insect.semi_span:.6g} m, "
+            f"`wing_area` = {insect.wing_area:.6g} m^2: a mean chord of "
+            f"{insect.mean_chord:.6g} m); check the units (SI: m, m^2)")
+
+
+#: Plausible range of the body's radius of gyration about its pitch axis over the wing length,
+#: sqrt(I_y / m_body) / R: the presets lie at 0.1-0.4 (an insect body about as long as a wing).
+GYRATION_RANGE: tuple[float, float] = (0.01, 5.0)
+#: Largest plausible distance of the hinge from the centre of gravity, over R.
+HINGE_RANGE = 3.0
+#: Plausible range [rad] of the stroke amplitude the wings need to carry the weight at rest with
+#: alpha_m = 45 deg (eq. 40): below 2 deg the wings lift far more than the weight (a body far too
+#: light for its wings: eq. 2 is then stiff enough to overflow), above 90 deg no hover exists.
+SUPPORT_AMPLITUDE_RANGE: tuple[float, float] = (math.radians(2.0), math.pi / 2)
+
+#: Which fields a derived quantity of :data:`PLAUSIBLE_RANGES` is made of.
+_DERIVED_FIELDS = {"aspect_ratio_1": ("semi_span", "wing_area"),
+                   "wing_mass_ratio": ("wing_mass", "mass")}
+
+
+def support_amplitude(insect: Insect) -> float:
+    """The stroke amplitude [rad] that carries the weight of a body at rest at alpha_m = 45 deg.
+
+    Eq. (40) solved for Phi: m g = 2 pi^2 f^2 Phi^2 (rho A I_21 / 2) sin(2 alpha_m), at the
+    angle that lifts most. Above pi/2 the insect cannot hover; far below its nominal amplitude
+    the wings are far too strong for the body.
+
+    Parameters
+    ----------
+    insect : Insect
+
+    Returns
+    -------
+    float
+        Phi [rad] (may exceed pi/2).
+
+    Raises
+    ------
+    ValueError
+        If ``insect`` is not an :class:`Insect`.
+    """
+    _validation.instance("insect", insect, Insect)
+    k21 = 0.5 * insect.air_density * insect.lift_slope * insect.span_integral(2, 1)
+    return math.sqrt(insect.weight / (2.0 * math.pi**2 * insect.frequency**2 * k21))
+
+
+def implausible_fields(insect: Insect) -> dict[str, str]:
+    """:meth:`Insect.implausible_fields` (the fields likely to blame for a blow-up, with why).
+
+    Raises
+    ------
+    ValueError
+        If ``insect`` is not an :class:`Insect`.
+    """
+    _validation.instance("insect", insect, Insect)
+    found: dict[str, str] = {}
+
+    def blame(names: tuple[str, ...], why: str) -> None:
+        for name in names:
+            found[name] = f"{found[name]}; {why}" if name in found else why
+
+    for key, message in zip(PLAUSIBLE_RANGES, _implausible_each(insect), strict=True):
+        if message:
+            blame(_DERIVED_FIELDS.get(key, (key,)), message)
+    body = insect.mass - 2.0 * insect.wing_mass
+    gyration = math.sqrt(insect.pitch_inertia / body) / insect.semi_span
+    low, high = GYRATION_RANGE
+    if not low <= gyration <= high:
+        blame(("pitch_inertia", "mass"),
+              f"the body's radius of gyration sqrt(pitch_inertia / body mass) is {gyration:.3g} "
+              f"wing lengths, outside [{low:g}, {high:g}]")
+    for name in ("hinge_offset", "hinge_height"):
+        ratio = abs(getattr(insect, name)) / insect.semi_span
+        if ratio > HINGE_RANGE:
+            blame((name,), f"`{name}` is {ratio:.3g} wing lengths from the centre of gravity "
+                           f"(more than {HINGE_RANGE:g})")
+    amplitude = support_amplitude(insect)
+    low, high = SUPPORT_AMPLITUDE_RANGE
+    # A weight the wings cannot match follows from any implausible size above; alone, it blames
+    # the mass (the field most often given in the wrong unit).
+    if not found and not low <= amplitude <= high:
+        why = "lift far more than" if amplitude < low else "cannot lift"
+        blame(("mass",), f"the wings {why} the weight m g = {insect.weight:.3g} N: at rest "
+                         f"and alpha_m = 45 deg they carry it with a stroke of "
+                         f"{math.degrees(amplitude):.3g} deg, outside [2, 90] deg (eq. 40; "
+                         "check mass, semi_span, wing_area, frequency, air_density)")
+    return found
+
+
+def explain_blowup(insect: Insect) -> str:
+    """A sentence naming the likely culprit fields of a failed or overflowing hover solve.
+
+    For the hover layer to append to a "non-finite value" or divergence message, so that the
+    user reads which field to check, not only that the integration failed.
+
+    Parameters
+    ----------
+    insect : Insect
+
+    Returns
+    -------
+    str
+        ``""`` if no field looks implausible (:meth:`Insect.implausible_fields`), else
+        ``"likely cause: `mass` (...); `semi_span` (...)"``.
+
+    Raises
+    ------
+    ValueError
+        If ``insect`` is not an :class:`Insect`.
+    """
+    found = implausible_fields(insect)
+    if not found:
+        return ""
+    return "likely cause: " + "; ".join(f"`{name}` ({why})" for name, why in found.items())
 
 
 _WING_MASS_FIELDS = frozenset({"wing_mass", "wing_mass_r1", "wing_mass_r2", "r1", "r2"})
@@ -533,21 +781,23 @@ def _check_wing_mass(insect: Insect) -> None:
 
 def _check_field(name: str, value: object, kind: str, unit: str) -> float | None:
     """One numeric field of :class:`Insect` as a float in its range (see :data:`_FIELDS`)."""
+    if kind == "physical":
+        low, high, _ = PHYSICAL_RANGES[name]
+        return _validation.real(name, value, low=low, high=high, unit=unit)
     if kind == "radius":
         if value is None:
             return None
         return _validation.real(name, value, low=0.0, high=1.0, low_open=True,
                                 unit="(fraction of the wing length)")
-    if kind == "positive":
-        return _validation.real(name, value, low=1.0 / MAGNITUDE_LIMIT, high=MAGNITUDE_LIMIT,
-                                unit=unit)
-    if kind == "nonnegative":
-        return _validation.real(name, value, low=0.0, high=MAGNITUDE_LIMIT, unit=unit)
     if kind == "fraction":
         return _validation.real(name, value, low=0.0, high=1.0, unit="(fraction of the chord)")
     if kind == "amplitude":
-        return check_amplitude(value, name)
+        amplitude = check_amplitude(value, name)  # the kinematics' range, (0, pi/2], first
+        return _validation.real(name, amplitude, low=PHYSICAL_RANGES[name][0],
+                                high=math.pi / 2, unit="rad (1 to 90 deg)")
     if kind == "stroke_mean":
         return _validation.real(name, value, low=-math.pi / 2, high=math.pi / 2, low_open=True,
                                 high_open=True, unit=unit)
-    return _validation.real(name, value, low=-MAGNITUDE_LIMIT, high=MAGNITUDE_LIMIT, unit=unit)
+    # r1 and r2: fractions of the wing length; r2's range given r1 is checked afterwards.
+    return _validation.real(name, value, low=0.0, high=1.0, low_open=True, high_open=True,
+                            unit="(fraction of the wing length)")

@@ -224,6 +224,49 @@ class Preset:
         """The fields with a plausible range (unverified or estimated), for uncertainty studies."""
         return {k: v for k, v in self.values.items() if v.has_range}
 
+    def ranged_fields(self, fields: Any = None, name: str = "fields") -> tuple[str, ...]:
+        """``fields`` checked against :meth:`ranged` (default: all of them), for a study that
+        varies each over its plausible range.
+
+        Parameters
+        ----------
+        fields : sequence of str, optional
+            Field names; default every field with a range.
+        name : str
+            The argument's name, for the messages.
+
+        Returns
+        -------
+        tuple of str
+
+        Raises
+        ------
+        ValueError
+            If ``fields`` is not a sequence of names, or names a field without a range; the
+            message lists the fields with one, and if there are none (every number of the
+            preset is verified or the paper's, as the hawkmoth's) says so and names the presets
+            that have some.
+        """
+        ranged = self.ranged()
+        if fields is None:
+            chosen: tuple[Any, ...] = tuple(ranged)
+        elif isinstance(fields, (str, bytes)) or not hasattr(fields, "__iter__"):
+            raise ValueError(f"`{name}` must be a sequence of field names; got {fields!r}")
+        else:
+            chosen = tuple(fields)
+        for f in chosen:
+            if f in ranged:
+                continue
+            if not ranged:
+                others = ", ".join(p for p, entry in PRESETS.items() if entry.ranged())
+                raise ValueError(
+                    f"`{name}`: the {self.name} preset has no number with a plausible range "
+                    f"(every value is verified or the paper's), so {f!r} cannot be varied; "
+                    f"presets with uncertain numbers: {others}")
+            raise ValueError(f"`{name}` must name fields with a plausible range in the "
+                             f"{self.name} preset, one of {tuple(ranged)}; got {f!r}")
+        return chosen
+
 
 # =========================================================================== estimation methods
 def ellipsoid_pitch_inertia(mass: float, length: float, diameter: float) -> float:

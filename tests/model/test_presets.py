@@ -250,3 +250,23 @@ def test_hinge_geometry_refuses_bad_arguments_by_name(args, match):
 def test_an_unknown_geometry_is_refused_naming_the_choices():
     with pytest.raises(ValueError, match="geometry.*measured"):
         presets.preset("hawkmoth", geometry="anatomical")
+
+
+# ------------------------------------------------------------------------------ issue 26
+def test_ranged_fields_says_why_the_hawkmoth_has_nothing_to_vary():
+    # Reproducer (issue 26): morphology_sensitivity("hawkmoth", fields=["foo"]) listed the
+    # allowed fields as "one of ()": the hawkmoth's numbers are all verified or the paper's.
+    with pytest.raises(ValueError, match=r"hawkmoth preset has no number with a plausible range"
+                                         r".*presets with uncertain numbers: bumblebee"):
+        PRESETS["hawkmoth"].ranged_fields(["foo"])
+    assert PRESETS["hawkmoth"].ranged_fields() == ()
+
+
+def test_ranged_fields_lists_the_allowed_fields_and_refuses_a_bare_string():
+    bee = PRESETS["bumblebee"]
+    assert bee.ranged_fields() == tuple(bee.ranged())
+    assert bee.ranged_fields(["r2"]) == ("r2",)
+    with pytest.raises(ValueError, match=r"one of \('r2', 'r1'.*got 'foo'"):
+        bee.ranged_fields(["foo"])
+    with pytest.raises(ValueError, match="sequence of field names; got 'r2'"):
+        bee.ranged_fields("r2")
