@@ -53,7 +53,7 @@ from flapping.backends import (
     as_backend,
     warn_unused,
 )
-from flapping.errors import ConvergenceError, HoverDriftWarning, require_success
+from flapping.errors import ConvergenceError, HoverDriftWarning, NonFiniteError, require_success
 from flapping.fast import kernel as _kernel
 from flapping.hover.problem import (
     DEFAULT_BACKEND,
@@ -66,7 +66,7 @@ from flapping.hover.problem import (
 )
 from flapping.model.dynamics import STATE_NAMES, LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
-from flapping.model.morphology import Insect
+from flapping.model.morphology import Insect, explain_blowup
 from flapping.periodic._readonly import freeze, readonly
 from flapping.periodic.fixedstep import (
     FixedStepOrbit,
@@ -534,24 +534,40 @@ def find_hover_orbit(
                          tol=tol, kernel_options=kernel_options,
                          fixed_step_options=fixed_step_options, settings=settings)
     path = options.choose(problem)
-    orbit = None
+    try:
+        orbit = _solve(problem, path, options, guess, x0, n_samples)
+    except (ConvergenceError, NonFiniteError) as exc:
+        _attribute(exc, problem.insect)
+        raise
+    _warn_if_drifting(orbit)
+    return orbit
+
+
+def _solve(problem: HoverProblem, path: Backend, options: Options, guess: np.ndarray,
+           x0: np.ndarray, n_samples: int) -> HoverOrbit:
+    """The orbit on ``path``; under "auto" a compiled or fixed-step failure hands over to the
+    adaptive path."""
     started = time.perf_counter()
     if not isinstance(path, Adaptive):
         try:
             if isinstance(path, Compiled):
-                orbit = _kernel_orbit(problem, path, float(guess[0]), x0, n_samples, started)
-            else:
-                orbit = _fixed_step_orbit(problem, path, guess, x0, n_samples, started)
+                return _kernel_orbit(problem, path, float(guess[0]), x0, n_samples, started)
+            return _fixed_step_orbit(problem, path, guess, x0, n_samples, started)
         except ConvergenceError as exc:
             if not options.auto:
                 raise
             # "auto" promises an answer where either path has one: the adaptive path's
             # step control survives insects the fixed-step paths do not.
             _LOG.info("the %s path failed (%s); trying the adaptive path", path.name, exc)
-    if orbit is None:
-        orbit = _adaptive_orbit(problem, options.adaptive, guess, x0, n_samples, started)
-    _warn_if_drifting(orbit)
-    return orbit
+    return _adaptive_orbit(problem, options.adaptive, guess, x0, n_samples, started)
+
+
+def _attribute(error: BaseException, insect: Insect) -> None:
+    """Append to a failed solve's message the insect's fields likely to blame (a blow-up of an
+    absurd combination of plausible numbers names them, instead of only the integrator)."""
+    why = explain_blowup(insect)
+    if why and error.args and why not in str(error.args[0]):
+        error.args = (f"{error.args[0]}; {why}", *error.args[1:])
 
 
 @dataclass(frozen=True)
@@ -972,7 +988,7 @@ def paper_hover_problem(
         s = segment_stroke_sign(k)
 
         def f(t, y, params):
-            dx = model.rhs(t, y[:4], s, params[0])
+            dx = model.unchecked.rhs(t, y[:4], s, params[0])
             u, w, q, th = y[:4]
             dh = (dx[1] * math.sin(th) + w * math.cos(th) * q
                   - dx[0] * math.cos(th) + u * math.sin(th) * q)
@@ -1054,7 +1070,7 @@ def force_budget(
              period=orbit.period, t_eval=t, rtol=rtol, atol=atol),
         "the budget").x
     u, w, q, th = x
-    d = np.array([model.derivatives(ti) for ti in t]).T
+    d = np.array([model.unchecked.derivatives(ti) for ti in t]).T
     g, m, Iy = model.insect.gravity, model.insect.mass, model.insect.pitch_inertia
     terms = {
         "u": {"-q w": -q * w, "-g sin(theta)": -g * np.sin(th), "X0/m": d[0] / m,

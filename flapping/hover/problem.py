@@ -361,7 +361,7 @@ class _Fields:
     def rhs(self, t: float, y: np.ndarray, params: np.ndarray, s: float) -> np.ndarray:
         check_iterate_amplitude(params[0])
         out = np.empty(self.size)
-        out[:4] = self.at(params).rhs(t, y, s, params[0])
+        out[:4] = self.at(params).unchecked.rhs(t, y, s, params[0])
         forward, down = inertial_velocity(y[0], y[1], y[3])
         out[4] = down
         if self.size == 6:
@@ -370,7 +370,7 @@ class _Fields:
 
     def jac(self, t: float, y: np.ndarray, params: np.ndarray, s: float) -> np.ndarray:
         out = np.zeros((self.size, self.size))
-        out[:4, :4] = self.at(params).jac(t, y, s, params[0])
+        out[:4, :4] = self.at(params).unchecked.jac(t, y, s, params[0])
         forward, down = inertial_velocity_jac(y[0], y[1], y[3])
         out[4, :4] = down
         if self.size == 6:
@@ -379,7 +379,7 @@ class _Fields:
 
     def param_jac(self, t: float, y: np.ndarray, params: np.ndarray, s: float) -> np.ndarray:
         out = np.zeros((self.size, self.size - 4))
-        model = self.at(params)
+        model = self.at(params).unchecked  # the solvers' own arguments: checked at the boundary
         out[:4, :1] = model.amplitude_jac(t, y, s, params[0])
         if self.size == 6:
             out[:4, 1:] = model.stroke_mean_jac(t, y, s, params[0])

@@ -625,11 +625,12 @@ def linear_wingbeat_map(orbit: HoverOrbit, *, rtol: float = 1e-12,
         return model if p[0] == phi_bar else model.with_stroke_mean(float(p[0]))
 
     var = variational_flow(
-        [lambda t, x, p, _s=s: at(p).rhs(t, x, _s) for s in signs],
-        [lambda t, x, p, _s=s: at(p).jac(t, x, _s) for s in signs],
+        [lambda t, x, p, _s=s: at(p).unchecked.rhs(t, x, _s) for s in signs],
+        [lambda t, x, p, _s=s: at(p).unchecked.jac(t, x, _s) for s in signs],
         (0.0, orbit.period), orbit.x0, breakpoints=model.breakpoints, period=orbit.period,
         rtol=rtol, atol=atol, params=np.array([phi_bar]),
-        param_jac=[lambda t, x, p, _s=s: at(p).stroke_mean_jac(t, x, _s) for s in signs])
+        param_jac=[lambda t, x, p, _s=s: at(p).unchecked.stroke_mean_jac(t, x, _s)
+                   for s in signs])
     if not var.success or var.sensitivity is None:
         raise ConvergenceError(f"the variational integration failed: {var.message}")
     return WingbeatMap(orbit, var.stm[:, :, -1].copy(), var.sensitivity[:, :, -1].copy())
@@ -996,8 +997,8 @@ def _one_wingbeat(model: LongitudinalDynamics, x: np.ndarray, period: float) -> 
     edges = [0.0, *[b * period for b in model.breakpoints], period]
     for k in range(len(edges) - 1):
         s = segment_stroke_sign(k)
-        sol = solve_ivp(lambda t, y, _s=s: model.rhs(t, y, _s), (edges[k], edges[k + 1]), x,
-                        method="DOP853", rtol=1e-11, atol=1e-13)
+        sol = solve_ivp(lambda t, y, _s=s: model.unchecked.rhs(t, y, _s),
+                        (edges[k], edges[k + 1]), x, method="DOP853", rtol=1e-11, atol=1e-13)
         x = sol.y[:, -1]
     return x
 
