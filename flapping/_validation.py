@@ -220,8 +220,9 @@ def array(name: str, value: Any) -> np.ndarray:
 def instance(name: str, value: T, cls: type) -> T:
     """``value`` if it is an instance of ``cls``, else a ValueError naming ``name`` and the type."""
     if not isinstance(value, cls):
-        raise ValueError(
-            f"`{name}` must be a {cls.__name__}; got {value!r} ({type(value).__name__})")
+        article = "an" if cls.__name__[:1].lower() in "aeiou" else "a"
+        raise ValueError(f"`{name}` must be {article} {cls.__name__}; got {_show(value)} "
+                         f"({type(value).__name__})")
     return value
 
 

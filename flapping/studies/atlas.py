@@ -741,24 +741,6 @@ def _leading_multiplier(insect: Insect, near: HoverOrbit) -> tuple[float, str]:
     return float(np.abs(hover_stability(orbit).multipliers[0])), ""
 
 
-def _ranged_fields(name: str, fields: Any, ranged: tuple[str, ...]) -> tuple[str, ...]:
-    """``fields`` checked against the preset's fields with a range (a ValueError naming them, or
-    saying the preset has none)."""
-    if isinstance(fields, str) or not isinstance(fields, Sequence):
-        raise ValueError(f"`fields` must be a sequence of field names; got "
-                         f"{_validation._show(fields)}")
-    for f in fields:
-        if f in ranged:
-            continue
-        if not ranged:
-            raise ValueError(f"`fields`: preset {name!r} has no number with a plausible range "
-                             f"(each is verified or the paper's own), so none can be varied; got "
-                             f"{_validation._show(f)}")
-        raise ValueError(f"`fields` must name fields of preset {name!r} with a plausible range, "
-                         f"one of {ranged}; got {_validation._show(f)}")
-    return tuple(fields)
-
-
 def morphology_sensitivity(name: str, fields: Sequence[str] | None = None,
                            orbit: HoverOrbit | None = None) -> list[SensitivityBar]:
     """``|mu_1|`` of a preset at both ends of the plausible range of each uncertain number.
@@ -792,7 +774,7 @@ def morphology_sensitivity(name: str, fields: Sequence[str] | None = None,
     """
     preset = PRESETS[_validation.choice("name", name, tuple(PRESETS))]
     ranged = preset.ranged()
-    fields = tuple(ranged) if fields is None else _ranged_fields(name, fields, tuple(ranged))
+    fields = preset.ranged_fields(fields)
     base = preset.insect()
     orbit = find_hover_orbit(base) if orbit is None else orbit
     mu0 = float(np.abs(hover_stability(orbit).multipliers[0]))
