@@ -354,6 +354,9 @@ def test_real_ctrl_c_mid_sweep_exits_130_with_one_line_and_whole_rows(rows):
 #: imported (an import hook raises it): the moment before main() has its handler.
 _STARTUP = """
 import importlib.abc, os, signal, sys
+# Python's own Ctrl-C handler, as in a terminal (a runner started in the background of a
+# non-interactive shell hands its children SIGINT ignored, and Python then installs none)
+signal.signal(signal.SIGINT, signal.default_int_handler)
 import flapping  # the package itself: its __init__ is not the command line's to guard
 class Interrupt(importlib.abc.MetaPathFinder):
     def find_spec(self, name, path=None, target=None):
