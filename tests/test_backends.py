@@ -241,3 +241,16 @@ def test_a_failed_kernel_solve_carries_its_status(monkeypatch):
                            multiplier_tol=1e-12)
     assert info.value.status is Status.TOLERANCE_NOT_MET
     assert status_of(info.value) is Status.TOLERANCE_NOT_MET
+
+
+def test_the_adaptive_shooting_reports_the_one_table_s_status():
+    from flapping.periodic.shooting import find_periodic_orbit
+    from flapping.periodic.testproblems import lorenz, lorenz_jac
+
+    orbit = find_periodic_orbit(lorenz, [-13.76, -19.58, 27.0], 1.56, jac=lorenz_jac, fixed=[2])
+    assert orbit.status is Status.SUCCESS and orbit.success
+    with pytest.raises(ConvergenceError) as info:  # two evaluations cannot converge
+        find_periodic_orbit(lorenz, [-13.76, -19.58, 27.0], 1.56, jac=lorenz_jac, fixed=[2],
+                            max_nfev=2)
+    assert info.value.status in (Status.MAX_EVALUATIONS, Status.RESIDUAL_ABOVE_TOL)
+    assert info.value.result.status is info.value.status

@@ -70,6 +70,7 @@ from flapping.periodic._problem import (
     ShootingSetup,
 )
 from flapping.periodic._readonly import freeze
+from flapping.results import Status
 
 __all__ = [
     "DEFAULTS",
@@ -145,6 +146,10 @@ class PeriodicOrbit:
     segment_states : ndarray, shape (n, M) or None
         Multiple shooting: the state at the start of each of the M segments (time along the last
         axis; the first column is ``x0``). Single shooting: ``x0`` as one column.
+    status : Status
+        The outcome from the package's one status table (:class:`flapping.results.Status`):
+        ``SUCCESS``, ``INTEGRATION_FAILED``, ``MAX_EVALUATIONS`` (Levenberg-Marquardt's budget),
+        ``RESIDUAL_ABOVE_TOL``, or ``FAILED`` (converged to an equilibrium or a collapsed period).
     """
 
     x0: np.ndarray
@@ -166,6 +171,7 @@ class PeriodicOrbit:
     unknowns: np.ndarray
     phase_condition: str
     segment_states: np.ndarray | None = None
+    status: Status = Status.SUCCESS
 
     def __post_init__(self) -> None:
         freeze(self)
@@ -403,10 +409,12 @@ def _result(problem: ShootingProblem, outcome: _Outcome, stopping: _Stopping,
     problem.close_history(outcome.z, norm)
     success = not outcome.failed and outcome.status_ok and norm <= stopping.tol
     message = outcome.message
+    status = (Status.SUCCESS if success else Status.INTEGRATION_FAILED if outcome.failed
+              else Status.RESIDUAL_ABOVE_TOL if outcome.status_ok else Status.MAX_EVALUATIONS)
     if success and s.autonomous:
         refusal = _refusal(problem, x, T, params, stopping.min_period)
         if refusal is not None:
-            success, message = False, refusal
+            success, message, status = False, refusal, Status.FAILED
     elif not outcome.failed and not success:
         message = (f"Levenberg-Marquardt stopped ({message}) with residual norm {norm:.3e} > "
                    f"tol = {stopping.tol:.1e}" if outcome.status_ok
@@ -421,6 +429,7 @@ def _result(problem: ShootingProblem, outcome: _Outcome, stopping: _Stopping,
         jacobian=s.jacobian, method=s.settings.method, autonomous=s.autonomous,
         unknowns=np.array(outcome.z, dtype=float), phase_condition=phase,
         segment_states=problem.segment_states(np.asarray(outcome.z, dtype=float)),
+        status=status,
     )
 
 
@@ -628,7 +637,8 @@ def find_periodic_orbit(
                                residual=orbit.residual_norm, iterations=orbit.nit, result=orbit,
                                t=None if where is None else where.t,
                                state=None if where is None else where.state,
-                               source=None if where is None else where.source)
+                               source=None if where is None else where.source,
+                               status=orbit.status)
     if setup.autonomous:
         _warn_if_multiple(problem, orbit)
     return orbit
