@@ -226,7 +226,11 @@ def hover_stability(
         fixed-step path integrates the period map on the graded mesh at n and 2n steps per
         half-stroke (n the step count the orbit was solved with, else
         :class:`~flapping.backends.FixedStep`'s ``n_steps``) and reports the 2n multipliers
-        with their change as :attr:`HoverStability.multiplier_error`; the adaptive path
+        with their change as :attr:`HoverStability.multiplier_error` (an absolute error: a tiny
+        multiplier is known only to it, so Liouville's check, a product of the multipliers,
+        reads poorly where one is tiny: 0.2 for the small-angle monarch, whose smallest is
+        1.1e-9 against an estimate of 1.5e-8, where the adaptive path, a keyword away, gives
+        2e-12); the adaptive path
         integrates the variational equations at :class:`~flapping.backends.Adaptive`'s
         ``analysis_rtol`` and ``analysis_atol``.
     n_average : int
