@@ -30,6 +30,9 @@ from nbval.plugin import IPyNbFile
 BOOK = Path(__file__).parent / "book"
 TOC = BOOK / "_toc.yml"
 NOT_EXECUTED = {"references"}  # pages with no code: only the bibliography directive
+#: Chapters with a cell over 20 s (CI, 2 cores): every cell of such a chapter is marked `slow`
+#: too, since a chapter's cells run in order in one kernel (control: its passive sweep, 38 s).
+SLOW_CHAPTERS = {"control"}
 
 
 def _toc_entries(toc: dict) -> list[str]:
@@ -77,6 +80,8 @@ class MystChapter(IPyNbFile):
         try:
             for item in super().collect():
                 item.add_marker(pytest.mark.book)  # `-m "not book"` runs the unit tests alone
+                if name in SLOW_CHAPTERS:
+                    item.add_marker(pytest.mark.slow)
                 yield item
         finally:
             self._read_from = None

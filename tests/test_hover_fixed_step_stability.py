@@ -60,7 +60,7 @@ def test_the_adaptive_analysis_has_no_estimate_and_the_kernel_reports_its_own(li
     assert stability.multiplier_error == compiled.kernel.multiplier_error > 0.0
 
 
-@pytest.mark.slow  # ~2 min: the adaptive analysis of the blade-element loads at rtol 1e-13
+@pytest.mark.slow  # ~25 s on CI: the adaptive analysis of the blade-element loads at rtol 1e-13
 def test_the_estimate_bounds_the_difference_to_a_tight_adaptive_analysis(small_angle):
     assert small_angle.backend == "fixed-step"
     fixed = hover_stability(small_angle, backend="fixed-step")
