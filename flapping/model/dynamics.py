@@ -259,7 +259,7 @@ class LongitudinalDynamics:
     # Blade-element models at other amplitudes (shooting with Phi free evaluates a few of them
     # over and over; building one costs ~25 load evaluations). Bounded: oldest dropped first.
     _blades: dict[float, BladeElementModel] = field(init=False, repr=False, compare=False)
-    #: The calls without their argument check, for solvers (see :class:`UncheckedCalls`).
+    # The calls without their argument check, for solvers (documented in the class's Attributes).
     unchecked: UncheckedCalls = field(init=False, repr=False, compare=False)
 
     def __init__(self, insect: Insect, amplitude: float | None = None,

@@ -97,7 +97,7 @@ RESIDUAL_CEILING = 1e-6
 #: The largest relative accuracy goal of the other tolerances of the layer (the fixed-step
 #: solver's ``error_tol`` and ``multiplier_tol``; Levenberg-Marquardt's ``xtol`` and ``ftol``):
 #: 1 %. Richardson's estimate assumes the error is in its asymptotic regime (small beside the
-#: unknowns), and a multiplier known to +-0.01 still tells stability apart near |mu| = 1 only
+#: unknowns), and a multiplier known to +-0.01 still tells stability apart near abs(mu) = 1 only
 #: just; MINPACK's relative step and reduction tests at 1 % stop after the first iteration.
 TOL_CEILING = 1e-2
 
