@@ -39,7 +39,7 @@ import numpy as np
 
 from flapping import __version__
 from flapping.backends import Adaptive
-from flapping.errors import ConvergenceError, PlausibilityWarning
+from flapping.errors import ConvergenceError, PlausibilityWarning, caused_by_interrupt
 from flapping.hover import HoverOrbit, find_hover_orbit
 from flapping.hover.stability import HoverStability, hover_stability
 from flapping.model import presets as species
@@ -453,14 +453,7 @@ def _is_interrupt(exc: BaseException) -> bool:
     """True if ``exc`` is, or was caused by, a Ctrl-C (a KeyboardInterrupt in its chain, as
     numba's SystemError "returned a result with an exception set" carries it, or any exception
     raised after the SIGINT handler ran)."""
-    seen: set[int] = set()
-    chain: BaseException | None = exc
-    while chain is not None and id(chain) not in seen:
-        if isinstance(chain, KeyboardInterrupt):
-            return True
-        seen.add(id(chain))
-        chain = chain.__cause__ or chain.__context__
-    return _SIGINT_SEEN[0]
+    return caused_by_interrupt(exc) or _SIGINT_SEEN[0]
 
 
 def _raise_if_interrupted() -> None:

@@ -24,7 +24,7 @@ from flapping.results import Status
 
 __all__ = ["ConvergenceError", "NonFiniteError", "DomainError", "HoverDriftWarning",
            "ClosureWarning", "AliasedPeriodWarning", "ToleranceWarning", "PlausibilityWarning",
-           "require_success"]
+           "caused_by_interrupt", "require_success"]
 
 
 class ConvergenceError(RuntimeError):
@@ -91,6 +91,20 @@ class ConvergenceError(RuntimeError):
         self.state = None if state is None else np.array(state, dtype=float)
         self.source = source
         self.status = status
+
+
+def caused_by_interrupt(error: BaseException) -> bool:
+    """True if ``error`` is, or was caused by, a Ctrl-C: a KeyboardInterrupt in its chain of
+    causes and contexts (numba turns one raised inside compiled code into a SystemError that
+    carries it)."""
+    seen: set[int] = set()
+    chain: BaseException | None = error
+    while chain is not None and id(chain) not in seen:
+        if isinstance(chain, KeyboardInterrupt):
+            return True
+        seen.add(id(chain))
+        chain = chain.__cause__ or chain.__context__
+    return False
 
 
 class NonFiniteError(ValueError):

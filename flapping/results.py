@@ -87,7 +87,7 @@ def status_of(error: BaseException) -> Status:
         return Status.LEFT_DOMAIN
     if isinstance(error, KeyboardInterrupt):
         return Status.INTERRUPTED
-    if type(error).__name__ == "LinAlgError":  # numpy.linalg's (a ValueError), without numpy
+    if isinstance(error, np.linalg.LinAlgError):  # a ValueError: before that test
         return Status.SINGULAR
     if isinstance(error, ValueError):
         return Status.INVALID_INPUT
@@ -156,11 +156,11 @@ class Floquet:
 
     @property
     def exponents(self) -> Any:
-        """Floquet exponents log(mu) / T [1/s] (principal branch; -inf for mu = 0)."""
-        with np.errstate(divide="ignore", invalid="ignore"):
-            out = np.log(self.multipliers) / self.period
-        out[self.multipliers == 0] = complex(-math.inf, 0.0)
-        return out
+        """Floquet exponents log(mu) / T [1/s]
+        (:func:`flapping.periodic.floquet.floquet_exponents`: principal branch, -inf for 0)."""
+        from flapping.periodic.floquet import floquet_exponents  # that layer imports this one
+
+        return floquet_exponents(self.multipliers, self.period)
 
     @property
     def max_modulus(self) -> float:

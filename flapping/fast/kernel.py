@@ -138,10 +138,8 @@ _MAX_NODES, _QUADRATURE_STEPS = 1 << 16, 32
 #: Samples per period of :func:`sample_orbit` at most (a cap on the work and the memory).
 _MAX_SAMPLES = 2**20
 
-#: The compiled code's outcome codes are the values of the package's one status table
-#: (:class:`flapping.results.Status`; a test holds them equal): the wrapper reads them as such.
-_CODES = (Status.SUCCESS, Status.MAX_ITERATIONS, Status.LEFT_DOMAIN, Status.NON_FINITE,
-          Status.SINGULAR)
+# The compiled code's outcome codes are the values of the package's one status table
+# (flapping.results.Status; a test holds them equal): the wrapper reads them as Status(code).
 
 #: The :class:`~flapping.model.morphology.Insect` fields the kernel follows, and how each enters.
 #: :meth:`KernelProblem.of` refuses an insect whose other fields differ from their defaults, so

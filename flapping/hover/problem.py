@@ -248,8 +248,7 @@ class HoverProblem:
         -------
         {"compiled", "fixed-step", "adaptive"}
         """
-        spec = Adaptive(jacobian="finite-difference") if (
-            adaptive_options and as_backend(backend) == AUTO) else backend
+        spec = Adaptive() if adaptive_options and as_backend(backend) == AUTO else backend
         return choose_backend(self, spec).name
 
     def _kernel_refusal(self) -> str:

@@ -40,7 +40,7 @@ import numpy as np
 
 import flapping._validation as _validation
 from flapping.backends import Backend, OptionWarning, backend_name
-from flapping.errors import ConvergenceError, HoverDriftWarning
+from flapping.errors import ConvergenceError, HoverDriftWarning, caused_by_interrupt
 from flapping.hover import DEFAULT_BACKEND, HoverOrbit, HoverProblem, HoverStatus, find_hover_orbit
 from flapping.hover.orbit import Options
 from flapping.hover.stability import hover_stability
@@ -371,17 +371,6 @@ class SweepInterrupted(KeyboardInterrupt):
         self.table = table
 
 
-def _interruption(error: BaseException) -> bool:
-    """True for Ctrl-C, also when numba surfaces it as a SystemError (its cause or context)."""
-    seen: BaseException | None = error
-    for _ in range(8):  # a short chain: the compiled call wraps the interrupt once
-        if seen is None:
-            return False
-        if isinstance(seen, KeyboardInterrupt):
-            return True
-        seen = seen.__cause__ or seen.__context__
-    return False
-
 
 def sweep_hover(
     insect: Insect | Sequence[Insect],
@@ -478,7 +467,7 @@ def sweep_hover(
     try:
         _run(tasks, base, settings_, executor, progress, rows)
     except (KeyboardInterrupt, SystemError) as exc:
-        if not _interruption(exc):
+        if not caused_by_interrupt(exc):
             raise
         done = sorted(rows)
         partial = pandas.concat([pandas.DataFrame(params).iloc[done].reset_index(drop=True),
