@@ -38,7 +38,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from dataclasses import fields as dataclass_fields
 from functools import cached_property
-from typing import Any, TypeVar
+from typing import Any, TypeVar, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -607,8 +607,8 @@ class Options:
             fixed = {**fixed, "tol": tol}
         given = {Adaptive.name: adaptive, Compiled.name: compiled, FixedStep.name: fixed}
         def built(kind: type[_B]) -> _B:
-            base = requested if isinstance(requested, kind) else kind()
-            return base.with_options(**given[kind.name])
+            base = requested if isinstance(requested, kind) else _default(kind)
+            return base.with_options(**given[kind.name]) if given[kind.name] else base
 
         return cls(requested, built(Adaptive), built(Compiled), built(FixedStep), given)
 
@@ -635,6 +635,19 @@ class Options:
 
 
 _B = TypeVar("_B", Adaptive, Compiled, FixedStep)
+
+
+#: The backend objects with their defaults, each built (and checked) once: every call of an
+#: entry point, every sweep point, starts from them (frozen, so shared safely).
+_DEFAULTS: dict[type, Any] = {}
+
+
+def _default(kind: type[_B]) -> _B:
+    """The backend object of ``kind`` with its defaults (:data:`_DEFAULTS`)."""
+    found = _DEFAULTS.get(kind)
+    if found is None:
+        found = _DEFAULTS[kind] = kind()
+    return cast(_B, found)
 
 
 def _mapping(name: str, value: Any, kind: type[Compiled] | type[FixedStep]) -> dict[str, Any]:
