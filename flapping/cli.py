@@ -37,15 +37,17 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from flapping import __version__
+from flapping import __version__, _validation
 from flapping.backends import Adaptive
 from flapping.errors import ConvergenceError, PlausibilityWarning, caused_by_interrupt
 from flapping.hover import HoverOrbit, find_hover_orbit
+from flapping.hover.sixdof import find_sixdof_hover_orbit, sixdof_stability
 from flapping.hover.stability import HoverStability, hover_stability
 from flapping.model import presets as species
 from flapping.model.dynamics import AERODYNAMIC_MODELS, STATE_NAMES
 from flapping.model.insect_file import resolve_insect
 from flapping.model.morphology import Insect, explain_blowup
+from flapping.model.sixdof import body_inertia
 from flapping.peers.fwuav import cli as fwuav_cli
 from flapping.studies.atlas import robust_hover_orbit
 from flapping.studies.sweep import SWEEPABLE, sweep_hover
@@ -184,9 +186,14 @@ def _parser() -> argparse.ArgumentParser:
                        help="a preset (" + ", ".join(PRESETS) + "; default: %(default)s, the "
                             "paper's Manduca sexta; the species command lists them) or a .toml "
                             "or .json file of Insect fields in SI units")
-    hover.add_argument("--aerodynamics", default="linear", choices=AERODYNAMIC_MODELS,
-                       help="loads model (default: %(default)s, the paper's eq. 29; small-angle "
-                            "and exact: the blade-element loads)")
+    hover.add_argument("--aerodynamics", default=None, choices=AERODYNAMIC_MODELS,
+                       help="loads model (default: linear, the paper's eq. 29; small-angle "
+                            "and exact: the blade-element loads, the default with --dof 6)")
+    hover.add_argument("--dof", type=int, default=4, choices=(4, 6),
+                       help="degrees of freedom: 4, the paper's planar insect (default), or "
+                            "6: also the eight multipliers of (u, v, w, p, q, r, roll, theta) "
+                            "and the lateral ones (keys dof, lateral_multipliers, "
+                            "lateral_stable, sixdof)")
     hover.add_argument("--geometry", default="paper", choices=species.GEOMETRIES,
                        help="with a preset: the paper's geometry (hinge at the centre of "
                             "gravity, massless wings; the default) or the sources' hinge "
@@ -260,6 +267,31 @@ def _stability_report(stab: HoverStability) -> dict[str, Any]:
     }
 
 
+#: Units of the keys ``hover --dof 6`` adds (:func:`hover_report`).
+SIXDOF_UNITS: dict[str, Any] = {
+    "dof": None,
+    "lateral_multipliers": _COUNT,
+    "lateral_stable": None,
+    "sixdof": {"multipliers": _COUNT, "longitudinal_multipliers": _COUNT,
+               "coupling": _COUNT, "liouville_error": _COUNT,
+               "residual_norm": "SI units of each state (eight-state periodicity residual)"},
+}
+
+
+def _sixdof_report(insect: Insect, orbit: HoverOrbit, aerodynamics: str) -> dict[str, Any]:
+    """The keys of :data:`SIXDOF_UNITS`: the planar orbit embedded, solved and analysed in six
+    degrees of freedom."""
+    full = find_sixdof_hover_orbit(insect, aerodynamics=aerodynamics, planar_orbit=orbit)
+    stab = sixdof_stability(full)
+    return {"dof": 6, "lateral_multipliers": _complex_list(stab.lateral.multipliers),
+            "lateral_stable": bool(np.all(np.abs(stab.lateral.multipliers) < 1.0)),
+            "sixdof": {"multipliers": _complex_list(stab.multipliers),
+                       "longitudinal_multipliers": _complex_list(stab.longitudinal.multipliers),
+                       "coupling": stab.coupling, "liouville_error": stab.liouville_error,
+                       "residual_norm": full.residual_norm},
+            "units": {**UNITS, **SIXDOF_UNITS}}
+
+
 def _non_finite(value: Any, path: str = "") -> list[str]:
     """Paths (``key.sub[i].re = nan``) of every NaN or infinity in a JSON-ready object."""
     if isinstance(value, float) and not math.isfinite(value):
@@ -272,7 +304,8 @@ def _non_finite(value: Any, path: str = "") -> list[str]:
     return []
 
 
-def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str = "linear") -> dict:
+def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str | None = None,
+                 dof: int = 4) -> dict:
     """The hover orbit and its stability as a JSON-ready dict (SI units; see :data:`UNITS`).
 
     Parameters
@@ -280,8 +313,15 @@ def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str = "linear"
     insect : str or Insect
         A key of :data:`PRESETS`, the path of a ``.toml``/``.json`` insect file
         (:mod:`flapping.model.insect_file`), or an :class:`~flapping.model.morphology.Insect`.
-    aerodynamics : {"linear", "small-angle", "exact"}
-        Loads model.
+    aerodynamics : {"linear", "small-angle", "exact"}, optional
+        Loads model; default ``"linear"`` (eq. 29) with ``dof=4``, ``"small-angle"`` with
+        ``dof=6`` (the linear loads are planar only).
+    dof : {4, 6}
+        With 6, the orbit is also solved and analysed in six degrees of freedom
+        (:mod:`flapping.hover.sixdof`): the report adds the keys of :data:`SIXDOF_UNITS`
+        (``dof``, ``lateral_multipliers`` in the form of ``multipliers``, ``lateral_stable``,
+        ``sixdof``); the planar keys keep their meaning (the longitudinal multipliers, equal to
+        the six-degree-of-freedom ones to the integration's accuracy).
 
     Returns
     -------
@@ -298,8 +338,13 @@ def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str = "linear"
         If a reported number is NaN or infinite (e.g. a Floquet exponent of a multiplier that
         underflows to 0); the message lists which.
     """
+    dof = _validation.choice("dof", dof, (4, 6))
+    if aerodynamics is None:
+        aerodynamics = "linear" if dof == 4 else "small-angle"
     if isinstance(insect, str):
         insect = PRESETS[insect]() if insect in PRESETS else resolve_insect(insect)
+    if dof == 6:
+        body_inertia(insect)  # refuse an insect without lateral inertia before any solve
     # The defaults are the backend objects' fields (flapping.backends): what a call runs with.
     adaptive = Adaptive()
     shooting = {"method": adaptive.method, "rtol": adaptive.rtol, "atol": adaptive.atol,
@@ -325,6 +370,8 @@ def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str = "linear"
               "continued_from": None if homotopy is None else homotopy.start,
               **_orbit_report(orbit), **_stability_report(stab),
               "solver": _solver_report(orbit, shooting, stability), "units": UNITS}
+    if dof == 6:
+        report.update(_sixdof_report(insect, orbit, aerodynamics))
     bad = _non_finite(report)
     if bad:
         raise NonFiniteResultError(
@@ -409,7 +456,7 @@ def _hover(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     """
     insect = _insect_argument(parser, args.insect, args.geometry)
     try:
-        report = hover_report(insect, args.aerodynamics)
+        report = hover_report(insect, args.aerodynamics, args.dof)
         text = json.dumps(report, allow_nan=False) if args.json else _text(report)
     except (ValueError, ConvergenceError, ArithmeticError) as exc:
         if _is_interrupt(exc):

@@ -38,7 +38,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from dataclasses import fields as dataclass_fields
 from functools import cached_property
-from typing import Any, TypeVar, cast
+from typing import Any, Literal, TypeVar, cast, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -64,6 +64,7 @@ from flapping.hover.problem import (
     even_samples,
     state_guess,
 )
+from flapping.hover.sixdof import SixDofHoverOrbit, find_sixdof_hover_orbit
 from flapping.model.dynamics import STATE_NAMES, LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect, explain_blowup
@@ -439,10 +440,11 @@ def _sample(model: LongitudinalDynamics, x0: np.ndarray, n_samples: int, method:
 
 
 # =========================================================================== hover
+@overload
 def find_hover_orbit(
     insect: Insect | HoverProblem,
     *,
-    aerodynamics: str = "linear",
+    aerodynamics: str | None = None,
     alpha_m: float | None = None,
     amplitude_guess: float | None = None,
     x0_guess: ArrayLike | None = None,
@@ -457,7 +459,53 @@ def find_hover_orbit(
     kernel_options: Mapping[str, Any] | None = None,
     fixed_step_options: Mapping[str, Any] | None = None,
     settings: SolverSettings | None = None,
-) -> HoverOrbit:
+    dof: Literal[4] = 4,
+) -> HoverOrbit: ...
+
+
+@overload
+def find_hover_orbit(
+    insect: Insect | HoverProblem,
+    *,
+    aerodynamics: str | None = None,
+    alpha_m: float | None = None,
+    amplitude_guess: float | None = None,
+    x0_guess: ArrayLike | None = None,
+    backend: Backend | str = DEFAULT_BACKEND,
+    trims: Sequence[str] = ("amplitude",),
+    n_samples: int = 512,
+    method: str | None = None,
+    jacobian: str | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    tol: float | None = None,
+    kernel_options: Mapping[str, Any] | None = None,
+    fixed_step_options: Mapping[str, Any] | None = None,
+    settings: SolverSettings | None = None,
+    dof: Literal[6],
+) -> SixDofHoverOrbit: ...
+
+
+def find_hover_orbit(
+    insect: Insect | HoverProblem,
+    *,
+    aerodynamics: str | None = None,
+    alpha_m: float | None = None,
+    amplitude_guess: float | None = None,
+    x0_guess: ArrayLike | None = None,
+    backend: Backend | str = DEFAULT_BACKEND,
+    trims: Sequence[str] = ("amplitude",),
+    n_samples: int = 512,
+    method: str | None = None,
+    jacobian: str | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    tol: float | None = None,
+    kernel_options: Mapping[str, Any] | None = None,
+    fixed_step_options: Mapping[str, Any] | None = None,
+    settings: SolverSettings | None = None,
+    dof: int = 4,
+) -> HoverOrbit | SixDofHoverOrbit:
     """Find the hovering periodic orbit: initial state and stroke amplitude (and phi_bar).
 
     Unknowns (u0, w0, q0, theta0, Phi); equations: periodicity of (u, w, q, theta) and zero net
@@ -469,9 +517,11 @@ def find_hover_orbit(
     insect : Insect or HoverProblem
         The insect, or a hover problem already built (then ``aerodynamics``, ``alpha_m`` and
         ``trims`` are the problem's and must be left at their defaults).
-    aerodynamics : {"linear", "small-angle", "exact"}
+    aerodynamics : {"linear", "small-angle", "exact"}, optional
         Loads model (:class:`~flapping.model.dynamics.LongitudinalDynamics`); ``"linear"`` is
-        eq. (29).
+        eq. (29), the default with ``dof=4``. With ``dof=6`` the blade-element models only
+        (default ``"small-angle"``): the linear loads are not derived in six degrees of
+        freedom yet.
     alpha_m : float, optional
         Mean geometric angle of attack [rad]; default the trim of eq. (40).
     amplitude_guess : float, optional
@@ -503,10 +553,15 @@ def find_hover_orbit(
         and the fixed-step path's. An option for a path that does not run warns
         (:class:`~flapping.backends.OptionWarning`); every option is checked whether or not its
         path runs.
+    dof : {4, 6}
+        Degrees of freedom: 4, the paper's planar (u, w, q, theta); 6, the insect in six degrees
+        of freedom (:func:`~flapping.hover.sixdof.find_sixdof_hover_orbit`: the insect needs its
+        roll and yaw inertia; the result is a
+        :class:`~flapping.hover.sixdof.SixDofHoverOrbit`).
 
     Returns
     -------
-    HoverOrbit
+    HoverOrbit or SixDofHoverOrbit
         Check :attr:`HoverOrbit.status` (or :attr:`HoverOrbit.is_hover`): with a hinge offset
         and the amplitude as the only trim the orbit may drift horizontally.
 
@@ -526,7 +581,19 @@ def find_hover_orbit(
     OptionWarning
         If an option was given for a path that does not run.
     """
-    problem = _problem(insect, aerodynamics, alpha_m, trims)
+    dof = _validation.choice("dof", dof, (4, 6))
+    if dof == 6:
+        if not isinstance(insect, Insect):
+            raise ValueError("dof=6 takes an Insect (a HoverProblem is planar)")
+        planar = dict(alpha_m=alpha_m, amplitude_guess=amplitude_guess, x0_guess=x0_guess,
+                      n_samples=n_samples, trims=trims, method=method, jacobian=jacobian,
+                      rtol=rtol, atol=atol, kernel_options=kernel_options,
+                      fixed_step_options=fixed_step_options, settings=settings)
+        return find_sixdof_hover_orbit(
+            insect, aerodynamics="small-angle" if aerodynamics is None else aerodynamics,
+            backend=backend, tol=tol, **{k: v for k, v in planar.items() if v is not None})
+    problem = _problem(insect, "linear" if aerodynamics is None else aerodynamics, alpha_m,
+                       trims)
     guess = problem.guess(amplitude_guess)
     x0 = state_guess(x0_guess)
     n_samples = even_samples(n_samples)

@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field, fields
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 
@@ -34,6 +34,7 @@ from flapping.hover.orbit import (
     find_hover_orbit,
 )
 from flapping.hover.problem import DEFAULT_BACKEND, HoverProblem
+from flapping.hover.sixdof import SixDofHoverOrbit, SixDofStability, sixdof_stability
 from flapping.model.morphology import Insect
 from flapping.periodic._readonly import freeze
 from flapping.periodic.fixedstep import fixed_step_monodromy
@@ -198,6 +199,7 @@ class PerturbationGrowth:
     fit_start: int
 
 
+@overload
 def hover_stability(
     orbit: HoverOrbit,
     *,
@@ -208,7 +210,34 @@ def hover_stability(
     atol: float | None = None,
     rk4_steps: int | None = None,
     settings: SolverSettings | None = None,
-) -> HoverStability:
+) -> HoverStability: ...
+
+
+@overload
+def hover_stability(
+    orbit: SixDofHoverOrbit,
+    *,
+    backend: Backend | str = DEFAULT_BACKEND,
+    n_average: int = 64,
+    method: str | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    rk4_steps: int | None = None,
+    settings: SolverSettings | None = None,
+) -> SixDofStability: ...
+
+
+def hover_stability(
+    orbit: HoverOrbit | SixDofHoverOrbit,
+    *,
+    backend: Backend | str = DEFAULT_BACKEND,
+    n_average: int = 64,
+    method: str | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    rk4_steps: int | None = None,
+    settings: SolverSettings | None = None,
+) -> HoverStability | SixDofStability:
     """Monodromy matrix, Floquet multipliers and the averaged system of a periodic orbit.
 
     The monodromy is Phi(T) of the variational equations (eqs. 42-49), its eigenvalues the
@@ -217,7 +246,11 @@ def hover_stability(
 
     Parameters
     ----------
-    orbit : HoverOrbit
+    orbit : HoverOrbit or SixDofHoverOrbit
+        A six-degree-of-freedom orbit (``find_hover_orbit(insect, dof=6)``) gets its eight
+        multipliers from :func:`~flapping.hover.sixdof.sixdof_stability` (adaptive path; only
+        ``rtol`` and ``atol`` apply), a :class:`~flapping.hover.sixdof.SixDofStability` with
+        ``.longitudinal`` and ``.lateral`` views.
     backend : "auto", "compiled", "fixed-step", "adaptive", or a backend object
         The integration path of the monodromy (:mod:`flapping.backends`). ``"auto"`` (the
         default) analyses the orbit on the path that solved it
@@ -259,6 +292,11 @@ def hover_stability(
     OptionWarning
         If an option was given for a path that does not run.
     """
+    if isinstance(orbit, SixDofHoverOrbit):
+        if backend not in (DEFAULT_BACKEND, "adaptive") or method not in (None, "DOP853"):
+            raise ValueError("a six-degree-of-freedom orbit is analysed on the adaptive path "
+                             "(DOP853): leave `backend` and `method` at their defaults")
+        return sixdof_stability(orbit, rtol=rtol, atol=atol)
     orbit = _validation.instance("orbit", orbit, HoverOrbit)
     n_average = _validation.integer("n_average", n_average, low=1, high=1 << 16)
     options = Options.of(backend, method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps,

@@ -677,6 +677,56 @@ class BladeElementModel:
                 float(sa[index]))
         return out
 
+    def wing_resultants(self, U0: float, U1: float, W0: float, W1: float, omega: float,
+                        s: float) -> tuple[float, ...]:
+        """Span integrals of ONE wing's section loads for strip speeds linear along the span.
+
+        The six-degree-of-freedom model (:mod:`flapping.model.sixdof`) gives each wing's strip
+        speeds U = U0 + U1 r, w_eff = W0 + W1 r and its span-axis pitch rate ``omega``
+        (:mod:`flapping.model.sixdof_derivation`, step 3); the section law is this model's own,
+        integrated as :meth:`loads` integrates it (exactly for the small-angle variant).
+
+        Parameters
+        ----------
+        U0, U1, W0, W1, omega : float
+            Strip speeds [m/s, 1/s, m/s, 1/s] and pitch rate [rad/s] of the wing (trusted).
+        s : float
+            Stroke sign, +1 or -1.
+
+        Returns
+        -------
+        tuple of float
+            (T0, T1, Tc, N0, N1, Nc, Q): the integrals over the wing of F_t, r F_t, c F_t, F_n,
+            r F_n, c F_n (tangential and normal force per unit span, along t_k and n) and of the
+            damping torque about the span axis (:data:`~flapping.model.sixdof_derivation.
+            RESULTANT_NAMES`).
+        """
+        (_, sin_2am, cos_2am, sin_am2, cos_am2, rho_a, rho_k, _, _, _, damping, mu1f,
+         mu2) = self._consts
+        sin_2ag = s * sin_2am
+        r, W = self._r, self._weights
+        if self.variant == "small-angle":
+            sigma, piece = _sign_split(U1, U0, s, self.insect.semi_span)
+        else:
+            sigma, piece = None, None
+        a1, b1 = _lev_coefficients(U1 * r + U0, W0 + W1 * r, sin_2ag, cos_2am, sin_am2,
+                                   cos_am2, self.variant, sign_u=sigma)
+        A1 = (a1 @ W).tolist()
+        B1 = (b1 @ W).tolist()
+        if piece is not None and sigma is not None:
+            _add_sign_correction(A1, B1, self._partial_moments, self.insect.semi_span, piece,
+                                 sigma, U1, U0, W0, -W1, sin_2ag, sin_am2, cos_am2)
+        # Rotational lift rho Gamma (w_eff, -U), Gamma = c^2 rho_k omega / rho: linear in r.
+        k = rho_k * omega
+        S0, S1 = self._weight_sums, self._weight_moments
+        A2 = (k * (W0 * S0 + W1 * S1)).tolist()
+        B2 = (-k * (U1 * S1 + U0 * S0)).tolist()
+        # The weights integrate both wings: halve. Columns: c, c^2, c^3, then times r.
+        return (0.5 * (rho_a * A1[0] + A2[1]), 0.5 * (rho_a * A1[3] + A2[4]),
+                0.5 * (rho_a * A1[1] + A2[2]), 0.5 * (rho_a * B1[0] + B2[1]),
+                0.5 * (rho_a * B1[3] + B2[4]), 0.5 * (rho_a * B1[1] + B2[2]),
+                0.5 * damping * (mu1f + mu2 * abs(omega)) * omega)
+
     def _loads(self, t: float, u: float, w: float, q: float,
                s: float) -> tuple[float, float, float]:
         """(X, Z, M) for trusted scalar inputs."""
@@ -787,6 +837,7 @@ def _add_sign_correction(A1: list[float], B1: list[float],
     f2, f1, f0 = (two_sigma * (half_sin * c + cos_am2 * d) for c, d in pairs)    # Delta b
     A1[0] += e0 * j01 + e1 * j11 + e2 * j21
     A1[1] += e0 * j02 + e1 * j12 + e2 * j22
+    A1[3] += e0 * j11 + e1 * j21 + e2 * j31   # int c r a: the yaw moment of six dof
     B1[0] += f0 * j01 + f1 * j11 + f2 * j21
     B1[1] += f0 * j02 + f1 * j12 + f2 * j22
     B1[3] += f0 * j11 + f1 * j21 + f2 * j31

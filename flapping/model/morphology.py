@@ -120,6 +120,9 @@ PHYSICAL_RANGES: dict[str, tuple[float, float, str]] = {
     "hinge_offset": (-5.0, 5.0, "m"),
     "hinge_height": (-5.0, 5.0, "m"),
     "wing_mass": (0.0, 10.0, "kg"),
+    "roll_inertia": (1e-24, 10.0, "kg m^2"),
+    "yaw_inertia": (1e-24, 10.0, "kg m^2"),
+    "roll_yaw_product": (-10.0, 10.0, "kg m^2"),
 }
 
 #: Hard range of one wing's aspect ratio R^2/S = R/c_bar (the mean chord over the wing length):
@@ -132,7 +135,8 @@ ASPECT_RATIO_RANGE: tuple[float, float] = (0.05, 200.0)
 #: range of :data:`PHYSICAL_RANGES`), "fraction" (of the chord, [0, 1]), "amplitude"
 #: (:func:`~.kinematics.check_amplitude` and at least :data:`PHYSICAL_RANGES`'s 1 deg),
 #: "stroke_mean" (real in (-pi/2, pi/2)), "r1" (in (0, 1)), "r2" (in (0, 1), then in the range
-#: r1 allows, :func:`beta_shape_parameters`), "radius" ((0, 1] or None).
+#: r1 allows, :func:`beta_shape_parameters`), "radius" ((0, 1] or None), "optional" (the
+#: physical range or None).
 _FIELDS: dict[str, tuple[str, str]] = {
     "semi_span": ("physical", "m"), "wing_area": ("physical", "m^2"),
     "frequency": ("physical", "Hz"), "mass": ("physical", "kg"),
@@ -145,6 +149,8 @@ _FIELDS: dict[str, tuple[str, str]] = {
     "r1": ("r1", ""), "r2": ("r2", ""),
     "wing_mass": ("physical", "kg"),
     "wing_mass_r1": ("radius", ""), "wing_mass_r2": ("radius", ""),
+    "roll_inertia": ("optional", "kg m^2"), "yaw_inertia": ("optional", "kg m^2"),
+    "roll_yaw_product": ("optional", "kg m^2"),
 }
 
 
@@ -316,6 +322,12 @@ class Insect:
         Radii of the first moment and of gyration of one wing's mass about the hinge, over R, in
         (0, 1] with wing_mass_r1 <= wing_mass_r2. Default None: those of the wing area,
         :attr:`r1` and :attr:`r2` (a membrane of uniform areal density).
+    roll_inertia, yaw_inertia, roll_yaw_product : float or None
+        I_x, I_z and I_xz of the body (without the wings) about its centre of gravity in body
+        axes [kg m^2]: the inertia tensor [[I_x, 0, -I_xz], [0, I_y, 0], [-I_xz, 0, I_z]] of the
+        six-degree-of-freedom model (:mod:`flapping.model.sixdof`; the planar model does not use
+        them). Default None: not given (a six-degree-of-freedom solve then refuses the insect).
+        The tensor must be positive definite.
 
     Raises
     ------
@@ -357,6 +369,9 @@ class Insect:
     wing_mass: float = 0.0
     wing_mass_r1: float | None = None
     wing_mass_r2: float | None = None
+    roll_inertia: float | None = None
+    yaw_inertia: float | None = None
+    roll_yaw_product: float | None = None
     _shape: tuple[float, float] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -381,6 +396,8 @@ class Insect:
             _check_wing_mass(self)
         if changed is None or "semi_span" in changed or "wing_area" in changed:
             _check_aspect_ratio(self)
+        if changed is None or not _INERTIA_FIELDS.isdisjoint(changed):
+            _check_inertia_tensor(self)
         for message in _implausible(self):
             warnings.warn(message, PlausibilityWarning, stacklevel=stacklevel)
 
@@ -559,7 +576,9 @@ def hawkmoth(**overrides: Any) -> Insect:
 
     R = 51.9 mm, S = 947.8 mm^2 (one wing), r1 = 0.44, r2 = 0.525, f = 26.3 Hz, Phi = 60.5 deg,
     m = 1.648 g, I_y = 2080 mg cm^2, after Ellington (1984) and Willmott & Ellington (1997) as
-    cited by the paper. The paper also prints c_bar = 18.3 mm; we use c_bar = S/R = 18.26 mm so
+    cited by the paper; the body's roll and yaw inertia (six degrees of freedom only) are
+    ESTIMATES (:func:`~flapping.model.presets.lateral_inertia_estimate`, d = 10 mm). The paper
+    also prints c_bar = 18.3 mm; we use c_bar = S/R = 18.26 mm so
     that the chord distribution has the stated area. The paper writes f = 26.5 Hz once, but its
     period T = 0.0380 s is 1/26.3 Hz. Choices the paper leaves open take the :class:`Insect`
     defaults and can be changed with keyword ``overrides``.
@@ -590,6 +609,11 @@ def hawkmoth(**overrides: Any) -> Insect:
         stroke_amplitude=math.radians(60.5),
         mass=1.648e-3,
         pitch_inertia=2080.0 * 1e-6 * 1e-4,  # 2080 mg cm^2 = 2080 * (1e-6 kg)(1e-4 m^2)
+        # ESTIMATES (presets.lateral_inertia_estimate: a prolate ellipsoid 10 mm across; only
+        # six degrees of freedom use them)
+        roll_inertia=1.648e-3 * 10e-3**2 / 10.0,
+        yaw_inertia=2080.0 * 1e-6 * 1e-4,
+        roll_yaw_product=0.0,
     )
     values.update(overrides)
     return Insect(**values)
@@ -765,6 +789,20 @@ def explain_blowup(insect: Insect) -> str:
     return "likely cause: " + "; ".join(f"`{name}` ({why})" for name, why in found.items())
 
 
+_INERTIA_FIELDS = frozenset({"roll_inertia", "pitch_inertia", "yaw_inertia",
+                             "roll_yaw_product"})
+
+
+def _check_inertia_tensor(insect: Insect) -> None:
+    """Refuse a body inertia tensor that is not positive definite (I_x I_z > I_xz^2)."""
+    i_x, i_z, i_xz = insect.roll_inertia, insect.yaw_inertia, insect.roll_yaw_product
+    if i_x is not None and i_z is not None and i_xz is not None and i_x * i_z <= i_xz * i_xz:
+        raise ValueError(
+            f"`roll_yaw_product` = {i_xz:.6g} kg m^2 must satisfy I_xz^2 < I_x I_z "
+            f"(roll_inertia {i_x:.6g}, yaw_inertia {i_z:.6g}): the body's inertia tensor must "
+            "be positive definite")
+
+
 _WING_MASS_FIELDS = frozenset({"wing_mass", "wing_mass_r1", "wing_mass_r2", "r1", "r2"})
 
 
@@ -782,6 +820,11 @@ def _check_wing_mass(insect: Insect) -> None:
 def _check_field(name: str, value: object, kind: str, unit: str) -> float | None:
     """One numeric field of :class:`Insect` as a float in its range (see :data:`_FIELDS`)."""
     if kind == "physical":
+        low, high, _ = PHYSICAL_RANGES[name]
+        return _validation.real(name, value, low=low, high=high, unit=unit)
+    if kind == "optional":
+        if value is None:
+            return None
         low, high, _ = PHYSICAL_RANGES[name]
         return _validation.real(name, value, low=low, high=high, unit=unit)
     if kind == "radius":

@@ -202,6 +202,10 @@ class Preset:
         values["name"] = self.name
         if geometry == "measured":
             values.update({k: v.value for k, v in self.measured.items()})
+        if self.name in BODY_SIZES:  # estimates (six degrees of freedom only)
+            values.update(zip(("roll_inertia", "yaw_inertia", "roll_yaw_product"),
+                              lateral_inertia_estimate(values["mass"], values["pitch_inertia"],
+                                                       BODY_SIZES[self.name][1]), strict=True))
         values.update(overrides)
         return Insect(**values)
 
@@ -391,6 +395,32 @@ BODY_SIZES: Mapping[str, tuple[float, float]] = MappingProxyType({
     "honeybee": (13e-3, 4.5e-3),     # L unverified, d estimated
     "hoverfly": (1.29 * 11.2e-3, 5e-3),  # L = 1.29 R (second-hand), d estimated
 })
+
+
+def lateral_inertia_estimate(mass: float, pitch_inertia: float,
+                             diameter: float) -> tuple[float, float, float]:
+    """ESTIMATE of the body's (roll_inertia, yaw_inertia, roll_yaw_product) [kg m^2].
+
+    The body as a uniform prolate ellipsoid with its long axis along body x (the presets' pitch
+    inertia estimate, :func:`ellipsoid_pitch_inertia`): I_x = m d^2 / 10 about the long axis;
+    I_z = I_y, the body axisymmetric about its long axis; I_xz = 0, body axes principal. No
+    preset has a measured roll or yaw inertia: every six-degree-of-freedom result of a preset
+    rests on this estimate (the lateral modes' sensitivity to it is the first thing to check).
+
+    Parameters
+    ----------
+    mass : float
+        Insect mass m [kg].
+    pitch_inertia : float
+        The preset's I_y [kg m^2].
+    diameter : float
+        Body diameter d [m] (:data:`BODY_SIZES`).
+
+    Returns
+    -------
+    tuple of float
+    """
+    return mass * diameter**2 / 10.0, pitch_inertia, 0.0
 
 
 def _inertia(mass: float, length: float, diameter: float, what: str) -> Sourced:
