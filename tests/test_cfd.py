@@ -110,3 +110,146 @@ def test_mode_summary_reads_the_leading_mode():
 
 def test_the_module_is_importable_by_its_dotted_name():
     assert flapping.studies.cfd.compare is cfd.compare
+
+
+# ------------------------------------------------------------------ item 2: our model on theirs
+@pytest.fixture(scope="module")
+def comparison():
+    return cfd.compare("sun2005")
+
+
+def test_compare_returns_a_frozen_term_by_term_table(comparison):
+    import dataclasses
+
+    assert list(comparison.table.index) == list(cfd.DERIVATIVES)
+    assert list(comparison.table.columns) == ["theirs", "ours", "ratio"]
+    np.testing.assert_array_equal(comparison.table["theirs"].to_numpy(),
+                                  cfd.study("sun2005").derivative_vector())
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        comparison.insect = None
+
+
+def test_our_insect_is_theirs(comparison):
+    s, ins = comparison.study, comparison.insect
+    assert ins.mass == s.value("mass") and ins.frequency == s.value("frequency")
+    assert 2.0 * ins.stroke_amplitude == pytest.approx(s.value("stroke_amplitude"))
+    assert ins.hinge_height == s.value("hinge_height") and ins.wing_mass == 0.0
+    # the trim reports both amplitudes, peak to peak, and our trimmed one is near theirs
+    assert comparison.trim["their_stroke_amplitude_deg"] == pytest.approx(116.0)
+    assert comparison.trim["our_stroke_amplitude_deg"] == pytest.approx(
+        2.0 * math.degrees(comparison.orbit.amplitude))
+
+
+def test_our_derivatives_rebuild_our_averaged_jacobian(comparison):
+    """Non-dimensional and back: D A+(ours) D^-1 / T is the averaged Jacobian, every entry
+    (its gravity column and kinematic row included: nothing else hides in it)."""
+    s, ins = comparison.study, comparison.insect
+    d = s.scaling()
+    a_plus = cfd._system(comparison.table["ours"].to_numpy(), s.mass_ratio(ins.mass),
+                         ins.pitch_inertia / s.inertia_scale(), s.gravity_ratio)
+    rebuilt = d @ a_plus @ np.linalg.inv(d) / s.period
+    jac = comparison.stability.averaged_jacobian
+    # the orbit's small pitch oscillation makes the gravity entry -g <cos theta>: 1e-5 relative
+    np.testing.assert_allclose(rebuilt, jac, rtol=1e-4, atol=1e-4 * np.max(np.abs(jac)))
+
+
+def test_with_the_hinge_at_the_cg_our_averages_are_the_cycle_means_of_eq_29():
+    """Independent route: the cycle means of the analytic derivatives of eq. (29) at the
+    orbit's amplitude equal the Jacobian averaged along the orbit (linear loads)."""
+    from flapping.model.derivatives import stability_derivatives
+
+    ins = cfd.study_insect(cfd.study("sun2005"), hinge_height=0.0)
+    orbit, stab = cfd._solve(ins)
+    t = np.arange(512) / 512 * ins.period
+    means = stability_derivatives(ins, t, alpha_m=orbit.alpha_m,
+                                  amplitude=orbit.amplitude).averaged_jacobian(ins.gravity)
+    scale = np.max(np.abs(means))
+    np.testing.assert_allclose(stab.averaged_jacobian, means, rtol=1e-4, atol=1e-6 * scale)
+
+
+def test_both_sets_of_modes_are_reported(comparison):
+    check = cfd.check_transcription("sun2005")
+    np.testing.assert_allclose(comparison.their_eigenvalues, check.eigenvalues, rtol=1e-12)
+    assert dict(comparison.their_mode) == cfd.mode_summary(check.eigenvalues)
+    np.testing.assert_allclose(comparison.our_eigenvalues,
+                               comparison.stability.averaged_eigenvalues)
+    assert comparison.our_multipliers.shape == (4,)
+    assert dict(comparison.our_floquet_mode) == cfd.mode_summary(
+        comparison.stability.exponents)
+    assert comparison.not_modelled and any("body drag" in n for n in comparison.not_modelled)
+
+
+# ------------------------------------------------------------------ item 3: which term
+@pytest.fixture(scope="module")
+def swaps(comparison):
+    return cfd.swap_table(comparison)
+
+
+def _row(table, direction, swapped):
+    rows = table[(table.direction == direction) & (table.swapped == swapped)]
+    assert len(rows) == 1
+    return rows.iloc[0]
+
+
+def test_swapping_everything_gives_their_modes_and_nothing_gives_ours(swaps, comparison):
+    all_theirs = _row(swaps, "ours <- theirs", "all")
+    assert all_theirs["type"] == comparison.their_mode["type"]
+    assert all_theirs["rate"] == pytest.approx(comparison.their_mode["rate"], rel=1e-12)
+    none = _row(swaps, "ours <- theirs", "none")
+    back = _row(swaps, "theirs <- ours", "all")
+    assert none["rate"] == pytest.approx(back["rate"], rel=1e-12)
+    assert none["type"] == back["type"]
+
+
+def test_each_single_swap_changes_exactly_its_term(swaps, comparison):
+    theirs = comparison.study.derivatives["Mu"].value
+    ours = comparison.table.loc["Mu", "ours"]
+    for name in cfd.DERIVATIVES:
+        row = _row(swaps, "ours <- theirs", name)
+        assert row["Mu"] == (theirs if name == "Mu" else ours)
+    assert len(swaps) == 2 * (1 + len(cfd.DERIVATIVES) + len(cfd.SWAP_GROUPS))
+
+
+@pytest.fixture(scope="module")
+def physics(comparison):
+    return cfd.physics_table(comparison)
+
+
+def test_every_physics_case_found_its_orbit(physics):
+    assert (physics["message"] == "").all(), physics[physics["message"] != ""]
+
+
+def test_the_hinge_height_adds_minus_h_xu_over_c_to_mu(physics, comparison):
+    """The hinge h above the CG turns the backward force X_u u on the wings into a nose-up
+    moment: Delta M_u+ = -Delta h X_u+ / c (X_u+ does not depend on h). Tolerance 1 %: X_u+ moves
+    with the trimmed amplitude, which moves by < 0.2 % between the cases."""
+    s = comparison.study
+    base = physics[physics.case == "as compared"].iloc[0]
+    high = physics[physics.case == "hinge height x4"].iloc[0]
+    dh = 3.0 * s.value("hinge_height")
+    xu = comparison.table.loc["Xu", "ours"]
+    assert high["Mu"] - base["Mu"] == pytest.approx(-dh * xu / s.value("mean_chord"), rel=0.01)
+
+
+def test_the_as_compared_case_is_the_comparison(physics, comparison):
+    row = physics[physics.case == "as compared"].iloc[0]
+    assert row["Mu"] == comparison.table.loc["Mu", "ours"]
+    assert row["averaged_type"] == comparison.our_mode["type"]
+
+
+def test_an_offset_hinge_is_trimmed_by_the_mean_stroke_angle(physics):
+    """Ahead of the CG the mean stroke angle moves back, behind it forward, by symmetry."""
+    ahead = physics[physics.case == "hinge 1 chord ahead"].iloc[0]["stroke_mean_deg"]
+    behind = physics[physics.case == "hinge 1 chord behind"].iloc[0]["stroke_mean_deg"]
+    assert ahead < 0.0 < behind
+    assert ahead == pytest.approx(-behind, rel=1e-6)
+
+
+def test_the_speed_pitch_moment_alone_decides_the_mode_type(swaps, comparison):
+    """The docstring's claim: of the single swaps, only M_u changes the leading mode's type, in
+    both directions (ours with their M_u oscillates; theirs with ours does not)."""
+    for direction, base in (("ours <- theirs", comparison.our_mode["type"]),
+                            ("theirs <- ours", comparison.their_mode["type"])):
+        changed = [n for n in cfd.DERIVATIVES
+                   if _row(swaps, direction, n)["type"] != base]
+        assert changed == ["Mu"], (direction, changed)

@@ -56,6 +56,16 @@ What the sources give and what they do not (2026-12-03):
   the hawkmoth QS-versus-CFD comparison) and Gao et al. (2009): their tables were not found in the
   stored sources; they are not in :data:`STUDIES`.
 
+What the evidence supports (Sun & Xiong's bumblebee; tests/test_cfd.py checks each statement):
+the term that decides the mode type is M_u+, the pitch moment per forward speed. Swapped alone
+into our averaged system it turns our real mode into an oscillation; ours swapped into theirs
+turns their oscillation real; no other single term changes the type. Ours has the opposite sign
+(forward speed pitches our insect nose down) and is an order of magnitude smaller. Of the
+physics the model has, the hinge height above the CG adds -h X_u+/c to M_u+ (the wings' drag
+acting above the CG), a centre of pressure nearer the leading edge raises M_u+ too, and wing mass
+and a hinge offset (with the mean stroke angle trimmed) move it little; :func:`physics_table`
+gives the numbers. Why CFD's M_u+ is large and positive is not settled here.
+
 Conventions: SI inside; the derivative names are ``"Xu", "Xw", "Xq", "Zu", ..., "Mq"`` and
 stand for the non-dimensional X_u+ ... M_q+.
 """
@@ -98,6 +108,9 @@ __all__ = [
     "compare",
     "study_insect",
     "our_derivatives",
+    "SWAP_GROUPS",
+    "swap_table",
+    "physics_table",
 ]
 
 #: The nine longitudinal derivatives, in the order of the matrix rows (X, Z, M) and columns
@@ -658,3 +671,123 @@ def compare(study: str | CFDStudy = "sun2005", **hover_options: Any) -> CFDCompa
                          MappingProxyType(mode_summary(our_ev)),
                          MappingProxyType(mode_summary(np.asarray(stab.exponents))),
                          MappingProxyType(trim), s.notes)
+
+
+# =========================================================================== which term
+#: The groups of :func:`swap_table` beyond the single terms: the speed-pitch coupling and its
+#: damping (the u-q-theta block that carries the oscillation), and whole rows.
+SWAP_GROUPS: tuple[tuple[str, ...], ...] = (
+    ("Xu", "Mu"), ("Mu", "Mq"), ("Xu", "Mu", "Mq"), ("Xu", "Xq", "Mu", "Mq"),
+    ("Xu", "Xw", "Xq"), ("Zu", "Zw", "Zq"), ("Mu", "Mw", "Mq"), DERIVATIVES)
+
+
+def swap_table(study: str | CFDComparison = "sun2005", **hover_options: Any
+               ) -> pandas.DataFrame:
+    """Our derivatives with theirs swapped in, one at a time and in groups, and the reverse.
+
+    Every system is the published one (module docstring) at the m+ and I+ identified from the
+    published modes and their g+, so the row "none" of direction "ours <- theirs" is our
+    averaged system at their mass and inertia ratios, and "all" is theirs (their modes).
+
+    Parameters
+    ----------
+    study : str or CFDComparison
+        A key of :data:`STUDIES` (then :func:`compare` runs) or a comparison already made.
+    **hover_options
+        Passed to :func:`compare` with a key.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per swap: ``direction`` ("ours <- theirs": our system with their terms;
+        "theirs <- ours": theirs with ours), ``swapped`` (the terms, "+"-joined, "none" or
+        "all"), ``Mu`` (the M_u+ in the system), ``type`` (of the leading mode), ``rate``
+        [1/s], ``period`` [s], ``doubling_time`` [s].
+    """
+    import pandas
+
+    comp = study if isinstance(study, CFDComparison) else compare(study, **hover_options)
+    s = comp.study
+    mp, ip = identify_mass_and_inertia(s)
+    theirs, ours = s.derivative_vector(), comp.table["ours"].to_numpy()
+    groups: list[tuple[str, ...]] = [(), *((n,) for n in DERIVATIVES), *SWAP_GROUPS]
+    rows = []
+    for direction, base, other in (("ours <- theirs", ours, theirs),
+                                   ("theirs <- ours", theirs, ours)):
+        for group in groups:
+            d = base.copy()
+            idx = [DERIVATIVES.index(n) for n in group]
+            d[idx] = other[idx]
+            ev = np.linalg.eigvals(_system(d, mp, ip, s.gravity_ratio)) / s.period
+            label = "all" if group == DERIVATIVES else "+".join(group) or "none"
+            rows.append({"direction": direction, "swapped": label,
+                         "Mu": d[DERIVATIVES.index("Mu")], **mode_summary(ev)})
+    return pandas.DataFrame(rows)
+
+
+def _physics_cases(s: CFDStudy, insect: Insect) -> list[tuple[str, dict[str, float]]]:
+    """(label, Insect changes) of :func:`physics_table`."""
+    h = s.value("hinge_height")
+    chord = s.value("mean_chord")
+    return [
+        ("as compared", {}),
+        ("hinge at the CG", {"hinge_height": 0.0, "hinge_offset": 0.0}),
+        *((f"hinge height x{k:g}", {"hinge_height": k * h}) for k in (0.5, 2.0, 3.0, 4.0)),
+        ("hinge 1 chord ahead", {"hinge_offset": chord}),
+        ("hinge 1 chord behind", {"hinge_offset": -chord}),
+        ("wing mass", {"wing_mass": s.value("wing_mass")}),
+        ("centre of pressure x_hat 0.1", {"center_of_pressure": 0.1}),
+        ("centre of pressure x_hat 0.4", {"center_of_pressure": 0.4}),
+    ]
+
+
+def physics_table(study: str | CFDComparison = "sun2005", **hover_options: Any
+                  ) -> pandas.DataFrame:
+    """Candidate physics the model has today, each with its effect on M_u+ and the mode type.
+
+    Each case changes our insect of :func:`compare` (the hinge's height above and offset from
+    the CG, the wings' mass, the centre of pressure x_hat) and is trimmed as there: the mean
+    stroke angle is a trim whenever the hinge is off the CG, so the "mean stroke angle" is the
+    trim's answer to the hinge offset (column ``stroke_mean_deg``). What the model lacks today
+    (a stroke plane inclined to the body axis, a centre of pressure moving with the angle of
+    attack, body drag) is not in the table.
+
+    Parameters
+    ----------
+    study : str or CFDComparison
+        A key of :data:`STUDIES` (then :func:`compare` runs) or a comparison already made.
+    **hover_options
+        Passed to :func:`~flapping.hover.find_hover_orbit`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case: ``case``, the changed ``field`` values, ``Mu`` (our M_u+),
+        ``Mq`` (our M_q+), ``averaged_type``, ``averaged_rate`` [1/s], ``averaged_period`` [s],
+        ``floquet_type``, ``leading_multiplier`` (complex), ``stroke_mean_deg``,
+        ``stroke_amplitude_deg`` (peak to peak), ``message`` (empty, or why no orbit was found).
+    """
+    import pandas
+
+    comp = study if isinstance(study, CFDComparison) else compare(study, **hover_options)
+    s = comp.study
+    rows = []
+    for label, changes in _physics_cases(s, comp.insect):
+        row: dict[str, Any] = {"case": label, "changes": dict(changes)}
+        try:
+            orbit, stab = ((comp.orbit, comp.stability) if not changes else
+                           _solve(comp.insect.with_(**changes), comp.orbit, **hover_options))
+        except (ArithmeticError, ValueError, RuntimeError) as exc:  # ConvergenceError included
+            rows.append({**row, "message": f"{type(exc).__name__}: {exc}"})
+            continue
+        d = our_derivatives(s, stab)
+        avg = mode_summary(stab.averaged_eigenvalues)
+        row.update(Mu=d[DERIVATIVES.index("Mu")], Mq=d[DERIVATIVES.index("Mq")],
+                   averaged_type=avg["type"], averaged_rate=avg["rate"],
+                   averaged_period=avg["period"],
+                   floquet_type=mode_summary(stab.exponents)["type"],
+                   leading_multiplier=complex(stab.multipliers[0]),
+                   stroke_mean_deg=math.degrees(orbit.stroke_mean),
+                   stroke_amplitude_deg=2.0 * math.degrees(orbit.amplitude), message="")
+        rows.append(row)
+    return pandas.DataFrame(rows)
