@@ -187,11 +187,13 @@ def _parser() -> argparse.ArgumentParser:
     hover.add_argument("--aerodynamics", default="linear", choices=AERODYNAMIC_MODELS,
                        help="loads model (default: %(default)s, the paper's eq. 29; small-angle "
                             "and exact: the blade-element loads)")
-    hover.add_argument("--geometry", default="paper", choices=species.GEOMETRIES,
+    hover.add_argument("--geometry", default="paper",
+                       choices=(*species.GEOMETRIES, *species.DEPRECATED_GEOMETRIES),
                        help="with a preset: the paper's geometry (hinge at the centre of "
-                            "gravity, massless wings; the default) or the sources' hinge "
-                            "position (estimated for all but the hoverfly) and wing mass (the "
-                            "mean stroke angle is then trimmed too)")
+                            "gravity, massless wings; the default) or 'source', the sources' "
+                            "hinge position (estimated for all but the hoverfly, whose is a "
+                            "second-hand model value) and wing mass (the mean stroke angle is "
+                            "then trimmed too); 'measured' is the deprecated name of 'source'")
     hover.add_argument("--json", action="store_true",
                        help="print one JSON object (SI units, a `units` map) instead of text")
     listing = sub.add_parser("species", help="list the preset insects",
