@@ -253,3 +253,32 @@ def test_the_speed_pitch_moment_alone_decides_the_mode_type(swaps, comparison):
         changed = [n for n in cfd.DERIVATIVES
                    if _row(swaps, direction, n)["type"] != base]
         assert changed == ["Mu"], (direction, changed)
+
+
+def test_the_reference_time_is_the_wingbeat_not_c_over_u():
+    """With q+ = q c/U (time c/U) the pitch-rate terms are UT/c ~ 7 times smaller in the
+    dimensional system, and no m+, I+ reproduce the modes: the rounding bounds are missed."""
+    s = cfd.study("sun2005")
+    k = s.value("mean_chord") / (s.speed * s.period)
+    d = {n: (cfd.Number(v.value * k, "test", "-", "estimated") if n.endswith("q") else v)
+         for n, v in s.derivatives.items()}
+    alt = cfd.CFDStudy(s.key, s.insect, d, s.reference, s.modes)
+    mp, ip = cfd.identify_mass_and_inertia(alt)
+    numbers = cfd._mode_numbers(np.linalg.eigvals(alt.matrix(mp, ip)) / alt.period)
+    rel = (numbers - alt.modes.targets()) / np.abs(alt.modes.targets())
+    tight = [ROUNDING["oscillation_period"], ROUNDING["fast_halving"], ROUNDING["slow_halving"]]
+    assert np.any(np.abs(rel[[1, 2, 3]]) > tight)
+
+
+def test_the_neutral_hinge_height_turns_our_mode_oscillatory_just_above_it(comparison):
+    """hinge_height_for(mu=0) from the linear law, checked on solved orbits 10 % either side."""
+    h0 = cfd.hinge_height_for(comparison, 0.0)
+    assert h0 > comparison.insect.hinge_height  # our M_u+ < 0 at the compared hinge
+    kinds = {}
+    for k in (0.9, 1.1):
+        orbit, stab = cfd._solve(comparison.insect.with_(hinge_height=k * h0), comparison.orbit)
+        mu = cfd.our_derivatives(comparison.study, stab)[cfd.DERIVATIVES.index("Mu")]
+        kinds[k] = (np.sign(mu), cfd.mode_summary(stab.averaged_eigenvalues)["type"])
+    assert kinds[0.9] == (-1.0, "real") and kinds[1.1] == (1.0, "oscillatory")
+    # their M_u+ needs a hinge far above ours: more than a bumblebee body length (18 mm)
+    assert cfd.hinge_height_for(comparison) > 18e-3

@@ -111,6 +111,7 @@ __all__ = [
     "SWAP_GROUPS",
     "swap_table",
     "physics_table",
+    "hinge_height_for",
 ]
 
 #: The nine longitudinal derivatives, in the order of the matrix rows (X, Z, M) and columns
@@ -357,8 +358,10 @@ UNATTRIBUTED: tuple[Mapping[str, Any], ...] = (
                  "Non-dimensional stability derivatives'",
         "reads": "X_u+ ... M_q+ in the order Xu Zu Mu Xw Zw Mw Xq Zq Mq: -1.28 -0.04 2.32 0.01 "
                  "-1.26 0.05 -0.28 -0.03 (the ninth value missing from the stored page)",
-        "why": "paper and insect not established (two-decimal values, a Sun-group table); one "
-               "term missing, so its modes cannot be checked",
+        "why": "paper and insect not established; one term missing, so its modes cannot be "
+               "checked. A guess, not used: Sun & Wang (2007, J. Exp. Biol. 210:2714, model "
+               "hoverfly), whose summary speaks of 'stability and control derivatives' where Sun "
+               "& Xiong's speaks of 'aerodynamic derivatives' (the two tables' titles)",
     }),
 )
 
@@ -791,3 +794,31 @@ def physics_table(study: str | CFDComparison = "sun2005", **hover_options: Any
                    stroke_amplitude_deg=2.0 * math.degrees(orbit.amplitude), message="")
         rows.append(row)
     return pandas.DataFrame(rows)
+
+
+def hinge_height_for(comparison: CFDComparison, mu: float | None = None) -> float:
+    """The hinge height [m] above the CG at which our M_u+ would equal ``mu``.
+
+    From the law the hinge height obeys (tests/test_cfd.py checks it on solved orbits): the
+    wings' force X_u u acting h above the centre of gravity adds -h X_u+ / c to M_u+, with X_u+
+    independent of h. Extrapolated from the comparison's own M_u+ and X_u+; the CG straight
+    below the hinge as in the comparison.
+
+    Parameters
+    ----------
+    comparison : CFDComparison
+    mu : float, optional
+        The target M_u+; default theirs. ``0.0`` gives the neutral height where our real mode
+        gives way to an oscillation.
+
+    Returns
+    -------
+    float
+        The height [m] (it may lie far outside any insect: compare with the body length).
+    """
+    _validation.instance("comparison", comparison, CFDComparison)
+    target = (comparison.study.derivatives["Mu"].value if mu is None
+              else _validation.real("mu", mu))
+    ours = comparison.table["ours"]
+    chord = comparison.study.value("mean_chord")
+    return float(comparison.insect.hinge_height - (target - ours["Mu"]) * chord / ours["Xu"])
