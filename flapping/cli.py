@@ -67,7 +67,8 @@ INSECT_UNITS: dict[str, str | None] = {
     "air_density": "kg/m^3", "gravity": "m/s^2", "a0": "1/rad", "aspect_ratio_convention": None,
     "pitch_axis": _COUNT, "center_of_pressure": _COUNT, "hinge_offset": "m", "mu1": _COUNT,
     "mu2": _COUNT, "hinge_height": "m", "stroke_mean": "rad", "wing_mass": "kg",
-    "wing_mass_r1": _COUNT, "wing_mass_r2": _COUNT,
+    "wing_mass_r1": _COUNT, "wing_mass_r2": _COUNT, "roll_inertia": "kg m^2",
+    "yaw_inertia": "kg m^2", "roll_yaw_product": "kg m^2",
 }
 _ATOL_UNIT = "SI units of each state (m/s, rad/s, rad; m for z)"
 _SHOOTING_UNITS: dict[str, str | None] = {
@@ -194,11 +195,13 @@ def _parser() -> argparse.ArgumentParser:
                             "6: also the eight multipliers of (u, v, w, p, q, r, roll, theta) "
                             "and the lateral ones (keys dof, lateral_multipliers, "
                             "lateral_stable, sixdof)")
-    hover.add_argument("--geometry", default="paper", choices=species.GEOMETRIES,
+    hover.add_argument("--geometry", default="paper",
+                       choices=(*species.GEOMETRIES, *species.DEPRECATED_GEOMETRIES),
                        help="with a preset: the paper's geometry (hinge at the centre of "
-                            "gravity, massless wings; the default) or the sources' hinge "
-                            "position (estimated for all but the hoverfly) and wing mass (the "
-                            "mean stroke angle is then trimmed too)")
+                            "gravity, massless wings; the default) or 'source', the sources' "
+                            "hinge position (estimated for all but the hoverfly, whose is a "
+                            "second-hand model value) and wing mass (the mean stroke angle is "
+                            "then trimmed too); 'measured' is the deprecated name of 'source'")
     hover.add_argument("--json", action="store_true",
                        help="print one JSON object (SI units, a `units` map) instead of text")
     listing = sub.add_parser("species", help="list the preset insects",

@@ -202,7 +202,7 @@ def test_a_hinge_straight_above_the_cg_needs_no_mean_stroke_angle(hoverfly_cases
 def test_a_hinge_ahead_of_the_cg_sweeps_the_mean_stroke_back():
     # x_h > 0 puts the hinge ahead of the CG: the mean lift returns over the CG with phi_bar < 0.
     from flapping.studies.atlas import TWO_TRIMS
-    moth = preset("hawkmoth", geometry="measured", wing_mass=0.0)
+    moth = preset("hawkmoth", geometry="source", wing_mass=0.0)
     orbit = find_hover_orbit(moth, trims=TWO_TRIMS)
     assert moth.hinge_offset > 0.0 and orbit.stroke_mean < 0.0
     assert orbit.is_hover

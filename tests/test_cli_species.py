@@ -28,7 +28,7 @@ def test_species_lists_every_preset_as_json():
     for row in rows:
         assert set(row) == {"name", "species", "mass_kg", "wing_length_m", "frequency_hz",
                             "source", "measured_geometry"}
-        measured = preset(row["name"], geometry="measured")
+        measured = preset(row["name"], geometry="source")
         geometry = row["measured_geometry"]
         assert set(geometry) == {"hinge_offset_m", "hinge_height_m", "wing_mass_kg"}
         assert geometry["hinge_height_m"]["value"] == measured.hinge_height
@@ -88,12 +88,12 @@ def test_a_bad_name_or_file_is_one_line_and_exit_2(tmp_path, spec, text, expecte
 
 
 @pytest.mark.parametrize("name", ["hoverfly", "bumblebee"])
-def test_hover_at_the_measured_geometry_trims_the_stroke_where_the_hinge_is_off_the_cg(name):
-    out = run("hover", "--insect", name, "--geometry", "measured", "--json")
+def test_hover_at_the_source_geometry_trims_the_stroke_where_the_hinge_is_off_the_cg(name):
+    out = run("hover", "--insect", name, "--geometry", "source", "--json")
     assert out.returncode == 0, out.stderr
     report = json.loads(out.stdout)
     assert set(report) >= HOVER_KEYS  # the keys of the paper geometry stay
-    insect = preset(name, geometry="measured")
+    insect = preset(name, geometry="source")
     assert report["insect_parameters"]["wing_mass"] == insect.wing_mass
     assert report["trims"] == (["amplitude"] if insect.hinge_offset == 0.0
                                else ["amplitude", "stroke_mean"])
@@ -102,9 +102,27 @@ def test_hover_at_the_measured_geometry_trims_the_stroke_where_the_hinge_is_off_
         assert report["stroke_mean_deg"] < 0.0
 
 
+def test_the_former_geometry_name_still_runs_and_warns_once_naming_source():
+    new = run("hover", "--insect", "hoverfly", "--geometry", "source", "--json")
+    old = run("hover", "--insect", "hoverfly", "--geometry", "measured", "--json")
+    assert old.returncode == 0, old.stderr
+    assert json.loads(old.stdout)["multipliers"] == json.loads(new.stdout)["multipliers"]
+    warned = [line for line in old.stderr.splitlines() if "deprecated" in line]
+    assert len(warned) == 1 and "geometry='source'" in warned[0]
+    assert "deprecated" not in new.stderr
+
+
+def test_the_geometry_help_says_estimated_and_names_both_spellings():
+    out = run("hover", "--help")
+    assert out.returncode == 0
+    text = " ".join(out.stdout.split())
+    assert "estimated" in text and "{paper,source,measured}" in text
+    assert "deprecated name of 'source'" in text
+
+
 def test_geometry_applies_to_presets_only(tmp_path):
     path = tmp_path / "bee.toml"
     path.write_text('preset = "bumblebee"\n')
-    out = run("hover", "--insect", str(path), "--geometry", "measured")
+    out = run("hover", "--insect", str(path), "--geometry", "source")
     assert out.returncode == 2
     assert "--geometry" in out.stderr and len(out.stderr.strip().splitlines()) <= 2

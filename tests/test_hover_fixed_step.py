@@ -156,7 +156,7 @@ def test_the_measured_monarch_two_trim_orbit_from_its_default_guess():
     # paper's monarch finds (a second route)
     from flapping.studies.atlas import hover_by_homotopy
 
-    insect = preset("monarch", geometry="measured")
+    insect = preset("monarch", geometry="source")
     options = {"aerodynamics": "small-angle", "trims": ("amplitude", "stroke_mean"),
                "backend": "fixed-step"}
     orbit = find_hover_orbit(insect, **options)

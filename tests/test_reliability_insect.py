@@ -278,7 +278,7 @@ def test_a_plausible_insect_has_no_implausible_field():
     assert hawkmoth().implausible_fields() == {}
     assert explain_blowup(hawkmoth()) == ""
     for name in PRESETS:
-        for geometry in ("paper", "measured"):
+        for geometry in ("paper", "source"):
             assert implausible_fields(preset_insect(name, geometry=geometry)) == {}, (name, geometry)
 
 

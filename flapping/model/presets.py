@@ -31,7 +31,9 @@ Modelling choices shared by all presets (the model's, stated once):
 
 - Two geometries. ``geometry="paper"`` (the default): the wing hinge at the centre of gravity
   and massless wings, as the paper models its hawkmoth, so every earlier number is unchanged.
-  ``geometry="measured"`` (:attr:`Preset.measured`): the hinge position relative to the body's
+  ``geometry="source"`` (:attr:`Preset.measured`; ``"measured"``, its former name, still works
+  with a ``DeprecationWarning``: most of these numbers are estimated, not measured): the hinge
+  position relative to the body's
   centre of gravity (:func:`hinge_geometry` of the sources' hinge-to-CG distance and its angle to
   the stroke plane) and the wing mass, spread as the wing area (uniform areal density: FWUAV's
   monarch wing has radius of gyration 0.543 R, its area's r2 is 0.543). With the hinge off the
@@ -50,6 +52,7 @@ Module order: imports only :mod:`flapping.model.morphology` (and, through it, ki
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -60,6 +63,7 @@ from flapping.model.morphology import Insect, hawkmoth
 
 __all__ = [
     "GEOMETRIES",
+    "DEPRECATED_GEOMETRIES",
     "STATUSES",
     "hinge_geometry",
     "Sourced",
@@ -82,8 +86,13 @@ __all__ = [
 Status = Literal["verified", "paper", "second-hand", "unverified", "estimate"]
 
 #: The geometries a preset comes in: the paper's (hinge at the CG, massless wings) and the
-#: measured one (the sources' hinge position and wing mass).
-GEOMETRIES: tuple[str, ...] = ("paper", "measured")
+#: sources' (their hinge position and wing mass: estimated for the most part, see each number's
+#: status).
+GEOMETRIES: tuple[str, ...] = ("paper", "source")
+
+#: Former names of the geometries, accepted with a DeprecationWarning: "measured" was the
+#: sources' geometry, whose hinge positions are estimates but for the hoverfly's.
+DEPRECATED_GEOMETRIES: Mapping[str, str] = MappingProxyType({"measured": "source"})
 
 #: The accepted statuses of a :class:`Sourced` number, from best to worst checked.
 STATUSES: tuple[Status, ...] = ("verified", "paper", "second-hand", "unverified", "estimate")
@@ -160,9 +169,10 @@ class Preset:
         Numbers used by an estimate (body length, body diameter, the hinge-to-CG distance) or
         given by the sources but absent from the model: documented, not used.
     measured : mapping of str to Sourced
-        The :class:`Insect` fields of the measured geometry (``geometry="measured"``): the wing
-        hinge's position relative to the body's centre of gravity (``hinge_offset``,
-        ``hinge_height``) and the wing mass (``wing_mass``), each with its source or estimate.
+        The :class:`Insect` fields of the sources' geometry (``geometry="source"``; the
+        attribute keeps its former name): the wing hinge's position relative to the body's
+        centre of gravity (``hinge_offset``, ``hinge_height``) and the wing mass
+        (``wing_mass``), each with its source or estimate and its status.
     """
 
     name: str
@@ -178,11 +188,12 @@ class Preset:
 
         Parameters
         ----------
-        geometry : {"paper", "measured"}
+        geometry : {"paper", "source"}
             ``"paper"``: the wing hinge at the centre of gravity and massless wings, as the paper
-            models its hawkmoth (every earlier number unchanged). ``"measured"``: the hinge
+            models its hawkmoth (every earlier number unchanged). ``"source"``: the hinge
             position and wing mass of :attr:`measured` (the hinge off the centre of gravity: hover
-            then needs the mean stroke angle as a second trim).
+            then needs the mean stroke angle as a second trim). ``"measured"``: the former name
+            of ``"source"``, deprecated.
         **overrides
             Any :class:`Insect` field, in SI units (applied last).
 
@@ -196,11 +207,16 @@ class Preset:
             If an override is outside its field's range.
         TypeError
             If an override is not a field of :class:`Insect`.
+
+        Warns
+        -----
+        DeprecationWarning
+            For ``geometry="measured"``, naming ``"source"``.
         """
-        geometry = _validation.choice("geometry", geometry, GEOMETRIES)
+        geometry = _geometry(geometry)
         values: dict[str, Any] = {k: v.value for k, v in self.values.items()}
         values["name"] = self.name
-        if geometry == "measured":
+        if geometry == "source":
             values.update({k: v.value for k, v in self.measured.items()})
         if self.name in BODY_SIZES:  # estimates (six degrees of freedom only)
             values.update(zip(("roll_inertia", "yaw_inertia", "roll_yaw_product"),
@@ -452,7 +468,7 @@ def _amplitude(degrees: float, source: str, status: Status, *cite: str, note: st
               note=note)
 
 
-# =========================================================================== measured geometry
+# =========================================================================== the sources' geometry
 def hinge_geometry(distance: float, elevation: float) -> tuple[float, float]:
     """(hinge_offset, hinge_height) [m] of a hinge ``distance`` from the body's centre of gravity.
 
@@ -726,9 +742,11 @@ def preset(name: str, /, geometry: str = "paper", **overrides: Any) -> Insect:
     ----------
     name : str
         One of :func:`preset_names` (positional: ``name=`` renames the insect).
-    geometry : {"paper", "measured"}
+    geometry : {"paper", "source"}
         The paper's geometry (hinge at the centre of gravity, massless wings; the default) or the
-        sources' hinge position and wing mass (:attr:`Preset.measured`).
+        sources' hinge position and wing mass (:attr:`Preset.measured`, estimated for the most
+        part: each number's status says). ``"measured"``, the former name of ``"source"``, is
+        deprecated.
     **overrides
         Any :class:`Insect` field, in SI units.
 
@@ -740,20 +758,38 @@ def preset(name: str, /, geometry: str = "paper", **overrides: Any) -> Insect:
     ------
     ValueError
         If ``name`` is not a preset (the message lists them) or an override is out of range.
+
+    Warns
+    -----
+    DeprecationWarning
+        For ``geometry="measured"``, naming ``"source"``.
     """
     _validation.choice("name", name, tuple(PRESETS))
-    return PRESETS[name].insect(geometry, **overrides)
+    return PRESETS[name].insect(_geometry(geometry, stacklevel=3), **overrides)
+
+
+def _geometry(geometry: str, stacklevel: int = 3) -> str:
+    """A geometry of :data:`GEOMETRIES`, its former name translated with a DeprecationWarning
+    (at ``stacklevel``: the user's call), anything else refused naming the choices."""
+    if isinstance(geometry, str) and geometry in DEPRECATED_GEOMETRIES:
+        new = DEPRECATED_GEOMETRIES[geometry]
+        warnings.warn(f"geometry={geometry!r} is deprecated: use geometry={new!r} (most of its "
+                      "hinge positions are estimated, not measured)", DeprecationWarning,
+                      stacklevel=stacklevel)
+        return new
+    return _validation.choice("geometry", geometry, GEOMETRIES)
 
 
 def species_table() -> list[dict[str, Any]]:
     """One row per preset: name, species, mass [kg], wing length [m], frequency [Hz], source, and
-    the measured geometry with its sources.
+    the sources' geometry (``geometry="source"``) with its sources and statuses.
 
     Returns
     -------
     list of dict
         Keys ``name``, ``species``, ``mass_kg``, ``wing_length_m`` (the semi-span R),
-        ``frequency_hz``, ``source``, and ``measured_geometry``: for each field of
+        ``frequency_hz``, ``source``, and ``measured_geometry`` (the key keeps its former name:
+        the sources' geometry, mostly estimated): for each field of
         :attr:`Preset.measured`, keyed by the field and its unit (``hinge_offset_m``,
         ``hinge_height_m``, ``wing_mass_kg``), a dict of ``value``, ``source``, ``status``,
         ``cite`` and ``low``/``high`` (None without a range).

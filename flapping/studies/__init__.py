@@ -5,7 +5,9 @@
 - :mod:`flapping.studies.atlas`: the species atlas (homotopy between insects, Floquet against
   averaging across species);
 - :mod:`flapping.studies.control`: what would make hover stable (the wing hinge's height, the
-  mean stroke angle) and feedback once per wingbeat.
+  mean stroke angle) and feedback once per wingbeat;
+- :mod:`flapping.studies.cfd`: Sun's group's CFD stability derivatives as data, our model on
+  their insect term by term, and which term decides the mode type.
 
 Each imports :mod:`flapping.hover` and the layers below it, never another study.
 """

@@ -463,8 +463,8 @@ def species_stability(insect: Insect | None = None, orbit: HoverOrbit | None = N
 #: The three geometries of :func:`geometry_comparison`, in order: the paper's (hinge at the CG,
 #: massless wings), the sources' hinge position with massless wings, and with the wings' mass.
 #: "Source hinge", not "measured": five of the six hinge positions are estimates and the
-#: hoverfly's is a second-hand model parameter (:attr:`~flapping.model.presets.Preset.measured`
-#: keeps its API name, ``geometry="measured"``).
+#: hoverfly's is a second-hand model parameter (``geometry="source"``;
+#: :attr:`~flapping.model.presets.Preset.measured` keeps its attribute name).
 GEOMETRY_CASES: tuple[str, ...] = ("paper", "source hinge", "source hinge and wing mass")
 
 #: The trims of a hover with the hinge off the centre of gravity: the mean stroke angle puts the
@@ -557,7 +557,7 @@ def geometry_comparison(name: str, **hover_options: Any) -> tuple[GeometryCase, 
     if {"trims", "x0_guess", "amplitude_guess"} & set(hover_options):
         raise ValueError("geometry_comparison sets `trims`, `x0_guess` and `amplitude_guess`")
     paper = PRESETS[name].insect()
-    measured = PRESETS[name].insect("measured")
+    measured = PRESETS[name].insect("source")
     insects = (paper, measured.with_(wing_mass=0.0), measured)
     orbit, _ = robust_hover_orbit(paper, **hover_options)
     cases = [GeometryCase(GEOMETRY_CASES[0], paper, 0.0, species_stability(orbit=orbit))]

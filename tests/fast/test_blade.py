@@ -172,7 +172,7 @@ def test_an_unsupported_field_is_refused_and_the_python_field_runs(monkeypatch):
     supported = dict(blade.SUPPORTED_FIELDS)
     del supported["wing_mass"]
     monkeypatch.setattr(blade, "SUPPORTED_FIELDS", supported)
-    insect = preset("monarch", geometry="measured")
+    insect = preset("monarch", geometry="source")
     assert "wing_mass" in blade.unsupported_field(insect)
     assert blade.unsupported_field(flapping.hawkmoth(hinge_height=0.01)) == ""
     problem = HoverProblem(insect, "small-angle")
@@ -277,7 +277,7 @@ MAP_CASES = {
     "hawkmoth h_w = 10 mm": (lambda: flapping.hawkmoth(hinge_height=10e-3), "small-angle", 1),
     "hawkmoth x_h = 1 mm, two trims": (lambda: flapping.hawkmoth(hinge_offset=1e-3),
                                        "small-angle", 2),
-    "monarch measured (wing mass)": (lambda: preset("monarch", geometry="measured"), "exact", 1),
+    "monarch measured (wing mass)": (lambda: preset("monarch", geometry="source"), "exact", 1),
 }
 
 

@@ -207,7 +207,7 @@ def test_each_preset_satisfies_liouvilles_formula(hover):
     assert np.prod(stab.multipliers).real == pytest.approx(stab.det, rel=1e-9)
 
 
-# ------------------------------------------------------------------------------ measured geometry
+# ------------------------------------------------------------------------------ the sources' geometry
 @pytest.mark.parametrize("name", presets.preset_names())
 def test_the_paper_geometry_is_the_default_and_unchanged(name):
     assert presets.preset(name, geometry="paper") == presets.preset(name)
@@ -216,10 +216,10 @@ def test_the_paper_geometry_is_the_default_and_unchanged(name):
 
 
 @pytest.mark.parametrize("name", presets.preset_names())
-def test_the_measured_geometry_sets_the_hinge_and_the_wing_mass_with_sources(name):
+def test_the_source_geometry_sets_the_hinge_and_the_wing_mass_with_sources(name):
     p = presets.PRESETS[name]
     assert {"hinge_offset", "hinge_height", "wing_mass"} <= set(p.measured)
-    insect = presets.preset(name, geometry="measured")
+    insect = presets.preset(name, geometry="source")
     for field, value in p.measured.items():
         assert getattr(insect, field) == value.value
         assert value.source and value.status in presets.STATUSES
@@ -229,7 +229,7 @@ def test_the_measured_geometry_sets_the_hinge_and_the_wing_mass_with_sources(nam
 
 
 def test_the_hoverflys_hinge_is_sun_and_xus_distance_straight_above_the_cg():
-    fly = presets.preset("hoverfly", geometry="measured")
+    fly = presets.preset("hoverfly", geometry="source")
     assert fly.hinge_offset == 0.0  # exactly: one trim suffices (the CLI's choice)
     assert fly.hinge_height == pytest.approx(0.13 * 1.29 * 11.2e-3)  # 0.13 body lengths
 
@@ -247,8 +247,30 @@ def test_hinge_geometry_refuses_bad_arguments_by_name(args, match):
         presets.hinge_geometry(*args)
 
 
+@pytest.mark.parametrize("name", presets.preset_names())
+def test_the_former_name_measured_still_works_and_warns_naming_source(name):
+    with pytest.warns(DeprecationWarning, match="geometry='source'") as record:
+        old = presets.preset(name, geometry="measured")
+    assert old == presets.preset(name, geometry="source")
+    assert record[0].filename == __file__  # the warning points at the caller's line
+    with pytest.warns(DeprecationWarning, match="geometry='source'") as record:
+        via_preset = presets.PRESETS[name].insect("measured")
+    assert via_preset == old and record[0].filename == __file__
+
+
+def test_the_source_geometry_warns_nothing():
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        presets.preset("bumblebee", geometry="source")
+        presets.PRESETS["bumblebee"].insect("source")
+    assert presets.GEOMETRIES == ("paper", "source")
+    assert dict(presets.DEPRECATED_GEOMETRIES) == {"measured": "source"}
+
+
 def test_an_unknown_geometry_is_refused_naming_the_choices():
-    with pytest.raises(ValueError, match="geometry.*measured"):
+    with pytest.raises(ValueError, match="geometry.*source"):
         presets.preset("hawkmoth", geometry="anatomical")
 
 

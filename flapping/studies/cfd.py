@@ -1,0 +1,824 @@
+"""Sun's group's CFD stability derivatives as data, and our model on their insect (issue 28).
+
+Three parts, in the order of the issue:
+
+1. **The published derivatives as data** (:data:`STUDIES`, :class:`CFDStudy`): each number with
+   its source, the table it is printed in and a status, ``"read"`` (read in the source during
+   this work) or ``"estimated"`` (not read: from memory of a cited source, or computed by a stated
+   method). The transcription is checked by feeding the derivatives into the published linear
+   system (:meth:`CFDStudy.matrix`) and comparing its modes with the published ones
+   (:func:`check_transcription`).
+2. **Our model on their insect** (:func:`compare`): their morphology and kinematics as an
+   :class:`~flapping.model.morphology.Insect`, trimmed by our hover solve, our cycle-averaged
+   derivatives in their non-dimensional form beside theirs, term by term, with both sets of
+   averaged modes and our Floquet multipliers.
+3. **Which term decides the mode type** (:func:`swap_table`: one term or a group of ours
+   replaced by theirs; :func:`physics_table`: the candidate physics the model has today, each
+   with its effect on M_u+ and on the mode type).
+
+The published non-dimensional system (Sun & Xiong 2005, attitude free, hover, body axes with x
+horizontal at the equilibrium, z down, theta nose up). Reference velocity U = 2 Phi n r2 (Phi
+the peak-to-peak stroke amplitude, r2 its radius of gyration times R), length c (mean chord),
+time T = 1/n (the wingbeat period), area S = 2 R c (both wings). With u+ = u/U, w+ = w/U,
+q+ = q T, t+ = t/T, forces over 0.5 rho U^2 S and the moment over 0.5 rho U^2 S c, the equations
+m du/dt = X_u u + X_w w + X_q q - m g theta (and likewise w, q) become::
+
+    d/dt+ [u+, w+, q+, theta] = A+ [u+, w+, q+, theta]
+
+    A+ = [[X_u+/m+, X_w+/m+, X_q+/m+, -g+],
+          [Z_u+/m+, Z_w+/m+, Z_q+/m+,  0 ],
+          [M_u+/I+, M_w+/I+, M_q+/I+,  0 ],
+          [   0   ,    0   ,    1   ,  0 ]]
+
+with m+ = m / (0.5 rho U S T), I+ = I_y / (0.5 rho U^2 S c T^2), g+ = g T / U, and
+X_u+ = X_u / (0.5 rho U S), X_q+ = X_q / (0.5 rho U^2 S T), M_u+ = M_u / (0.5 rho U S c),
+M_q+ = M_q / (0.5 rho U^2 S c T) (derivatives of the dimensional loads). In matrix form: with
+D = diag(U, U, 1/T, 1), the dimensional system matrix is A = D A+ D^-1 / T (eigenvalues
+lambda = lambda+ / T) and a dimensional Jacobian J per unit mass and inertia maps back as
+A+ = T D^-1 J D. The time scale T, not c/U, is the one with which the table below reproduces the
+published modes (with c/U the pitch-rate terms come out 7 times too small and no choice of m+
+and I+ fits; checked by hand, not kept).
+
+What the sources give and what they do not (2026-12-03):
+
+- The derivative table: a journal "view-large" table page of J. Exp. Biol. (cob.silverchair.com
+  /view-large/6176870, "Table 1. Non-dimensional aerodynamic derivatives"), which does not name
+  its paper. Attributed to Sun & Xiong (2005) by its modes: with the bumblebee's g+ it fits all
+  four of their abstract's numbers to rounding with m+ and I+ the only free numbers
+  (:func:`check_transcription`). A second page (journals.biologists.com/view-large/6218122,
+  "Non-dimensional stability derivatives": -1.28 -0.04 2.32 0.01 -1.26 0.05 -0.28 -0.03, one value
+  missing) is kept out (:data:`UNATTRIBUTED`): its paper and insect are not established and it
+  lacks a term.
+- m+ and I+: Sun & Xiong's own values were not read. They are identified from the published modes
+  (:func:`identify_mass_and_inertia`), and the identified m+ is compared with the one the
+  morphology gives (6 % apart at rho = 1.225: their density and wing area were not read).
+- Sun, Wang & Xiong (2007, hoverfly, cranefly, dronefly, hawkmoth), Taha, Hajj & Nayfeh (2014,
+  the hawkmoth QS-versus-CFD comparison) and Gao et al. (2009): their tables were not found in the
+  stored sources; they are not in :data:`STUDIES`.
+
+What the evidence supports (Sun & Xiong's bumblebee; tests/test_cfd.py checks each statement):
+the term that decides the mode type is M_u+, the pitch moment per forward speed. Swapped alone
+into our averaged system it turns our real mode into an oscillation; ours swapped into theirs
+turns their oscillation real; no other single term changes the type. Ours has the opposite sign
+(forward speed pitches our insect nose down) and is an order of magnitude smaller. Of the
+physics the model has, the hinge height above the CG adds -h X_u+/c to M_u+ (the wings' drag
+acting above the CG), a centre of pressure nearer the leading edge raises M_u+ too, and wing mass
+and a hinge offset (with the mean stroke angle trimmed) move it little; :func:`physics_table`
+gives the numbers. Why CFD's M_u+ is large and positive is not settled here.
+
+Conventions: SI inside; the derivative names are ``"Xu", "Xw", "Xq", "Zu", ..., "Mq"`` and
+stand for the non-dimensional X_u+ ... M_q+.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.optimize import least_squares
+
+from flapping import _validation
+from flapping.hover import HoverOrbit, find_hover_orbit
+from flapping.hover.stability import HoverStability, hover_stability
+from flapping.model.morphology import Insect
+from flapping.model.presets import ellington_r1
+
+if TYPE_CHECKING:  # pandas is the optional ``sweep`` extra, imported when a table is built
+    import pandas
+
+__all__ = [
+    "DERIVATIVES",
+    "STATUSES",
+    "Number",
+    "PublishedModes",
+    "CFDStudy",
+    "STUDIES",
+    "UNATTRIBUTED",
+    "study",
+    "mode_summary",
+    "identify_mass_and_inertia",
+    "TranscriptionCheck",
+    "check_transcription",
+    "CFDComparison",
+    "compare",
+    "study_insect",
+    "our_derivatives",
+    "SWAP_GROUPS",
+    "swap_table",
+    "physics_table",
+    "hinge_height_for",
+]
+
+#: The nine longitudinal derivatives, in the order of the matrix rows (X, Z, M) and columns
+#: (u, w, q).
+DERIVATIVES: tuple[str, ...] = ("Xu", "Xw", "Xq", "Zu", "Zw", "Zq", "Mu", "Mw", "Mq")
+
+#: Statuses of a :class:`Number`: read in the source during this work, or not.
+STATUSES: tuple[str, ...] = ("read", "estimated")
+
+#: An eigenvalue whose imaginary part is below this fraction of its modulus is real.
+_REAL_TOL = 1e-8
+
+
+@dataclass(frozen=True)
+class Number:
+    """One published (or estimated) number with where it comes from.
+
+    Attributes
+    ----------
+    value : float
+        SI value (angles in rad), or the non-dimensional value of a derivative.
+    source : str
+        Who gives it (a {cite} key of ``book/references.bib`` first, then prose).
+    table : str
+        Where in the source ("Table 1", "abstract"), or "-" for an estimate.
+    status : str
+        One of :data:`STATUSES`.
+    note : str
+        How an estimate was made, or what to keep in mind.
+    """
+
+    value: float
+    source: str
+    table: str
+    status: str
+    note: str = ""
+
+    def __post_init__(self) -> None:
+        _validation.choice("status", self.status, STATUSES)
+
+
+@dataclass(frozen=True)
+class PublishedModes:
+    """The modes a study publishes, as times [s] (as printed: rounded).
+
+    Attributes
+    ----------
+    oscillation_period : float
+        Period of the unstable oscillatory mode [s].
+    doubling_time : float
+        Its time to double in amplitude [s].
+    halving_times : tuple of float
+        Halving times of the stable subsidence modes [s], fastest first.
+    wingbeat : float
+        The wingbeat period T [s].
+    source : str
+        Where they are printed.
+    """
+
+    oscillation_period: float
+    doubling_time: float
+    halving_times: tuple[float, ...]
+    wingbeat: float
+    source: str
+
+    def targets(self) -> np.ndarray:
+        """(growth rate, angular frequency, subsidence rates...) [1/s] the times stand for."""
+        return np.array([math.log(2.0) / self.doubling_time,
+                         2.0 * math.pi / self.oscillation_period,
+                         *(-math.log(2.0) / h for h in self.halving_times)])
+
+
+@dataclass(frozen=True)
+class CFDStudy:
+    """A CFD study's published derivatives, reference quantities and modes.
+
+    Attributes
+    ----------
+    key : str
+        The study's {cite} key.
+    insect : str
+        Which insect.
+    derivatives : mapping of str to Number
+        X_u+ ... M_q+ (:data:`DERIVATIVES`), non-dimensional as in the module docstring.
+    reference : mapping of str to Number
+        ``mass`` [kg], ``semi_span`` R [m], ``mean_chord`` c [m], ``r2`` (over R),
+        ``stroke_amplitude`` Phi [rad] (peak to peak, the sources' convention), ``frequency`` n
+        [Hz], ``air_density`` [kg/m^3], ``gravity`` [m/s^2], ``hinge_height`` (the wing root
+        above the centre of gravity at hover, [m]), ``hinge_offset`` (the wing root ahead of it,
+        [m]), ``wing_mass`` (one wing, [kg]).
+    modes : PublishedModes
+    notes : tuple of str
+        What the comparison with our model does not model, and other caveats.
+    """
+
+    key: str
+    insect: str
+    derivatives: Mapping[str, Number]
+    reference: Mapping[str, Number]
+    modes: PublishedModes
+    notes: tuple[str, ...] = ()
+
+    def value(self, name: str) -> float:
+        """The SI value of a reference quantity."""
+        return self.reference[name].value
+
+    @property
+    def speed(self) -> float:
+        """U = 2 Phi n r2 [m/s] (Phi peak to peak, r2 times R)."""
+        return (2.0 * self.value("stroke_amplitude") * self.value("frequency")
+                * self.value("r2") * self.value("semi_span"))
+
+    @property
+    def period(self) -> float:
+        """T = 1/n [s], the reference time."""
+        return 1.0 / self.value("frequency")
+
+    @property
+    def area(self) -> float:
+        """S = 2 R c [m^2], both wings."""
+        return 2.0 * self.value("semi_span") * self.value("mean_chord")
+
+    @property
+    def gravity_ratio(self) -> float:
+        """g+ = g T / U."""
+        return self.value("gravity") * self.period / self.speed
+
+    def mass_ratio(self, mass: float | None = None) -> float:
+        """m+ = m / (0.5 rho U S T), of ``mass`` [kg] (default the study's)."""
+        m = self.value("mass") if mass is None else mass
+        return m / (0.5 * self.value("air_density") * self.speed * self.area * self.period)
+
+    def inertia_scale(self) -> float:
+        """0.5 rho U^2 S c T^2 [kg m^2]: I+ = I_y / this."""
+        return (0.5 * self.value("air_density") * self.speed ** 2 * self.area
+                * self.value("mean_chord") * self.period ** 2)
+
+    def derivative_vector(self) -> np.ndarray:
+        """The nine derivatives in the order of :data:`DERIVATIVES`."""
+        return np.array([self.derivatives[n].value for n in DERIVATIVES])
+
+    def matrix(self, mass_ratio: float, inertia_ratio: float,
+               derivatives: Sequence[float] | None = None) -> np.ndarray:
+        """The non-dimensional system matrix A+ of the module docstring.
+
+        Parameters
+        ----------
+        mass_ratio, inertia_ratio : float
+            m+ and I+ (> 0).
+        derivatives : sequence of 9 floats, optional
+            In the order of :data:`DERIVATIVES`; default the study's.
+
+        Returns
+        -------
+        numpy.ndarray, shape (4, 4)
+        """
+        mp = _validation.positive("mass_ratio", mass_ratio)
+        ip = _validation.positive("inertia_ratio", inertia_ratio)
+        d = self.derivative_vector() if derivatives is None else _validation.vector(
+            "derivatives", derivatives, size=9)
+        return _system(d, mp, ip, self.gravity_ratio)
+
+    def scaling(self) -> np.ndarray:
+        """D = diag(U, U, 1/T, 1): the dimensional state is D times the non-dimensional one."""
+        return np.diag([self.speed, self.speed, 1.0 / self.period, 1.0])
+
+
+def _system(d: np.ndarray, mp: float, ip: float, gp: float) -> np.ndarray:
+    xu, xw, xq, zu, zw, zq, mu, mw, mq = d
+    return np.array([[xu / mp, xw / mp, xq / mp, -gp],
+                     [zu / mp, zw / mp, zq / mp, 0.0],
+                     [mu / ip, mw / ip, mq / ip, 0.0],
+                     [0.0, 0.0, 1.0, 0.0]])
+
+
+def _derivatives_of(a_plus: np.ndarray, mp: float, ip: float) -> np.ndarray:
+    """X_u+ ... M_q+ of a non-dimensional system matrix (the inverse of :func:`_system`)."""
+    block = np.array(a_plus[:3, :3], dtype=float)
+    block[:2] *= mp
+    block[2] *= ip
+    return block.reshape(-1)
+
+
+# =========================================================================== the data
+_SX = "sun2005"
+_SX_TABLE = ("J. Exp. Biol. table page cob.silverchair.com/view-large/6176870, 'Table 1. "
+             "Non-dimensional aerodynamic derivatives' (the page does not name its paper; "
+             "attributed by its modes, see check_transcription)")
+_SX_MEMORY = ("sun2005 after dudley1990 (bumblebee BB01): from an earlier reading note and the "
+              "bumblebee preset, not re-read here")
+
+
+def _sun_xiong_2005() -> CFDStudy:
+    values = (-0.785, 0.050, -0.090, -0.031, -1.033, -0.031, 2.389, -0.190, -0.883)
+    derivs = {n: Number(v, _SX, _SX_TABLE, "read") for n, v in zip(DERIVATIVES, values,
+                                                                     strict=True)}
+    ref = {
+        "mass": Number(175e-6, _SX + "; berman2007", "-", "read",
+                       "175 mg, as the bumblebee preset (verified there in FWUAV's data)"),
+        "semi_span": Number(13.2e-3, _SX_MEMORY, "-", "estimated"),
+        "mean_chord": Number(4.01e-3, _SX_MEMORY, "-", "estimated",
+                             "Berman & Wang's 4.02 mm (verified) is 0.25 % longer"),
+        "r2": Number(0.55, _SX_MEMORY, "-", "estimated"),
+        "stroke_amplitude": Number(math.radians(116.0), _SX_MEMORY, "-", "estimated",
+                                   "peak to peak"),
+        "frequency": Number(1.0 / 6.4e-3, _SX, "abstract", "read",
+                            "wingbeat period 6.4 ms"),
+        "air_density": Number(1.225, "sea-level standard air", "-", "estimated",
+                              "the density of the CFD not read"),
+        "gravity": Number(9.81, "standard gravity", "-", "estimated"),
+        "hinge_height": Number(0.13 * 18e-3, "sun2007 (hoverfly: wing root to CG 0.13 body "
+                               "lengths, the CG hanging below it) scaled to a bumblebee body "
+                               "length of 18 mm (dudley1990, unverified)", "-", "estimated",
+                               "Sun & Xiong's own hinge-to-CG distance and body angle were "
+                               "not read: by analogy with Sun's group's hoverfly"),
+        "hinge_offset": Number(0.0, "the CG directly below the wing root (a freely hanging "
+                               "body, as Sun's group define their body angle)", "-",
+                               "estimated"),
+        "wing_mass": Number(4.6e-7, "berman2007 (verified in FWUAV's data, bumblebee preset)",
+                            "-", "read", "used only in physics_table: the CFD derivatives are "
+                            "aerodynamic"),
+    }
+    modes = PublishedModes(0.32, 0.1, (0.024, 0.37), 6.4e-3, _SX + ", abstract (verified)")
+    notes = ("body drag: not modelled (Sun & Xiong compute the body's loads too; the body's "
+             "contribution to the derivatives is not separated in the table)",
+             "stroke plane: horizontal at hover in both; our body x axis is the stroke plane's "
+             "(the body angle only places the CG relative to the wing root)",
+             "wing-wake interaction, unsteady circulation, wing rotation timing: not modelled "
+             "(quasi-steady blade elements)",
+             "trim: theirs sets the mid-stroke angles of attack and the mean stroke angle by "
+             "force and moment balance; ours keeps alpha_m at eq. (40) and trims Phi (and "
+             "phi_bar when the hinge is off the CG's vertical)")
+    return CFDStudy(_SX, "bumblebee", MappingProxyType(derivs), MappingProxyType(ref), modes,
+                    notes)
+
+
+#: The studies whose table is read and reproduces its published modes, by {cite} key.
+STUDIES: Mapping[str, CFDStudy] = MappingProxyType({_SX: _sun_xiong_2005()})
+
+#: Tables found but kept out: where, what they read, and why they are not used.
+UNATTRIBUTED: tuple[Mapping[str, Any], ...] = (
+    MappingProxyType({
+        "where": "journals.biologists.com/view-large/6218122, J. Exp. Biol. 'Table 1. "
+                 "Non-dimensional stability derivatives'",
+        "reads": "X_u+ ... M_q+ in the order Xu Zu Mu Xw Zw Mw Xq Zq Mq: -1.28 -0.04 2.32 0.01 "
+                 "-1.26 0.05 -0.28 -0.03 (the ninth value missing from the stored page)",
+        "why": "paper and insect not established; one term missing, so its modes cannot be "
+               "checked. A guess, not used: Sun & Wang (2007, J. Exp. Biol. 210:2714, model "
+               "hoverfly), whose summary speaks of 'stability and control derivatives' where Sun "
+               "& Xiong's speaks of 'aerodynamic derivatives' (the two tables' titles)",
+    }),
+)
+
+
+def study(key: str) -> CFDStudy:
+    """The study of a {cite} key in :data:`STUDIES` (``ValueError`` naming the keys if absent)."""
+    return STUDIES[_validation.choice("study", key, tuple(STUDIES))]
+
+
+_lookup = study  # compare's argument is named ``study``
+
+
+# =========================================================================== modes
+def mode_summary(eigenvalues: ArrayLike) -> dict[str, Any]:
+    """The leading mode of a set of eigenvalues [1/s]: its type, rate, period and doubling time.
+
+    Parameters
+    ----------
+    eigenvalues : array_like of complex
+        Eigenvalues of a (dimensional) system matrix, or Floquet exponents [1/s].
+
+    Returns
+    -------
+    dict
+        ``type`` (``"oscillatory"`` if the eigenvalue of largest real part is complex, else
+        ``"real"``), ``rate`` (its real part [1/s]), ``period`` [s] (inf if real) and
+        ``doubling_time`` [s] (ln 2 / rate; inf if the rate is not positive).
+    """
+    ev = np.asarray(eigenvalues, dtype=complex)
+    lead = ev[np.argmax(ev.real)]
+    oscillatory = abs(lead.imag) > _REAL_TOL * abs(lead)
+    return {"type": "oscillatory" if oscillatory else "real", "rate": float(lead.real),
+            "period": 2.0 * math.pi / abs(lead.imag) if oscillatory else math.inf,
+            "doubling_time": math.log(2.0) / lead.real if lead.real > 0.0 else math.inf}
+
+
+def _mode_numbers(eigenvalues: np.ndarray) -> np.ndarray | None:
+    """(growth rate, angular frequency, real rates ascending) of one complex pair and two real
+    eigenvalues [1/s]; None for another pattern."""
+    cpx = eigenvalues[np.abs(eigenvalues.imag) > _REAL_TOL * np.abs(eigenvalues)]
+    real = np.sort(eigenvalues[np.abs(eigenvalues.imag) <= _REAL_TOL
+                               * np.abs(eigenvalues)].real)
+    if cpx.size != 2 or real.size != 2:
+        return None
+    return np.array([cpx[0].real, abs(cpx[0].imag), *real])
+
+
+def identify_mass_and_inertia(study_: CFDStudy) -> tuple[float, float]:
+    """m+ and I+ with which the study's derivatives give its published modes (least squares).
+
+    The published numbers (doubling time, period, two halving times) are four; m+ and I+ two;
+    g+ comes from the reference quantities. Relative residuals, each rate weighted by itself.
+
+    Parameters
+    ----------
+    study_ : CFDStudy
+
+    Returns
+    -------
+    mass_ratio, inertia_ratio : float
+        m+ and I+.
+
+    Raises
+    ------
+    ValueError
+        If the fit leaves the pattern of one complex pair and two real modes.
+    """
+    _validation.instance("study_", study_, CFDStudy)
+    target = study_.modes.targets()
+    period = study_.period
+
+    def residual(log_x: np.ndarray) -> np.ndarray:
+        ev = np.linalg.eigvals(study_.matrix(*np.exp(log_x))) / period
+        numbers = _mode_numbers(ev)
+        return np.full(4, 1e3) if numbers is None else (numbers - target) / np.abs(target)
+
+    start = np.log([study_.mass_ratio(), 10.0])
+    fit = least_squares(residual, start, x_scale=1.0)
+    if not np.all(np.abs(fit.fun) < 1e3):
+        raise ValueError(f"{study_.key}: no m+, I+ give one oscillatory and two real modes")
+    mp, ip = np.exp(fit.x)
+    return float(mp), float(ip)
+
+
+@dataclass(frozen=True)
+class TranscriptionCheck:
+    """The published derivatives in the published system, against the published modes.
+
+    Attributes
+    ----------
+    study : CFDStudy
+    mass_ratio, inertia_ratio : float
+        m+ and I+ identified from the modes (:func:`identify_mass_and_inertia`).
+    mass_ratio_morphology : float
+        m+ from the reference quantities (mass, rho, U, S, T).
+    pitch_inertia : float
+        The identified I+ in SI [kg m^2].
+    eigenvalues : ndarray
+        Of the published system at the identified m+, I+ [1/s] (by real part, descending).
+    reproduced, published : dict of str to float
+        ``oscillation_period``, ``doubling_time``, ``fast_halving``, ``slow_halving`` [s].
+    """
+
+    study: CFDStudy
+    mass_ratio: float
+    inertia_ratio: float
+    mass_ratio_morphology: float
+    pitch_inertia: float
+    eigenvalues: np.ndarray
+    reproduced: Mapping[str, float]
+    published: Mapping[str, float]
+
+    def relative_errors(self) -> dict[str, float]:
+        """(reproduced - published) / published, per number."""
+        return {k: (self.reproduced[k] - v) / v for k, v in self.published.items()}
+
+
+def check_transcription(key: str) -> TranscriptionCheck:
+    """Feed a study's derivatives into the published linear system and read off its modes.
+
+    Parameters
+    ----------
+    key : str
+        A key of :data:`STUDIES`.
+
+    Returns
+    -------
+    TranscriptionCheck
+    """
+    s = study(key)
+    mp, ip = identify_mass_and_inertia(s)
+    ev = np.linalg.eigvals(s.matrix(mp, ip)) / s.period
+    ev = ev[np.argsort(-ev.real)]
+    numbers = _mode_numbers(ev)
+    assert numbers is not None  # identify_mass_and_inertia checked the pattern
+    names = ("oscillation_period", "doubling_time", "fast_halving", "slow_halving")
+    reproduced = (2.0 * math.pi / numbers[1], math.log(2.0) / numbers[0],
+                  -math.log(2.0) / numbers[2], -math.log(2.0) / numbers[3])
+    published = (s.modes.oscillation_period, s.modes.doubling_time, *s.modes.halving_times)
+    return TranscriptionCheck(s, mp, ip, s.mass_ratio(), ip * s.inertia_scale(), ev,
+                              MappingProxyType(dict(zip(names, reproduced, strict=True))),
+                              MappingProxyType(dict(zip(names, published, strict=True))))
+
+
+# =========================================================================== our model
+def study_insect(study_: CFDStudy, **changes: Any) -> Insect:
+    """The study's insect as our :class:`~flapping.model.morphology.Insect`.
+
+    R, S = R c (one wing), r2 and r1 = :func:`~flapping.model.presets.ellington_r1` of r2
+    (Ellington's fit: the sources' r1 was not read), n, Phi/2 (our amplitude is the half
+    peak-to-peak), m, rho, g, the hinge (height above and offset ahead of the CG, in the stroke
+    plane's axes, which are our body axes when the stroke plane is horizontal at hover), massless
+    wings (the CFD derivatives are aerodynamic), and I_y from the published modes
+    (:func:`identify_mass_and_inertia`: Sun & Xiong's own I_y was not read).
+
+    Parameters
+    ----------
+    study_ : CFDStudy
+    **changes
+        Insect fields to change (SI), e.g. ``hinge_height=0.0``.
+
+    Returns
+    -------
+    Insect
+    """
+    _validation.instance("study_", study_, CFDStudy)
+    _, ip = identify_mass_and_inertia(study_)
+    v = study_.value
+    insect = Insect(
+        name=f"{study_.insect} ({study_.key})", semi_span=v("semi_span"),
+        wing_area=v("semi_span") * v("mean_chord"), r1=ellington_r1(v("r2")), r2=v("r2"),
+        frequency=v("frequency"), stroke_amplitude=v("stroke_amplitude") / 2.0, mass=v("mass"),
+        pitch_inertia=ip * study_.inertia_scale(), air_density=v("air_density"),
+        gravity=v("gravity"), hinge_height=v("hinge_height"), hinge_offset=v("hinge_offset"))
+    return insect.with_(**changes) if changes else insect
+
+
+def _trims(insect: Insect) -> tuple[str, ...]:
+    """One trim with the hinge at the CG; the mean stroke angle too when it is off it."""
+    off = insect.hinge_offset != 0.0 or insect.hinge_height != 0.0
+    return ("amplitude", "stroke_mean") if off else ("amplitude",)
+
+
+def our_derivatives(study_: CFDStudy, stability: HoverStability) -> np.ndarray:
+    """Our cycle-averaged derivatives in the study's non-dimensional form (:data:`DERIVATIVES`).
+
+    A+ = T D^-1 J D of the averaged Jacobian J (per unit mass and pitch inertia, SI), then
+    X+ = m+ A+ and M+ = I+ A+ row by row, m+ and I+ of our insect's own m and I_y.
+
+    Parameters
+    ----------
+    study_ : CFDStudy
+    stability : HoverStability
+        Of our insect's hover orbit.
+
+    Returns
+    -------
+    numpy.ndarray, shape (9,)
+    """
+    problem = stability.orbit.problem
+    if problem is None:
+        raise ValueError("`stability` must be of a hover orbit (its problem knows the insect)")
+    insect = problem.insect
+    d = study_.scaling()
+    a_plus = study_.period * np.linalg.solve(d, stability.averaged_jacobian) @ d
+    return _derivatives_of(a_plus, study_.mass_ratio(insect.mass),
+                           insect.pitch_inertia / study_.inertia_scale())
+
+
+@dataclass(frozen=True)
+class CFDComparison:
+    """Our model on a CFD study's insect (:func:`compare`).
+
+    Attributes
+    ----------
+    study : CFDStudy
+    insect : Insect
+        Ours: their morphology and kinematics.
+    orbit : HoverOrbit
+        Our hover orbit (trimmed as :func:`compare` says).
+    stability : HoverStability
+        Its Floquet analysis and averaged system.
+    table : pandas.DataFrame
+        Index :data:`DERIVATIVES`; columns ``theirs``, ``ours`` (non-dimensional) and
+        ``ratio`` (ours / theirs).
+    their_eigenvalues, our_eigenvalues : ndarray
+        Of the averaged systems [1/s] (by real part, descending): theirs at the m+ and I+ of
+        :func:`identify_mass_and_inertia`, ours of our averaged Jacobian.
+    our_multipliers : ndarray
+        Our Floquet multipliers (by modulus, descending).
+    their_mode, our_mode, our_floquet_mode : dict
+        :func:`mode_summary` of each (the Floquet one from the exponents).
+    trim : dict of str to float
+        ``their_stroke_amplitude_deg`` (peak to peak), ``our_stroke_amplitude_deg`` (peak to
+        peak, trimmed), ``our_stroke_mean_deg`` (trimmed if the hinge is off the CG).
+    not_modelled : tuple of str
+    """
+
+    study: CFDStudy
+    insect: Insect
+    orbit: HoverOrbit
+    stability: HoverStability
+    table: pandas.DataFrame
+    their_eigenvalues: np.ndarray
+    our_eigenvalues: np.ndarray
+    our_multipliers: np.ndarray
+    their_mode: Mapping[str, Any]
+    our_mode: Mapping[str, Any]
+    our_floquet_mode: Mapping[str, Any]
+    trim: Mapping[str, float]
+    not_modelled: tuple[str, ...] = field(default=())
+
+
+def _solve(insect: Insect, guess: HoverOrbit | None = None,
+           **hover_options: Any) -> tuple[HoverOrbit, HoverStability]:
+    options: dict[str, Any] = {"trims": _trims(insect), **hover_options}
+    if guess is not None:
+        options.setdefault("x0_guess", np.asarray(guess.x0).tolist())
+        options.setdefault("amplitude_guess", guess.amplitude)
+        if "stroke_mean" in options["trims"]:
+            insect = insect.with_(stroke_mean=guess.stroke_mean)
+    orbit = find_hover_orbit(insect, **options)
+    return orbit, hover_stability(orbit)
+
+
+def compare(study: str | CFDStudy = "sun2005", **hover_options: Any) -> CFDComparison:
+    """Our model on a CFD study's insect: derivatives term by term and both sets of modes.
+
+    Our insect is :func:`study_insect` (their morphology, kinematics and hinge, massless wings);
+    our hover solve trims the stroke amplitude (and the mean stroke angle when the hinge is off
+    the CG) at our mean angle of attack, where theirs trims the mid-stroke angles of attack and
+    the mean stroke angle in the CFD: both amplitudes are reported.
+
+    Parameters
+    ----------
+    study : str or CFDStudy
+        A key of :data:`STUDIES` or a study.
+    **hover_options
+        Passed to :func:`~flapping.hover.find_hover_orbit` (e.g. ``backend``).
+
+    Returns
+    -------
+    CFDComparison
+
+    Raises
+    ------
+    ValueError
+        For an unknown study.
+    ConvergenceError
+        If our hover orbit cannot be found.
+    """
+    import pandas
+
+    s = study if isinstance(study, CFDStudy) else _lookup(study)
+    insect = study_insect(s)
+    orbit, stab = _solve(insect, **hover_options)
+    theirs = s.derivative_vector()
+    ours = our_derivatives(s, stab)
+    table = pandas.DataFrame({"theirs": theirs, "ours": ours, "ratio": ours / theirs},
+                             index=pandas.Index(DERIVATIVES, name="derivative"))
+    mp, ip = identify_mass_and_inertia(s)
+    their_ev = np.linalg.eigvals(s.matrix(mp, ip)) / s.period
+    their_ev = their_ev[np.argsort(-their_ev.real)]
+    our_ev = np.asarray(stab.averaged_eigenvalues, dtype=complex)
+    trim = {"their_stroke_amplitude_deg": math.degrees(s.value("stroke_amplitude")),
+            "our_stroke_amplitude_deg": 2.0 * math.degrees(orbit.amplitude),
+            "our_stroke_mean_deg": math.degrees(orbit.stroke_mean)}
+    return CFDComparison(s, insect, orbit, stab, table, their_ev, our_ev,
+                         np.asarray(stab.multipliers), MappingProxyType(mode_summary(their_ev)),
+                         MappingProxyType(mode_summary(our_ev)),
+                         MappingProxyType(mode_summary(np.asarray(stab.exponents))),
+                         MappingProxyType(trim), s.notes)
+
+
+# =========================================================================== which term
+#: The groups of :func:`swap_table` beyond the single terms: the speed-pitch coupling and its
+#: damping (the u-q-theta block that carries the oscillation), and whole rows.
+SWAP_GROUPS: tuple[tuple[str, ...], ...] = (
+    ("Xu", "Mu"), ("Mu", "Mq"), ("Xu", "Mu", "Mq"), ("Xu", "Xq", "Mu", "Mq"),
+    ("Xu", "Xw", "Xq"), ("Zu", "Zw", "Zq"), ("Mu", "Mw", "Mq"), DERIVATIVES)
+
+
+def swap_table(study: str | CFDComparison = "sun2005", **hover_options: Any
+               ) -> pandas.DataFrame:
+    """Our derivatives with theirs swapped in, one at a time and in groups, and the reverse.
+
+    Every system is the published one (module docstring) at the m+ and I+ identified from the
+    published modes and their g+, so the row "none" of direction "ours <- theirs" is our
+    averaged system at their mass and inertia ratios, and "all" is theirs (their modes).
+
+    Parameters
+    ----------
+    study : str or CFDComparison
+        A key of :data:`STUDIES` (then :func:`compare` runs) or a comparison already made.
+    **hover_options
+        Passed to :func:`compare` with a key.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per swap: ``direction`` ("ours <- theirs": our system with their terms;
+        "theirs <- ours": theirs with ours), ``swapped`` (the terms, "+"-joined, "none" or
+        "all"), ``Mu`` (the M_u+ in the system), ``type`` (of the leading mode), ``rate``
+        [1/s], ``period`` [s], ``doubling_time`` [s].
+    """
+    import pandas
+
+    comp = study if isinstance(study, CFDComparison) else compare(study, **hover_options)
+    s = comp.study
+    mp, ip = identify_mass_and_inertia(s)
+    theirs, ours = s.derivative_vector(), comp.table["ours"].to_numpy()
+    groups: list[tuple[str, ...]] = [(), *((n,) for n in DERIVATIVES), *SWAP_GROUPS]
+    rows = []
+    for direction, base, other in (("ours <- theirs", ours, theirs),
+                                   ("theirs <- ours", theirs, ours)):
+        for group in groups:
+            d = base.copy()
+            idx = [DERIVATIVES.index(n) for n in group]
+            d[idx] = other[idx]
+            ev = np.linalg.eigvals(_system(d, mp, ip, s.gravity_ratio)) / s.period
+            label = "all" if group == DERIVATIVES else "+".join(group) or "none"
+            rows.append({"direction": direction, "swapped": label,
+                         "Mu": d[DERIVATIVES.index("Mu")], **mode_summary(ev)})
+    return pandas.DataFrame(rows)
+
+
+def _physics_cases(s: CFDStudy, insect: Insect) -> list[tuple[str, dict[str, float]]]:
+    """(label, Insect changes) of :func:`physics_table`."""
+    h = s.value("hinge_height")
+    chord = s.value("mean_chord")
+    return [
+        ("as compared", {}),
+        ("hinge at the CG", {"hinge_height": 0.0, "hinge_offset": 0.0}),
+        *((f"hinge height x{k:g}", {"hinge_height": k * h}) for k in (0.5, 2.0, 3.0, 4.0)),
+        ("hinge 1 chord ahead", {"hinge_offset": chord}),
+        ("hinge 1 chord behind", {"hinge_offset": -chord}),
+        ("wing mass", {"wing_mass": s.value("wing_mass")}),
+        ("centre of pressure x_hat 0.1", {"center_of_pressure": 0.1}),
+        ("centre of pressure x_hat 0.4", {"center_of_pressure": 0.4}),
+    ]
+
+
+def physics_table(study: str | CFDComparison = "sun2005", **hover_options: Any
+                  ) -> pandas.DataFrame:
+    """Candidate physics the model has today, each with its effect on M_u+ and the mode type.
+
+    Each case changes our insect of :func:`compare` (the hinge's height above and offset from
+    the CG, the wings' mass, the centre of pressure x_hat) and is trimmed as there: the mean
+    stroke angle is a trim whenever the hinge is off the CG, so the "mean stroke angle" is the
+    trim's answer to the hinge offset (column ``stroke_mean_deg``). What the model lacks today
+    (a stroke plane inclined to the body axis, a centre of pressure moving with the angle of
+    attack, body drag) is not in the table.
+
+    Parameters
+    ----------
+    study : str or CFDComparison
+        A key of :data:`STUDIES` (then :func:`compare` runs) or a comparison already made.
+    **hover_options
+        Passed to :func:`~flapping.hover.find_hover_orbit`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case: ``case``, the changed ``field`` values, ``Mu`` (our M_u+),
+        ``Mq`` (our M_q+), ``averaged_type``, ``averaged_rate`` [1/s], ``averaged_period`` [s],
+        ``floquet_type``, ``leading_multiplier`` (complex), ``stroke_mean_deg``,
+        ``stroke_amplitude_deg`` (peak to peak), ``message`` (empty, or why no orbit was found).
+    """
+    import pandas
+
+    comp = study if isinstance(study, CFDComparison) else compare(study, **hover_options)
+    s = comp.study
+    rows = []
+    for label, changes in _physics_cases(s, comp.insect):
+        row: dict[str, Any] = {"case": label, "changes": dict(changes)}
+        try:
+            orbit, stab = ((comp.orbit, comp.stability) if not changes else
+                           _solve(comp.insect.with_(**changes), comp.orbit, **hover_options))
+        except (ArithmeticError, ValueError, RuntimeError) as exc:  # ConvergenceError included
+            rows.append({**row, "message": f"{type(exc).__name__}: {exc}"})
+            continue
+        d = our_derivatives(s, stab)
+        avg = mode_summary(stab.averaged_eigenvalues)
+        row.update(Mu=d[DERIVATIVES.index("Mu")], Mq=d[DERIVATIVES.index("Mq")],
+                   averaged_type=avg["type"], averaged_rate=avg["rate"],
+                   averaged_period=avg["period"],
+                   floquet_type=mode_summary(stab.exponents)["type"],
+                   leading_multiplier=complex(stab.multipliers[0]),
+                   stroke_mean_deg=math.degrees(orbit.stroke_mean),
+                   stroke_amplitude_deg=2.0 * math.degrees(orbit.amplitude), message="")
+        rows.append(row)
+    return pandas.DataFrame(rows)
+
+
+def hinge_height_for(comparison: CFDComparison, mu: float | None = None) -> float:
+    """The hinge height [m] above the CG at which our M_u+ would equal ``mu``.
+
+    From the law the hinge height obeys (tests/test_cfd.py checks it on solved orbits): the
+    wings' force X_u u acting h above the centre of gravity adds -h X_u+ / c to M_u+, with X_u+
+    independent of h. Extrapolated from the comparison's own M_u+ and X_u+; the CG straight
+    below the hinge as in the comparison.
+
+    Parameters
+    ----------
+    comparison : CFDComparison
+    mu : float, optional
+        The target M_u+; default theirs. ``0.0`` gives the neutral height where our real mode
+        gives way to an oscillation.
+
+    Returns
+    -------
+    float
+        The height [m] (it may lie far outside any insect: compare with the body length).
+    """
+    _validation.instance("comparison", comparison, CFDComparison)
+    target = (comparison.study.derivatives["Mu"].value if mu is None
+              else _validation.real("mu", mu))
+    ours = comparison.table["ours"]
+    chord = comparison.study.value("mean_chord")
+    return float(comparison.insect.hinge_height - (target - ours["Mu"]) * chord / ours["Xu"])
