@@ -25,6 +25,7 @@ import numpy as np
 
 from flapping.backends import AUTO, Adaptive, Backend
 from flapping.errors import ConvergenceError
+from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
 from flapping.model.sixdof import (
     LATERAL,
@@ -344,3 +345,112 @@ def sixdof_stability(orbit: SixDofHoverOrbit, *, rtol: float | None = None,
         lateral=_block(matrix, LATERAL, ("v", "p", "r", "roll")),
         coupling=float(off / np.max(np.abs(matrix))), multiplier_error=error,
         liouville_error=float(result.liouville_error), details=result)
+
+
+#: The lateral stability derivatives, in the order of :attr:`LateralDerivatives.dimensional`.
+LATERAL_DERIVATIVE_NAMES: tuple[str, ...] = ("Yv", "Yp", "Yr", "Lv", "Lp", "Lr", "Nv", "Np",
+                                             "Nr")
+
+
+@dataclass(frozen=True)
+class LateralDerivatives:
+    """The cycle-averaged lateral system of a six-degree-of-freedom hover orbit.
+
+    Attributes
+    ----------
+    dimensional : dict of str to float
+        Y_v [N s/m], Y_p, Y_r [N s], L_v, N_v [N s], L_p, L_r, N_p, N_r [N m s]: the cycle means
+        of the derivatives of the aerodynamic side force and roll and yaw moments (about the
+        centre of gravity, body axes) in v, p and r.
+    nondimensional : dict of str to float
+        The same in the form of Sun's group (as :mod:`flapping.studies.cfd` for the longitudinal
+        ones): reference speed U = 2 Phi_pp f r2 R (Phi_pp = 2 Phi the peak-to-peak amplitude),
+        length c (mean chord), time T = 1/f, area S = 2 R c; v+ = v/U, p+ = p T, r+ = r T; the
+        force over 0.5 rho U^2 S, the moments over 0.5 rho U^2 S c.
+    jacobian : ndarray, shape (4, 4)
+        The lateral block (v, p, r, roll) of the cycle-averaged Jacobian of the right-hand side.
+    eigenvalues : ndarray, complex, shape (4,)
+        Its eigenvalues [1/s], by descending real part: the averaged lateral system's modes.
+    """
+
+    dimensional: dict[str, float]
+    nondimensional: dict[str, float]
+    jacobian: np.ndarray
+    eigenvalues: np.ndarray
+
+    def __post_init__(self) -> None:
+        freeze(self)
+
+
+def _central_jacobian(f: Any, x: np.ndarray, n_out: int, step: float = 1e-6) -> np.ndarray:
+    """df/dx by central differences, steps step * max(1, |x_j|)."""
+    out = np.empty((n_out, x.size))
+    for j in range(x.size):
+        h = step * max(1.0, abs(x[j]))
+        plus, minus = x.copy(), x.copy()
+        plus[j] += h
+        minus[j] -= h
+        out[:, j] = (np.asarray(f(plus)) - np.asarray(f(minus))) / (2.0 * h)
+    return out
+
+
+def averaged_lateral(orbit: SixDofHoverOrbit, n_average: int = 32) -> LateralDerivatives:
+    """The cycle-averaged lateral derivatives and the averaged lateral system of an orbit.
+
+    The loads' and the right-hand side's Jacobians (central differences) at ``n_average``
+    Gauss-Legendre nodes per half-stroke (the integrand is smooth within one), averaged over the
+    period.
+
+    Parameters
+    ----------
+    orbit : SixDofHoverOrbit
+    n_average : int
+        Nodes per half-stroke, in [1, 4096].
+
+    Returns
+    -------
+    LateralDerivatives
+    """
+    from flapping import _validation
+
+    n_average = _validation.integer("n_average", n_average, low=1, high=4096)
+    model = orbit.model
+    T = model.period
+    nodes, weights = np.polynomial.legendre.leggauss(n_average)
+    lat = list(LATERAL)
+    loads_sum, jac_sum = np.zeros((3, 3)), np.zeros((8, 8))
+    funs = model.segment_functions()
+    halves = ((0.0, 0.5 * T), (0.5 * T, T))
+    times = np.concatenate([0.5 * (b - a) * nodes + 0.5 * (a + b) for a, b in halves])
+    states = flow(funs, (0.0, T), orbit.x0, breakpoints=model.breakpoints, period=T,
+                  rtol=Adaptive.rtol, atol=Adaptive.atol, t_eval=times,
+                  args=(orbit.amplitude,)).x
+    for i, (t, x) in enumerate(zip(times, states.T, strict=True)):
+        k = i // n_average  # the half-stroke: its stroke sign and its field
+        sign = segment_stroke_sign(k)
+        w = 0.5 * weights[i % n_average] / 2.0  # (T/2)/2 per node over T
+        loads = _central_jacobian(
+            lambda y, t=t, sign=sign: model._loads(t, list(y), sign, orbit.amplitude), x, 6)
+        loads_sum += w * loads[np.ix_([1, 3, 5], [1, 3, 5])]
+        jac_sum += w * _central_jacobian(
+            lambda y, t=t, f=funs[k]: f(t, y, orbit.amplitude), x, 8)
+    dimensional = dict(zip(LATERAL_DERIVATIVE_NAMES, loads_sum.ravel().tolist(), strict=True))
+    jacobian = readonly(jac_sum[np.ix_(lat, lat)].copy())
+    eig = np.linalg.eigvals(jacobian).astype(complex)
+    return LateralDerivatives(dimensional=dimensional,
+                              nondimensional=_nondimensional(orbit, dimensional),
+                              jacobian=jacobian,
+                              eigenvalues=readonly(eig[np.argsort(-eig.real, kind="stable")]))
+
+
+def _nondimensional(orbit: SixDofHoverOrbit, d: dict[str, float]) -> dict[str, float]:
+    """Sun's group's form of the lateral derivatives (see :class:`LateralDerivatives`)."""
+    insect = orbit.insect
+    T, c, R = insect.period, insect.mean_chord, insect.semi_span
+    U = 2.0 * (2.0 * orbit.amplitude) * insect.frequency * insect.r2 * R
+    S = 2.0 * R * c
+    q = 0.5 * insect.air_density * U * U * S
+    # (force or moment scale, state scale): v+ = v/U, p+ = p T, r+ = r T.
+    load = {"Y": q, "L": q * c, "N": q * c}
+    state = {"v": 1.0 / U, "p": T, "r": T}
+    return {name: value / load[name[0]] / state[name[1]] for name, value in d.items()}

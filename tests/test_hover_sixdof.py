@@ -1,0 +1,97 @@
+"""Hover and Floquet stability in six degrees of freedom (flapping.hover.sixdof, dof=6)."""
+
+import numpy as np
+import pytest
+
+import flapping
+from flapping.hover.sixdof import SixDofHoverOrbit, SixDofStability
+from flapping.model.sixdof import LATERAL
+
+
+@pytest.fixture(scope="module")
+def moth():
+    return flapping.hawkmoth()  # with its estimated roll and yaw inertia
+
+
+@pytest.fixture(scope="module")
+def orbit(moth):
+    return flapping.find_hover_orbit(moth, dof=6)
+
+
+@pytest.fixture(scope="module")
+def stability(orbit):
+    return flapping.hover_stability(orbit)
+
+
+@pytest.fixture(scope="module")
+def planar(orbit):
+    return flapping.hover_stability(orbit.planar, backend="adaptive")
+
+
+def test_the_orbit_is_the_planar_one_with_the_lateral_states_zero(orbit):
+    assert isinstance(orbit, SixDofHoverOrbit)
+    assert orbit.dof == 6 and orbit.aerodynamics == "small-angle"
+    assert orbit.residual_norm < 1e-9
+    assert np.all(orbit.x0[list(LATERAL)] == 0.0)
+    assert abs(orbit.amplitude - orbit.planar.amplitude) < 1e-10
+
+
+@pytest.mark.slow
+def test_eight_multipliers_with_longitudinal_and_lateral_views(stability):
+    assert isinstance(stability, SixDofStability)
+    assert stability.multipliers.shape == (8,)
+    assert stability.longitudinal.multipliers.shape == (4,)
+    assert stability.lateral.multipliers.shape == (4,)
+    assert stability.lateral.names == ("v", "p", "r", "roll")
+    both = np.sort_complex(np.concatenate([stability.longitudinal.multipliers,
+                                           stability.lateral.multipliers]))
+    np.testing.assert_allclose(both, np.sort_complex(stability.multipliers), atol=1e-9)
+
+
+@pytest.mark.slow
+def test_symmetric_flapping_decouples_the_two_sets(stability):
+    # Zero to the rounding of the central-difference Jacobians (~1e-10 of the largest entry).
+    assert stability.coupling < 1e-8
+
+
+@pytest.mark.slow
+def test_the_longitudinal_multipliers_are_the_planar_ones(stability, planar):
+    np.testing.assert_allclose(stability.longitudinal.multipliers, planar.multipliers,
+                               rtol=0, atol=1e-8)
+
+
+@pytest.mark.slow
+def test_liouville_and_the_error_estimate(stability):
+    assert stability.liouville_error < 1e-8
+    assert stability.multiplier_error < 1e-8
+
+
+def test_the_exact_loads_hover_in_six_dof(moth):
+    orbit = flapping.find_hover_orbit(moth, dof=6, aerodynamics="exact")
+    assert orbit.residual_norm < 1e-9 and orbit.aerodynamics == "exact"
+
+
+def test_six_dof_refuses_what_it_cannot_do(moth):
+    with pytest.raises(ValueError, match="aerodynamics"):
+        flapping.find_hover_orbit(moth, dof=6, aerodynamics="linear")
+    with pytest.raises(ValueError, match="roll_inertia"):
+        flapping.find_hover_orbit(moth.with_(roll_inertia=None), dof=6)
+    with pytest.raises(ValueError, match="dof"):
+        flapping.find_hover_orbit(moth, dof=5)
+
+
+def test_a_six_dof_orbit_is_analysed_on_the_adaptive_path_only(orbit):
+    with pytest.raises(ValueError, match="adaptive"):
+        flapping.hover_stability(orbit, backend="compiled")
+
+
+@pytest.mark.slow
+def test_the_command_line_adds_the_lateral_multipliers():
+    from flapping.cli import UNITS, hover_report
+
+    report = hover_report("hawkmoth", dof=6)
+    assert set(report) >= set(UNITS) | {"dof", "lateral_multipliers", "lateral_stable", "sixdof"}
+    assert report["dof"] == 6 and report["aerodynamics"] == "small-angle"
+    assert len(report["lateral_multipliers"]) == 4
+    assert set(report["lateral_multipliers"][0]) == set(report["multipliers"][0]) == {"re", "im"}
+    assert set(report["units"]) >= set(report) - {"units"}
