@@ -139,16 +139,18 @@ def report(cache: Path) -> dict | None:
         return None
 
 
-def main(argv: list[str]) -> int:
+def main(argv: list[str], niceness: int = NICE) -> int:
     """The background process: compile and cache every entry point into the cache ``argv[0]``
-    and write the report (the lock's descriptor, inherited, is held until the process exits)."""
+    at a priority lowered by ``niceness`` and write the report (the lock's descriptor,
+    inherited, is held until the process exits). Returns the exit status (1: not compiled)."""
     import resource
 
     cache = Path(argv[0])
     started = time.perf_counter()
     outcome: dict = {"pid": os.getpid(), "ok": False, "error": ""}
-    with contextlib.suppress(OSError):  # not allowed: compile at the usual priority
-        os.nice(NICE)
+    if niceness:
+        with contextlib.suppress(OSError):  # not allowed: compile at the usual priority
+            os.nice(niceness)
     try:
         from flapping.fast import kernel
 

@@ -40,21 +40,21 @@ compiled again in every process. Each compiled entry point is compiled on its fi
 logger with the time and the cache directory. Later processes load the cache in ~0.1 s.
 
 The first call in a new environment. Compiling the orbit and its multipliers costs 5-10 s of CPU,
-several times a warm process's whole first answer. So the first call of an entry point whose
-numba cache is cold runs the same functions as plain Python (:mod:`flapping.fast._uncompiled`:
-the same arithmetic and the same LAPACK routines, equal to the compiled results bit for bit; the
-default orbit and multipliers in ~0.2 s) and starts one background process that compiles every
-entry point into the cache (:mod:`flapping.fast._background`); a :class:`KernelCompileWarning`
-says so, once, and the result says which path answered (:attr:`HoverSolution.compiled`). The
-next call of that entry point runs compiled: it waits for the background compile (at most
-:data:`WAIT_S`) and loads the cache, or compiles in the process if that failed. So a sweep
-solves at most its first point per process uncompiled. Calls with much work (many steps,
-samples or nodes: :data:`_UNCOMPILED_LIMITS`) compile at once. The environment variable
-``FLAPPING_FIRST_CALL`` chooses: ``auto`` (the default, as above), ``compiled`` (compile in the
-process before the first answer, no background process) or ``uncompiled`` (every entry point's
-first call uncompiled even with a warm cache, for tests; the background compile only if the cache
-is cold). With ``NUMBA_DISABLE_JIT=1`` every call runs uncompiled and nothing is started.
-:func:`warm_up` always compiles.
+several times a warm process's whole first answer. So the first call of an entry point whose numba
+cache is cold runs the same functions as plain Python (:mod:`flapping.fast._uncompiled`: the same
+arithmetic and the same LAPACK routines, equal to the compiled results bit for bit; the default
+orbit and multipliers in ~0.2 s) and starts one background process that compiles every entry point
+into the cache (:mod:`flapping.fast._background`); a :class:`KernelCompileWarning` says so, once,
+and the result says which path answered (:attr:`HoverSolution.compiled`). The next call of that
+entry point runs compiled: it waits for the background compile (at most ``WAIT_S``, 300 s) and
+loads the cache, or compiles in the process if that failed. So a sweep solves at most its first
+point per process uncompiled. Calls with much work (many steps, samples or nodes, past the limits
+of ``_UNCOMPILED_LIMITS``) compile at once. The environment variable ``FLAPPING_FIRST_CALL``
+chooses: ``auto`` (the default, as above), ``compiled`` (compile in the process before the first
+answer, no background process) or ``uncompiled`` (every entry point's first call uncompiled even
+with a warm cache, for tests; the background compile only if the cache is cold). With
+``NUMBA_DISABLE_JIT=1`` every call runs uncompiled and nothing is started. :func:`warm_up` always
+compiles.
 """
 
 from __future__ import annotations
@@ -103,6 +103,7 @@ __all__ = [
     "cache_dir",
     "first_call_mode",
     "numba_available",
+    "run_reporting",
     "load",
     "run",
     "solve_hover",
@@ -189,7 +190,8 @@ _LOG = logging.getLogger("flapping")
 
 
 class KernelCompileWarning(UserWarning):
-    """The compiled kernel was (or is being) compiled by numba: said once per process.
+    """The compiled kernel was (or is being) compiled by numba, or a first call was answered
+    uncompiled while numba compiles it: said once per process.
 
     A warning, not a log record: Python shows it by default (once) in scripts, notebooks and
     pytest's summary, whereas a log record below WARNING is dropped without a configured
@@ -255,7 +257,7 @@ UNCOMPILED_PATH = "compiled kernel's Python code, uncompiled (first call; numba 
 FIRST_CALL_MODES = ("auto", "compiled", "uncompiled")
 
 #: Longest wait [s] of a second call for the background compile before it compiles itself.
-WAIT_S = 600.0
+WAIT_S = 300.0
 
 #: Calls answered uncompiled only up to this much work (the argument's position and its largest
 #: value): ~20 ms per Newton iteration at 12 steps per half-stroke, ~0.4 ms per step of the plain
@@ -316,7 +318,7 @@ def run_reporting(kc: ModuleType, name: str, *args: Any) -> tuple[Any, bool]:
     ``FLAPPING_FIRST_CALL=uncompiled``) and the call's work is small, runs the uncompiled
     functions and starts the background compile (if the cache is cold); a
     :class:`KernelCompileWarning` says so, once per process. Its later calls wait for a
-    running background compile (:data:`WAIT_S` at most), then run compiled. A compiled first
+    running background compile (``WAIT_S`` at most), then run compiled. A compiled first
     call is timed: one INFO line on the ``"flapping"`` logger reports it, and a
     :class:`KernelCompileWarning` (once per process) says that numba compiles: before it starts
     if the cache holds no entry for the function, after if it took more than a second anyway.
@@ -684,8 +686,8 @@ class HoverSolution:
 
     @property
     def path(self) -> str:
-        """Which code answered: ``"compiled"`` or ``"compiled kernel's Python code, uncompiled
-        (first call; numba compiles in the background)"``."""
+        """Which code answered, in words: ``"compiled"``, or ``UNCOMPILED_PATH`` (the kernel's
+        Python code, uncompiled: a first call while numba compiles)."""
         return "compiled" if self.compiled else UNCOMPILED_PATH
 
     @property
