@@ -57,9 +57,13 @@ class _Products(ast.NodeTransformer):
 
 @functools.lru_cache(maxsize=1)
 def generated() -> dict[str, Any]:
-    """The namespace of :mod:`flapping.fast._generated` compiled by Python with numba's powers."""
+    """The namespace of :mod:`flapping.fast._generated` compiled by Python with numba's powers
+    (the module's own, with Python's powers, if its source cannot be read)."""
     path = Path(_generated.__file__)
-    tree = _Products().visit(ast.parse(path.read_text(), filename=str(path)))
+    try:
+        tree = _Products().visit(ast.parse(path.read_text(), filename=str(path)))
+    except (OSError, SyntaxError, ValueError):  # e.g. installed without sources
+        return dict(vars(_generated))
     ns: dict[str, Any] = {"__name__": _generated.__name__}
     exec(compile(ast.fix_missing_locations(tree), str(path), "exec"), ns)  # noqa: S102
     return ns

@@ -328,10 +328,10 @@ def run_reporting(kc: ModuleType, name: str, *args: Any) -> tuple[Any, bool]:
         return fn(*args), True
     from flapping.fast import _background, _uncompiled  # the first calls only
 
-    if not hasattr(fn, "py_func"):  # NUMBA_DISABLE_JIT: njit returned the Python function
+    if _jit_disabled():  # njit returned the Python functions, which Python cannot run as they are
         return _uncompiled.entry(kc, name)(*args), False
     cache = cache_dir(kc)
-    warm = cache is not None and _cached(fn, cache)
+    warm = _cached(fn, cache)
     if name not in _FIRST_DONE:
         _FIRST_DONE.add(name)
         mode = first_call_mode()
@@ -354,6 +354,13 @@ def run_reporting(kc: ModuleType, name: str, *args: Any) -> tuple[Any, bool]:
         _NOTED.append(True)
     _READY.add(name)
     return out, True
+
+
+def _jit_disabled() -> bool:
+    """Whether numba's JIT is off (``NUMBA_DISABLE_JIT``; numba is imported by :func:`load`)."""
+    from numba.core import config
+
+    return bool(getattr(config, "DISABLE_JIT", False))
 
 
 def _small(name: str, args: tuple[Any, ...]) -> bool:
@@ -394,18 +401,21 @@ def _run_uncompiled(kc: ModuleType, name: str, args: tuple[Any, ...], cache: Pat
     return out
 
 
-def _cached(fn: Any, cache: Path) -> bool:
+def _cached(fn: Any, cache: Path | None) -> bool:
     """Whether numba's cache in ``cache`` holds an entry for the compiled function ``fn``.
 
     Its index file (``<module>.<function>-<first line>.py<X><Y>.nbi``, numba 0.60-0.68) read as
     numba reads it: for this numba version and the function's source file as it is now (a stale
     index reads as empty), with its data files written. An entry for another signature or
     processor passes here and compiles in the process (then the note comes after, not before).
-    If numba's internals moved: whether the index file exists.
+    If numba's internals moved: whether the index file exists. False without a cache (None),
+    True for a function that is not numba's.
     """
     py_func = getattr(fn, "py_func", None)
     if py_func is None:  # not numba's (a wrapper a benchmark put in its place): nothing to say
         return True
+    if cache is None:  # numba caches nothing here
+        return False
     try:
         index = fn._cache._cache_file
         entries = index._load_index()

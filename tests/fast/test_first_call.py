@@ -262,3 +262,18 @@ def test_with_numba_disabled_every_call_is_uncompiled_and_nothing_starts(tmp_pat
     assert not list(tmp_path.rglob(_background.LOCK_NAME))
     mu = float.fromhex(out.stdout.split()[2])
     assert mu == abs(kernel.solve_hover(flapping.hawkmoth()).multipliers).max()
+
+
+def test_a_wrapper_in_place_of_an_entry_point_is_called(fresh_process, kc):
+    # as benchmarks/bench_sweep.py times the solves: a plain function has no numba cache to ask
+    fresh_process.delenv("FLAPPING_FIRST_CALL", raising=False)
+    calls = []
+    inner = kc.newton_and_estimate
+
+    def timed(*args):
+        calls.append(1)
+        return inner(*args)
+
+    fresh_process.setattr(kc, "newton_and_estimate", timed)
+    assert kernel.solve_hover(flapping.hawkmoth(frequency=22.0)).compiled
+    assert calls == [1]
