@@ -36,24 +36,41 @@ writable, else numba's user-wide cache directory (``$XDG_CACHE_HOME/numba`` or
 installed wheel in a read-only ``site-packages`` caches (checked for numba 0.60-0.68:
 ``numba.core.caching.UserWideCacheLocator``). If no place is writable the kernel still runs,
 compiled again in every process. Each compiled entry point is compiled on its first call (see
-:func:`run`): the first orbit and multipliers in an environment compile what they use (3-10 s
-of CPU) and say so once (a :class:`KernelCompileWarning`); the first call of every entry point
-logs one INFO line on the ``"flapping"`` logger with the time and the cache directory. Later
-processes load the cache in ~0.1 s.
+:func:`run`); the first call of every entry point logs one INFO line on the ``"flapping"``
+logger with the time and the cache directory. Later processes load the cache in ~0.1 s.
+
+The first call in a new environment. Compiling the orbit and its multipliers costs 5-10 s of CPU,
+several times a warm process's whole first answer. So the first call of an entry point whose numba
+cache is cold runs the same functions as plain Python (:mod:`flapping.fast._uncompiled`: the same
+arithmetic and the same LAPACK routines, equal to the compiled results bit for bit; the default
+orbit and multipliers in ~0.2 s) and starts one background process that compiles every entry point
+into the cache (:mod:`flapping.fast._background`); a :class:`KernelCompileWarning` says so, once,
+and the result says which path answered (:attr:`HoverSolution.compiled`). The next call of that
+entry point runs compiled: it waits for the background compile (at most ``WAIT_S``, 300 s) and
+loads the cache, or compiles in the process if that failed. So a sweep solves at most its first
+point per process uncompiled. Calls with much work (many steps, samples or nodes, past the limits
+of ``_UNCOMPILED_LIMITS``) compile at once. The environment variable ``FLAPPING_FIRST_CALL``
+chooses: ``auto`` (the default, as above), ``compiled`` (compile in the process before the first
+answer, no background process) or ``uncompiled`` (every entry point's first call uncompiled even
+with a warm cache, for tests; the background compile only if the cache is cold). With
+``NUMBA_DISABLE_JIT=1`` every call runs uncompiled and nothing is started. :func:`warm_up` always
+compiles.
 """
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import hashlib
 import importlib.util
 import logging
 import math
+import os
 import sys
 import time
 import warnings
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType, ModuleType
@@ -84,7 +101,9 @@ __all__ = [
     "KernelProblem",
     "OrbitQuadrature",
     "cache_dir",
+    "first_call_mode",
     "numba_available",
+    "run_reporting",
     "load",
     "run",
     "solve_hover",
@@ -171,7 +190,8 @@ _LOG = logging.getLogger("flapping")
 
 
 class KernelCompileWarning(UserWarning):
-    """The compiled kernel was (or is being) compiled by numba: said once per process.
+    """The compiled kernel was (or is being) compiled by numba, or a first call was answered
+    uncompiled while numba compiles it: said once per process.
 
     A warning, not a log record: Python shows it by default (once) in scripts, notebooks and
     pytest's summary, whereas a log record below WARNING is dropped without a configured
@@ -230,20 +250,99 @@ def load() -> ModuleType:
     return _MODULE[0]
 
 
-def run(kc: ModuleType, name: str, *args: Any) -> Any:
-    """Call the compiled entry point ``name`` of ``kc`` (:func:`load`) with ``args``.
+#: How :attr:`HoverSolution.path` names the uncompiled first call.
+UNCOMPILED_PATH = "compiled kernel's Python code, uncompiled (first call; numba compiles it)"
 
-    Its first call in a process compiles it (first use in an environment, or after an upgrade)
-    or loads it from numba's on-disk cache, timed: one INFO line on the ``"flapping"`` logger
-    reports it, and a :class:`KernelCompileWarning` (once per process) says that numba compiles:
-    before it starts if the cache holds no entry for the function, after if it took more than a
-    second anyway.
+#: The values of ``FLAPPING_FIRST_CALL`` (see the module notes).
+FIRST_CALL_MODES = ("auto", "compiled", "uncompiled")
+
+#: Longest wait [s] of a second call for the background compile before it compiles itself.
+WAIT_S = 300.0
+
+#: Calls answered uncompiled only up to this much work (the argument's position and its largest
+#: value): ~20 ms per Newton iteration at 12 steps per half-stroke, ~0.4 ms per step of the plain
+#: state, measured uncompiled; past these a first call could take seconds, and compiles instead.
+_UNCOMPILED_LIMITS: Mapping[str, tuple[tuple[int, int], ...]] = MappingProxyType({
+    "newton_and_estimate": ((1, 32),),  # n_steps
+    "variational_period": ((1, 128),),  # n_steps
+    "sample_period": ((2, 2048),),  # n_steps
+    "states_at": ((2, 2048), (5, 4096)),  # n_steps, times
+    "orbit_quadrature": ((4, 1024), (6, 1024)),  # nodes, min_steps
+})
+
+#: Entry points whose first call was made in this process (compiled or not), and the mode
+#: :func:`warm_up` imposes while it runs.
+_FIRST_DONE: set[str] = set()
+_FORCED: list[str] = []
+
+
+def first_call_mode() -> str:
+    """How the first call of an entry point runs: ``FLAPPING_FIRST_CALL`` (default ``auto``).
+
+    Raises
+    ------
+    ValueError
+        If the variable holds another value than :data:`FIRST_CALL_MODES`.
+    """
+    if _FORCED:
+        return _FORCED[-1]
+    mode = os.environ.get("FLAPPING_FIRST_CALL", "").strip().lower() or "auto"
+    if mode not in FIRST_CALL_MODES:
+        raise ValueError(f"the environment variable FLAPPING_FIRST_CALL must be one of "
+                         f"{', '.join(FIRST_CALL_MODES)}; got {mode!r}")
+    return mode
+
+
+@contextlib.contextmanager
+def _mode(mode: str) -> Iterator[None]:
+    _FORCED.append(mode)
+    try:
+        yield
+    finally:
+        _FORCED.pop()
+
+
+def run(kc: ModuleType, name: str, *args: Any) -> Any:
+    """Call the entry point ``name`` of ``kc`` (:func:`load`) with ``args``.
+
+    Compiled, unless this is its first call in the process and numba's cache of it is cold (see
+    the module notes and :func:`run_reporting`, which also says which path answered).
+    """
+    return run_reporting(kc, name, *args)[0]
+
+
+def run_reporting(kc: ModuleType, name: str, *args: Any) -> tuple[Any, bool]:
+    """:func:`run`, and whether the compiled code answered (False: the uncompiled Python).
+
+    The first call of an entry point in a process, if numba's cache holds no entry for it (or
+    ``FLAPPING_FIRST_CALL=uncompiled``) and the call's work is small, runs the uncompiled
+    functions and starts the background compile (if the cache is cold); a
+    :class:`KernelCompileWarning` says so, once per process. Its later calls wait for a
+    running background compile (``WAIT_S`` at most), then run compiled. A compiled first
+    call is timed: one INFO line on the ``"flapping"`` logger reports it, and a
+    :class:`KernelCompileWarning` (once per process) says that numba compiles: before it starts
+    if the cache holds no entry for the function, after if it took more than a second anyway.
     """
     fn = getattr(kc, name)
     if name in _READY:
-        return fn(*args)
+        return fn(*args), True
+    from flapping.fast import _background, _uncompiled  # the first calls only
+
+    if _jit_disabled():  # njit returned the Python functions, which Python cannot run as they are
+        return _uncompiled.entry(kc, name)(*args), False
     cache = cache_dir(kc)
-    if (cache is None or not _cached(fn, cache)) and not _NOTED:
+    warm = _cached(fn, cache)
+    if name not in _FIRST_DONE:
+        _FIRST_DONE.add(name)
+        mode = first_call_mode()
+        if ((mode == "uncompiled" or (mode == "auto" and not warm))
+                and _small(name, args)):
+            return _run_uncompiled(kc, name, args, cache, warm), False
+    elif not warm and cache is not None and _background.running(cache):
+        _LOG.info("hover kernel (%s): waiting for the background compile into %s", name, cache)
+        _background.wait(cache, WAIT_S, lambda: _cached(fn, cache))
+        warm = _cached(fn, cache)
+    if not warm and not _NOTED:
         _note_compiling(cache)
         _NOTED.append(True)
     start = time.perf_counter()
@@ -254,22 +353,80 @@ def run(kc: ModuleType, name: str, *args: Any) -> Any:
     if compiled and seconds > _NOTE_AFTER_S:
         _NOTED.append(True)
     _READY.add(name)
+    return out, True
+
+
+def _jit_disabled() -> bool:
+    """Whether numba's JIT is off (``NUMBA_DISABLE_JIT``; numba is imported by :func:`load`)."""
+    from numba.core import config
+
+    return bool(getattr(config, "DISABLE_JIT", False))
+
+
+def _small(name: str, args: tuple[Any, ...]) -> bool:
+    """Whether the call's work is within :data:`_UNCOMPILED_LIMITS`."""
+    for position, limit in _UNCOMPILED_LIMITS.get(name, ()):
+        value = args[position]
+        if (np.size(value) if isinstance(value, np.ndarray) else int(value)) > limit:
+            return False
+    return True
+
+
+def _run_uncompiled(kc: ModuleType, name: str, args: tuple[Any, ...], cache: Path | None,
+                    warm: bool) -> Any:
+    """The entry point's Python code on ``args``; the background compile started if the cache
+    is cold, and said once (:class:`KernelCompileWarning`)."""
+    from flapping.fast import _background, _uncompiled
+
+    pid = None if warm or cache is None else _background.start(cache)
+    start = time.perf_counter()
+    out = _uncompiled.entry(kc, name)(*args)
+    seconds = time.perf_counter() - start
+    if pid is not None:
+        later = (f"numba compiles it in a background process (pid {pid}, 5-15 s of CPU, once) "
+                 f"into {cache}; later calls load it from there")
+    elif cache is not None and not warm and _background.running(cache):
+        later = f"a background compile into {cache} runs already; later calls load it from there"
+    elif not warm:
+        later = "later calls compile it in this process"
+    else:
+        later = "later calls use the compiled kernel (FLAPPING_FIRST_CALL=uncompiled)"
+    _LOG.info("hover kernel (%s) answered uncompiled in %.2f s (numba cache: %s); %s", name,
+              seconds, cache if cache is not None else "none", later)
+    if not warm and not _NOTED:
+        _NOTED.append(True)
+        warnings.warn(f"flapping's hover kernel is not compiled in this environment yet: this "
+                      f"first call ran its Python code uncompiled (the same arithmetic, "
+                      f"{seconds:.2f} s); {later}", KernelCompileWarning, stacklevel=6)
     return out
 
 
-def _cached(fn: Any, cache: Path) -> bool:
-    """Whether numba's cache in ``cache`` has an index file for the compiled function ``fn``.
+def _cached(fn: Any, cache: Path | None) -> bool:
+    """Whether numba's cache in ``cache`` holds an entry for the compiled function ``fn``.
 
-    numba names it ``<module>.<function>-<first line>.py<X><Y>.nbi`` (numba 0.60-0.68); a stale
-    index (an edited source) passes here and then compiles: the note comes after, not before.
+    Its index file (``<module>.<function>-<first line>.py<X><Y>.nbi``, numba 0.60-0.68) read as
+    numba reads it: for this numba version and the function's source file as it is now (a stale
+    index reads as empty), with its data files written. An entry for another signature or
+    processor passes here and compiles in the process (then the note comes after, not before).
+    If numba's internals moved: whether the index file exists. False without a cache (None),
+    True for a function that is not numba's.
     """
     py_func = getattr(fn, "py_func", None)
     if py_func is None:  # not numba's (a wrapper a benchmark put in its place): nothing to say
         return True
-    code = py_func.__code__
-    module = py_func.__module__.rsplit(".", 1)[-1]
-    version = f"py{sys.version_info.major}{sys.version_info.minor}"
-    return (cache / f"{module}.{code.co_name}-{code.co_firstlineno}.{version}.nbi").is_file()
+    if cache is None:  # numba caches nothing here
+        return False
+    try:
+        index = fn._cache._cache_file
+        entries = index._load_index()
+        # numba writes the index before the data (each file whole, by a rename)
+        return bool(entries) and all(Path(index._cache_path, data).is_file()
+                                     for data in entries.values())
+    except Exception:  # noqa: BLE001 - numba's internals: fall back on the file's existence
+        code = py_func.__code__
+        module = py_func.__module__.rsplit(".", 1)[-1]
+        version = f"py{sys.version_info.major}{sys.version_info.minor}"
+        return (cache / f"{module}.{code.co_name}-{code.co_firstlineno}.{version}.nbi").is_file()
 
 
 def cache_dir(compiled: ModuleType | None = None) -> Path | None:
@@ -286,7 +443,8 @@ def cache_dir(compiled: ModuleType | None = None) -> Path | None:
         Where numba chose to cache (see the module notes); None if no place was writable.
     """
     compiled = load() if compiled is None else compiled
-    path = compiled.newton_and_estimate.stats.cache_path
+    stats = getattr(compiled.newton_and_estimate, "stats", None)  # None: NUMBA_DISABLE_JIT
+    path = stats.cache_path if stats is not None else None
     return Path(path) if compiled.CACHED and path else None
 
 
@@ -338,18 +496,21 @@ def _drop_stale_cache(cache: Path, generated: Path) -> None:
 
 
 def warm_up() -> float:
-    """Run every compiled entry point once on the hawkmoth; returns the seconds it took.
+    """Run every compiled entry point once on the hawkmoth, compiled; returns the seconds it took.
 
     The first call in an environment compiles (seconds); later processes load the on-disk cache.
+    The solve's entry point first (the one a second call most likely waits for), then the
+    quadrature of :func:`~flapping.hover.hover_stability`.
     """
     from flapping.model.morphology import hawkmoth
 
     start = time.perf_counter()
-    problem = KernelProblem.of(hawkmoth())
-    sol = solve_hover(problem)
-    monodromy_at(problem, sol.x0, sol.amplitude)
-    states_at(problem, sol.x0, sol.amplitude, [0.25 * problem.period])  # samples the period too
-    orbit_quadrature(problem, sol.x0, sol.amplitude)
+    with _mode("compiled"):
+        problem = KernelProblem.of(hawkmoth())
+        sol = solve_hover(problem)
+        orbit_quadrature(problem, sol.x0, sol.amplitude)
+        monodromy_at(problem, sol.x0, sol.amplitude)
+        states_at(problem, sol.x0, sol.amplitude, [0.25 * problem.period])  # and the samples
     return time.perf_counter() - start
 
 
@@ -510,6 +671,10 @@ class HoverSolution:
     mean_velocity : ndarray, shape (2,)
         Cycle means (forward, climb) [m/s] of the inertial velocity along the orbit, from the
         last Newton integration: x_e(T) / T and -z(T) / T. Read-only.
+    compiled : bool
+        True if numba's compiled code answered every call of the solve; False if a call ran
+        the kernel's Python code uncompiled (the first call in an environment whose numba cache
+        is cold, see the module notes), whose numbers are the same to the last bit.
     """
 
     x0: np.ndarray
@@ -527,6 +692,13 @@ class HoverSolution:
     x0_error: float
     multiplier_error: float
     mean_velocity: np.ndarray
+    compiled: bool = True
+
+    @property
+    def path(self) -> str:
+        """Which code answered, in words: ``"compiled"``, or ``UNCOMPILED_PATH`` (the kernel's
+        Python code, uncompiled: a first call while numba compiles)."""
+        return "compiled" if self.compiled else UNCOMPILED_PATH
 
     @property
     def amplitude_deg(self) -> float:
@@ -641,15 +813,16 @@ _FACTOR = _SAFETY / (_COARSE**_ORDER - 1.0)
 
 
 def _newton_and_estimate(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int
-                         ) -> tuple[np.ndarray, int, np.ndarray, np.ndarray, float, np.ndarray]:
+                         ) -> tuple[np.ndarray, int, np.ndarray, np.ndarray, float, np.ndarray,
+                                    bool]:
     """Newton at n steps per half-stroke from z (in place), and the Richardson estimates.
 
     One compiled call: Newton's integrations, the n/2-step integration at the answer, and the
     eigenvalues of the monodromy and of its Richardson-moved copy. Returns the variational
     state, the iterations, the residual, the estimated error of z (5,), the largest multiplier
-    error and the multipliers (sorted as :func:`_sorted`).
+    error, the multipliers (sorted as :func:`_sorted`) and whether the compiled code ran.
     """
-    status, nit, norm, y, r, z_err, multipliers, shift, eigen = run(
+    (status, nit, norm, y, r, z_err, multipliers, shift, eigen), compiled = run_reporting(
         kc, "newton_and_estimate", z, n, problem.k, problem.p, _MAX_ITER, _XTOL, _FACTOR)
     if status != kc.CONVERGED:
         raise ConvergenceError(
@@ -661,7 +834,7 @@ def _newton_and_estimate(kc: ModuleType, problem: KernelProblem, z: np.ndarray, 
         raise np.linalg.LinAlgError("Array must not contain infs or NaNs"
                                     if eigen == kc.EIGEN_NOT_FINITE else
                                     "Eigenvalues did not converge")
-    return y, int(nit), r, z_err, float(shift), multipliers
+    return y, int(nit), r, z_err, float(shift), multipliers, compiled
 
 
 def _monodromy(y: np.ndarray) -> np.ndarray:
@@ -751,8 +924,11 @@ def _solve(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int, tol_am
            tol_mu: float) -> HoverSolution:
     """:func:`solve_hover` on checked arguments, from z = (x0, Phi) (modified in place)."""
     total_nit = nfev = 0
+    compiled = True
     for _ in range(_MAX_REFINEMENTS + 1):
-        y, nit, r, z_err, mu_err, eigenvalues = _newton_and_estimate(kc, problem, z, n)
+        y, nit, r, z_err, mu_err, eigenvalues, ran_compiled = _newton_and_estimate(kc, problem,
+                                                                                   z, n)
+        compiled = compiled and ran_compiled
         total_nit += nit
         nfev += nit * 2 * n * kc.N_STAGES + n * kc.N_STAGES
         ratio = max(z_err[4] / tol_amp, mu_err / tol_mu)
@@ -772,7 +948,7 @@ def _solve(kc: ModuleType, problem: KernelProblem, z: np.ndarray, n: int, tol_am
         multipliers=_read_only(eigenvalues), trace_integral=float(y[30]),
         residual=_read_only(r), nit=total_nit, nfev=nfev, n_steps=n,
         amplitude_error=float(z_err[4]), x0_error=float(z_err[:4].max()), multiplier_error=mu_err,
-        mean_velocity=_read_only(np.array([y[31], -y[4]]) / period))
+        mean_velocity=_read_only(np.array([y[31], -y[4]]) / period), compiled=compiled)
 
 
 # =========================================================================== given orbits
@@ -851,11 +1027,14 @@ class OrbitQuadrature:
         a hover orbit. Read-only.
     n_nodes : int
         Gauss-Legendre nodes per half-stroke.
+    compiled : bool
+        False if the kernel's Python code answered uncompiled (as :attr:`HoverSolution.compiled`).
     """
 
     averaged_jacobian: np.ndarray
     mean_velocity: np.ndarray
     n_nodes: int
+    compiled: bool = True
 
     @property
     def forward_velocity(self) -> float:
@@ -907,9 +1086,9 @@ def orbit_quadrature(problem: KernelProblem | Insect, x0: ArrayLike, amplitude: 
     x = _validation.vector("x0", x0, size=4)
     amp = check_amplitude(amplitude)
     nodes, weights = _gauss(_validation.integer("n_nodes", n_nodes, low=1, high=_MAX_NODES))
-    J, v = run(load(), "orbit_quadrature", x, amp, problem.k, problem.p, nodes, weights,
-               _QUADRATURE_STEPS)
-    return OrbitQuadrature(_read_only(J), _read_only(v), nodes.size)
+    (J, v), compiled = run_reporting(load(), "orbit_quadrature", x, amp, problem.k, problem.p,
+                                     nodes, weights, _QUADRATURE_STEPS)
+    return OrbitQuadrature(_read_only(J), _read_only(v), nodes.size, compiled)
 
 
 def sample_orbit(problem: KernelProblem, x0: ArrayLike, amplitude: float,

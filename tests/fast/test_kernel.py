@@ -230,14 +230,17 @@ def test_default_tolerances_hold_against_a_fine_solve(frequency):
 def test_the_first_orbit_compiles_only_what_it_uses(tmp_path):
     # With an empty numba cache, a solve compiles newton_and_estimate (and what it calls), one
     # specialisation, and none of the other entry points (load() used to compile them all, ~2x
-    # the CPU). A fresh process: this one has compiled everything already.
+    # the CPU). A fresh process: this one has compiled everything already. Compiling before the
+    # first answer (FLAPPING_FIRST_CALL=compiled), as every first call did before
+    # tests/fast/test_first_call.py's uncompiled one.
     code = ("import warnings; warnings.simplefilter('ignore'); import flapping; "
             "from flapping.fast import kernel; kernel.solve_hover(flapping.hawkmoth()); "
             "kc = kernel.load(); print({n: len(getattr(kc, n).signatures) for n in "
             "('newton_and_estimate', 'variational_period', 'sample_period', 'states_at', "
             "'orbit_quadrature')})")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         env={**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}, timeout=600)
+                         env={**os.environ, "NUMBA_CACHE_DIR": str(tmp_path),
+                              "FLAPPING_FIRST_CALL": "compiled"}, timeout=600)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip().splitlines()[-1] == str(
         {"newton_and_estimate": 1, "variational_period": 1, "sample_period": 0, "states_at": 0,
@@ -254,7 +257,8 @@ def test_a_solve_reports_the_compile_once_and_each_entry_point_once(tmp_path):
             "s = kernel.solve_hover(p); kernel.solve_hover(p); "
             "kernel.monodromy_at(p, s.x0, s.amplitude)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         env={**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}, timeout=600)
+                         env={**os.environ, "NUMBA_CACHE_DIR": str(tmp_path),
+                              "FLAPPING_FIRST_CALL": "compiled"}, timeout=600)
     assert out.returncode == 0, out.stderr
     assert out.stderr.count("KernelCompileWarning") == 1
     assert out.stderr.count("hover kernel (newton_and_estimate) compiled") == 1
