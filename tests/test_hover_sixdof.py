@@ -32,7 +32,8 @@ def test_the_orbit_is_the_planar_one_with_the_lateral_states_zero(orbit):
     assert isinstance(orbit, SixDofHoverOrbit)
     assert orbit.dof == 6 and orbit.aerodynamics == "small-angle"
     assert orbit.residual_norm < 1e-9
-    assert np.all(orbit.x0[list(LATERAL)] == 0.0)
+    # The plane of symmetry is invariant: the shooting (if it ran) leaves it only by rounding.
+    assert np.max(np.abs(orbit.x0[list(LATERAL)])) < 1e-12
     assert abs(orbit.amplitude - orbit.planar.amplitude) < 1e-10
 
 
