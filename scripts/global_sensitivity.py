@@ -37,7 +37,8 @@ def main() -> None:
         table = result.table()[["input", "S1", "S1_conf", "ST", "ST_conf"]]
         table.insert(0, "species", name)
         tables.append(table)
-        print(f"{name}: {result.n_orbits} orbits, {result.n_failed} failed, "
+        print(f"{name}: {result.n_orbits} orbits, {result.n_failed} failed "
+              f"({result.n_retried} retried alone), "
               f"P(unstable) = {result.p_unstable:.4f} {result.p_unstable_ci}, "
               f"P(oscillatory) = {result.p_oscillatory:.4f} {result.p_oscillatory_ci}, "
               f"sweep {result.wall_time_s:.1f} s", flush=True)
@@ -48,7 +49,8 @@ def main() -> None:
     total = time.perf_counter() - started
     summary = pd.DataFrame(rows)
     print(summary.to_string(index=False, float_format="%.4g"))
-    print(f"total: {summary['n_orbits'].sum()} orbits, {summary['n_failed'].sum()} failed, "
+    print(f"total: {summary['n_orbits'].sum()} orbits, {summary['n_failed'].sum()} failed "
+          f"({summary['n_retried'].sum()} retried alone), "
           f"sweeps {summary['wall_time_s'].sum():.1f} s, wall time {total:.1f} s")
     if args.csv:
         pd.concat(tables).to_csv(args.csv, index=False)

@@ -3,10 +3,10 @@
 Replaces the one-at-a-time study of the atlas (:func:`~flapping.studies.atlas.
 morphology_sensitivity`, each number at either end of its range, the others nominal) by a global
 one: every uncertain input of a species varies at once over its range, uniformly and
-independently; Saltelli's scheme (SALib: a scrambled Sobol' sequence, first-order and total
-indices, Saltelli 2002 and Jansen's estimators) apportions the variance of ln abs(mu_1) among
-them, and the same sample gives the probability that hover is unstable and that its critical
-mode is oscillatory.
+independently; Saltelli's scheme (SALib: a scrambled Sobol' sequence; the first-order and
+total estimators of Saltelli et al. 2010, Comput. Phys. Commun. 181:259) apportions the
+variance of ln abs(mu_1) among them, and the same sample gives the probability that hover is
+unstable and that its critical mode is oscillatory.
 
 - :func:`sobol_indices` is the generic part: bounds, a vectorised function that may fail at some
   points, and the indices with bootstrap confidence intervals. The tests run it on Ishigami's
@@ -17,7 +17,8 @@ mode is oscillatory.
   (:func:`~flapping.studies.sweep.sweep_hover`, ``backend="compiled"``) and returns a
   :class:`GlobalSensitivity`.
 - :func:`reduction_check` solves a few of the same points in the full model the kernel lacks
-  (two trims, wings of mass; the fixed-step path) and compares.
+  (two trims, wings of mass; the fixed-step path) and compares; :func:`nominal_reduction`
+  splits the difference at the preset's hinge into its two terms.
 
 **What the compiled kernel models, and so what this study is.** The kernel (eq. 29's loads, one
 trim) has no mean stroke angle and no wing mass (:data:`flapping.fast.kernel.SUPPORTED_FIELDS`).
@@ -113,6 +114,7 @@ __all__ = [
     "global_sensitivity",
     "ReductionCheck",
     "reduction_check",
+    "nominal_reduction",
 ]
 
 #: The inputs of the compiled (reduced) study, in order.
@@ -429,9 +431,10 @@ def _analyse(problem: dict[str, Any], y: np.ndarray, n_base: int, seed: int,
                                f"{d + 2} of their points: no Sobol index can be estimated")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # a constant output: 0/0 -> NaN, kept
+        # SALib seeds its bootstrap only for a truthy seed (0 would draw fresh intervals)
         si = sobol_analyze.analyze(problem, blocks[used].ravel(), calc_second_order=False,
                                    num_resamples=num_resamples, conf_level=conf_level,
-                                   seed=seed)
+                                   seed=seed + 1)
     first, first_conf, total, total_conf = (np.asarray(si[k], dtype=float).copy()
                                             for k in ("S1", "S1_conf", "ST", "ST_conf"))
     indices = SobolIndices(tuple(problem["names"]), first, first_conf, total, total_conf,
@@ -515,17 +518,21 @@ class GlobalSensitivity:
     samples : pandas.DataFrame
         One row per orbit: the inputs, the stroke-plane hinge height ``h_stroke``, then
         ``mu1_real``, ``mu1_imag``, ``abs_mu1``, ``converged``, ``mode`` (``"oscillatory"``,
-        ``"real"``, ``"flip"``; ``""`` for a failed point) and ``message``.
+        ``"real"``, ``"flip"``; ``""`` for a failed point), ``message`` (why a point failed),
+        ``backend`` (the path that solved it) and ``retried`` (solved again alone and cold, with
+        the adaptive path as fallback, after the warm-started compiled sweep failed there).
     p_unstable, p_oscillatory, p_real : float
         Fractions of the converged orbits whose largest multiplier is outside the unit circle;
         of those a complex pair (an oscillatory critical mode); a real one (positive or negative).
     p_unstable_ci, p_oscillatory_ci : tuple of 2 floats
         95 % bootstrap intervals (over the base samples).
     n_orbits, n_failed : int
-        Orbits attempted, and those that did not converge to a hover (counted, each with its
-        message in ``samples``).
+        Orbits attempted, and those with no hover orbit after the retry (counted, each with its
+        message in ``samples``; their base samples are left out of the indices).
+    n_retried : int
+        Points solved again after the compiled sweep failed there (see ``samples["retried"]``).
     wall_time_s : float
-        Wall time of the sweep [s].
+        Wall time of the sweep and the retries [s].
     """
 
     species: str
@@ -539,6 +546,7 @@ class GlobalSensitivity:
     p_oscillatory_ci: tuple[float, float]
     n_orbits: int
     n_failed: int
+    n_retried: int
     wall_time_s: float
 
     def table(self) -> pandas.DataFrame:
@@ -554,6 +562,7 @@ class GlobalSensitivity:
         """The species' numbers in one dict (a row of the book's table)."""
         top = self.indices.table()
         return {"species": self.species, "n_orbits": self.n_orbits, "n_failed": self.n_failed,
+                "n_retried": self.n_retried,
                 "p_unstable": self.p_unstable, "p_oscillatory": self.p_oscillatory,
                 "p_real": self.p_real, "top_input": top["input"][0], "top_ST": top["ST"][0],
                 "second_input": top["input"][1], "second_ST": top["ST"][1],
@@ -576,7 +585,9 @@ def global_sensitivity(species: str, n_base: int = 1024, *, seed: int = 0,
     ``n_base * (len(INPUTS) + 2)`` points is solved by the compiled sweep
     (:func:`~flapping.studies.sweep.sweep_hover` over the list of insects,
     ``backend="compiled"``; consecutive points differ mostly in one input, so each starts
-    from its neighbour's orbit). The reduced model of the module docstring: the hinge at its
+    from its neighbour's orbit); a point where it finds no hover orbit is solved again alone,
+    cold, with the adaptive path as fallback (``backend="auto"``), unless the insect cannot trim
+    there (eq. 40). The reduced model of the module docstring: the hinge at its
     stroke-plane height h' above the centre of gravity, massless wings.
 
     Parameters
@@ -619,6 +630,7 @@ def global_sensitivity(species: str, n_base: int = 1024, *, seed: int = 0,
     insects = [_insect(species, point, full_model=False) for point in points]
     started = time.perf_counter()
     rows = sweep_hover(insects, backend="compiled", executor=executor, progress=progress)
+    retried = _retry_cold(rows, insects)
     wall = time.perf_counter() - started
     converged = rows["converged"].to_numpy(dtype=bool)
     mu = rows["mu1_real"].to_numpy(float) + 1j * rows["mu1_imag"].to_numpy(float)
@@ -631,6 +643,8 @@ def global_sensitivity(species: str, n_base: int = 1024, *, seed: int = 0,
     samples["mode"] = [_mode(complex(m)) if ok else "" for m, ok in zip(mu, converged,
                                                                          strict=True)]
     samples["message"] = rows["message"].to_numpy()
+    samples["backend"] = rows["backend"].to_numpy()
+    samples["retried"] = retried
     indices, used = _analyse(problem, np.log(modulus), n_base, seed, num_resamples, 0.95)
     unstable = converged & (modulus > 1.0)
     oscillatory = unstable & (samples["mode"].to_numpy() == "oscillatory")
@@ -640,7 +654,31 @@ def global_sensitivity(species: str, n_base: int = 1024, *, seed: int = 0,
     ci_u, ci_o = _bootstrap(converged, (unstable, oscillatory), n_base, len(INPUTS) + 2,
                             num_resamples, seed)
     return GlobalSensitivity(species, ranges, indices, samples, p_u, p_o, p_u - p_o, ci_u,
-                             ci_o, len(points), len(points) - n_ok, wall)
+                             ci_o, len(points), len(points) - n_ok, int(retried.sum()), wall)
+
+
+def _retry_cold(rows: pandas.DataFrame, insects: Sequence[Insect]) -> np.ndarray:
+    """Solve again, alone and cold, every point of the sweep that found no hover orbit, except
+    those that cannot trim (a ValueError: eq. 40 has no alpha_m, the insect is too heavy for
+    its nominal stroke). ``rows`` is updated in place; returns the mask of the points retried.
+
+    Two failures of the warm-started compiled sweep are the method's, not the insect's: a
+    leading multiplier near +1 leaves Newton's matrix nearly singular, and the kernel stops at
+    its iteration cap with a residual at rounding level; and a warm start from a neighbour may
+    land on a periodic orbit that drifts (not hover) where a cold start finds the hover.
+    ``backend="auto"`` runs the compiled kernel from the default guess and hands a failure to
+    the adaptive path, which solves both (~1 s a point).
+    """
+    from flapping.studies.sweep import sweep_hover
+
+    failed = ~rows["converged"].to_numpy(dtype=bool)
+    cannot_trim = rows["message"].str.startswith("ValueError").to_numpy(dtype=bool)
+    retry = failed & ~cannot_trim
+    for i in np.flatnonzero(retry).tolist():
+        again = sweep_hover([insects[i]], backend="auto", progress=False)
+        for column in again.columns.intersection(rows.columns):
+            rows.at[i, column] = again.at[0, column]
+    return retry
 
 
 def _bootstrap(ok: np.ndarray, events: Sequence[np.ndarray], n_base: int, block: int,
@@ -765,3 +803,45 @@ def reduction_check(species: str, n_points: int = 4, *, seed: int = 0) -> Reduct
             row["message"] = f"{type(exc).__name__}: {exc}"
         rows.append(row)
     return ReductionCheck(species, pandas.DataFrame(rows))
+
+
+def nominal_reduction(species: str) -> dict[str, complex]:
+    """The leading multiplier at the preset's source hinge in the three models, one term apart.
+
+    ``"reduced"``: the compiled kernel's (the hinge at its height above the centre of gravity,
+    massless wings); ``"two trims"``: the hinge at (x_h, h_w) with the mean stroke angle
+    trimmed, massless wings; ``"full"``: and the wings' mass. The first step is what dropping
+    x' costs, the second what dropping the wing mass costs (fixed-step path, 1-3 s each).
+
+    Parameters
+    ----------
+    species : str
+        A preset name.
+
+    Returns
+    -------
+    dict of str to complex
+
+    Raises
+    ------
+    ValueError
+        For an unknown species.
+    ConvergenceError
+        If an orbit cannot be found.
+    """
+    from flapping.hover import find_hover_orbit
+    from flapping.hover.stability import hover_stability
+
+    species = _validation.choice("species", species, tuple(PRESETS))
+    measured = PRESETS[species].insect("measured")
+    reduced = find_hover_orbit(PRESETS[species].insect(hinge_height=measured.hinge_height),
+                               backend="compiled")
+    assert reduced.floquet is not None  # the compiled path's own analysis
+    out = {"reduced": complex(reduced.floquet.multipliers[0])}
+    amplitude, x0 = reduced.amplitude, reduced.x0
+    for label, insect in (("two trims", measured.with_(wing_mass=0.0)), ("full", measured)):
+        orbit = find_hover_orbit(insect, trims=("amplitude", "stroke_mean"),
+                                 backend="fixed-step", amplitude_guess=amplitude, x0_guess=x0)
+        out[label] = complex(hover_stability(orbit).multipliers[0])
+        amplitude, x0 = orbit.amplitude, orbit.x0
+    return out
