@@ -667,7 +667,8 @@ def _retry_cold(rows: pandas.DataFrame, insects: Sequence[Insect]) -> np.ndarray
     its iteration cap with a residual at rounding level; and a warm start from a neighbour may
     land on a periodic orbit that drifts (not hover) where a cold start finds the hover.
     ``backend="auto"`` runs the compiled kernel from the default guess and hands a failure to
-    the adaptive path, which solves both (~1 s a point).
+    the adaptive path, which solves both (~1 s a point); a cold compiled start that converges to
+    a drifting orbit (no fallback runs then) is given to the adaptive path as well.
     """
     from flapping.studies.sweep import sweep_hover
 
@@ -676,6 +677,8 @@ def _retry_cold(rows: pandas.DataFrame, insects: Sequence[Insect]) -> np.ndarray
     retry = failed & ~cannot_trim
     for i in np.flatnonzero(retry).tolist():
         again = sweep_hover([insects[i]], backend="auto", progress=False)
+        if not again.at[0, "converged"]:  # a cold compiled start that drifts: no fallback ran
+            again = sweep_hover([insects[i]], backend="adaptive", progress=False)
         for column in again.columns.intersection(rows.columns):
             rows.at[i, column] = again.at[0, column]
     return retry
