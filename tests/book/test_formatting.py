@@ -134,3 +134,29 @@ def test_latex_array_has_a_rule_below_the_header_and_checks_its_rows():
 ])
 def test_text_number_typesets_powers_and_minus_signs(value, fmt, expected):
     assert text_number(value, fmt) == expected
+
+
+def test_source_markdown_sets_formulas_as_math_and_files_as_code():
+    from flapping_book.formatting import source_markdown
+
+    assert (source_markdown("estimate: Ellington's fit r2 = 0.929 r1^0.732, inverted")
+            == r"estimate: Ellington's fit $\hat r_2 = 0.929\,\hat r_1^{0.732}$, inverted")
+    assert (source_markdown("Berman & Wang (2007) in FWUAV morp_params.mat: S = R c_bar, "
+                            "c_bar = 4.02 mm")
+            == r"Berman & Wang (2007) in FWUAV `morp_params.mat`: $S = R\,\bar c$, "
+               r"$\bar c$ = 4.02 mm")
+    assert (source_markdown("hover stroke plane WK.beta in sim_QS_x_hover_*.mat, ~60 deg")
+            == "hover stroke plane `WK.beta` in `sim_QS_x_hover_*.mat`, ≈60°")
+    assert source_markdown("+-0.02: the scatter") == "±0.02: the scatter"
+    assert source_markdown("no formula here (1990)") == "no formula here (1990)"
+
+
+@pytest.mark.parametrize("text, expected", [
+    ("1.558652210716", True), ("-3e-05", True), ("−0.2500 ± 8.6700i", True), ("+0.123", True),
+    ("1648", True), ("0.98 − 0.01i", True), ("1.2 × 10⁻¹³", True),
+    ("hawkmoth", False), ("1.2 to 3.4", False), ("", False), ("16.3 (V)", False),
+])
+def test_is_number_text(text, expected):
+    from flapping_book.formatting import is_number_text
+
+    assert is_number_text(text) is expected

@@ -14,7 +14,12 @@ aborted and recorded), so what passes here renders on a laptop on a plane. A pag
   than the article column without a scroll container of its own, a scroll container that is
   itself wider than the column or that the keyboard cannot reach, or content clipped by an element
   that does not scroll. Math displays must fit the column outright (MathJax 3 does not break
-  lines, and a scrolled equation hides its right-hand side).
+  lines, and a scrolled equation hides its right-hand side);
+- any element wider than the text column, on a laptop (1280 px) and on a phone (390 px): a table
+  and its caption, a code line, a figure, a paragraph. A scroll bar does not count as fitting: a
+  reader must see every column of a table and its whole caption without scrolling. The one
+  exception is a display equation on the phone, which may scroll inside its own container (MathJax
+  3 cannot break a line; on the laptop every equation fits).
 
 And the API reference lists every public name of the package's modules.
 
@@ -43,6 +48,7 @@ BOOK_HTML = Path(os.environ.get("FLAPPING_BOOK_HTML", ROOT / "_build" / "html"))
 CHROMIUM = os.environ.get("FLAPPING_CHROMIUM") or shutil.which("chromium") or "/usr/bin/chromium"
 REQUIRED = os.environ.get("FLAPPING_REQUIRE_BROWSER", "") not in ("", "0")
 VIEWPORT = {"width": 1280, "height": 900}  # a laptop screen: the article column is ~750 px
+PHONE = {"width": 390, "height": 844}     # a phone held upright: the column is ~350 px
 PAGE_TIMEOUT_MS = 60_000
 # Subpackages and modules the API reference must cover (private modules, _*, excepted).
 API_PACKAGES = ("flapping.periodic", "flapping.model", "flapping.hover", "flapping.hover.stability")
@@ -101,10 +107,10 @@ def browser():
 class PageReport:
     """A page opened offline, with everything it logged while loading and typesetting."""
 
-    def __init__(self, browser, relative: str):
+    def __init__(self, browser, relative: str, viewport: dict | None = None):
         self.blocked: list[str] = []
         self.errors: list[str] = []
-        self.context = browser.new_context(viewport=VIEWPORT, java_script_enabled=True)
+        self.context = browser.new_context(viewport=viewport or VIEWPORT, java_script_enabled=True)
         self.context.route("**/*", self._offline)
         self.page = self.context.new_page()
         self.page.on("pageerror", lambda exc: self.errors.append(f"page error: {exc}"))
@@ -238,6 +244,69 @@ _CUT_BLOCKS = """() => {
   return problems;
 }"""
 
+# Elements wider than the text column. Only the outermost offender is named (its parent fits), so
+# one wide table is one problem, not one per cell. Nothing may reach past the column's edges or
+# hide part of itself behind a scroll bar; with ``mathScrolls`` (the phone) a display equation
+# may scroll inside its own container, provided that container fits and the keyboard reaches it.
+_WIDER_THAN_COLUMN = """(mathScrolls) => {
+  const column = document.querySelector('article.bd-article') || document.querySelector('main');
+  if (!column) return [];
+  const col = column.getBoundingClientRect();
+  const problems = [];
+  const name = el => {
+    const cls = (typeof el.className === 'string' && el.className.trim())
+      ? '.' + el.className.trim().split(/\\s+/).slice(0, 3).join('.') : '';
+    const text = (el.innerText || el.textContent || '').replace(/\\s+/g, ' ').trim();
+    return `<${el.tagName.toLowerCase()}${el.id ? '#' + el.id : ''}${cls}> "${text.slice(0, 70)}"`;
+  };
+  const beyond = r => r.right > col.right + 1 || r.left < col.left - 1;
+  // MathJax's assistive MathML is clipped to 1 px on purpose; a typeset formula is judged whole.
+  const inside = el => el.closest('mjx-assistive-mml') ||
+    (el.closest('mjx-container') && el.tagName.toLowerCase() !== 'mjx-container');
+  const scrollingMath = el => {
+    if (!mathScrolls) return false;
+    const math = el.closest('mjx-container[display="true"], div.math');
+    if (!math) return false;
+    for (let a = math; a && a !== column; a = a.parentElement) {
+      const ox = getComputedStyle(a).overflowX;
+      if (ox === 'auto' || ox === 'scroll') {
+        return !beyond(a.getBoundingClientRect()) &&
+          (a.scrollWidth <= a.clientWidth + 1 || a.tabIndex >= 0);
+      }
+    }
+    return false;
+  };
+  const seen = new Set();
+  const report = (el, text) => {
+    for (let a = el; a; a = a.parentElement) if (seen.has(a)) return;
+    seen.add(el);
+    problems.push(text);
+  };
+  for (const el of column.querySelectorAll('*')) {
+    if (inside(el)) continue;
+    const style = getComputedStyle(el);
+    if (style.display === 'none' || style.visibility === 'hidden') continue;
+    const r = el.getBoundingClientRect();
+    if (r.width === 0 || r.height === 0) continue;  // not displayed (e.g. a closed toggle)
+    if (scrollingMath(el)) continue;
+    const parent = el.parentElement;
+    if (beyond(r) && parent && (parent === column || !beyond(parent.getBoundingClientRect()))) {
+      report(el, `${Math.round(r.width)} px wide, past the ${Math.round(col.width)} px column: ` +
+                 name(el));
+    } else if (['auto', 'scroll', 'hidden', 'clip'].includes(style.overflowX) &&
+               el.scrollWidth > el.clientWidth + 1 && el.clientWidth > 0 &&
+               !el.closest('span.math')) {
+      report(el, `${el.scrollWidth} px of content in ${el.clientWidth} px, the rest behind ` +
+                 `overflow-x ${style.overflowX}: ${name(el)}`);
+    }
+  }
+  const page = document.documentElement;
+  if (page.scrollWidth > window.innerWidth + 1) {
+    problems.push(`the page scrolls sideways: ${page.scrollWidth} px in a ${window.innerWidth} px window`);
+  }
+  return problems;
+}"""
+
 
 _REDIRECT = re.compile(r'<meta http-equiv="refresh" content="0; url=([^"]+)"', re.IGNORECASE)
 
@@ -272,6 +341,22 @@ def test_page_renders_offline(browser, relative):
     finally:
         report.close()
     assert not problems, f"{relative}:\n  " + "\n  ".join(problems)
+
+
+@pytest.mark.parametrize("width", ["laptop", "phone"])
+@pytest.mark.parametrize("relative", PAGES or ["index.html"])
+def test_page_fits_its_column(browser, relative, width):
+    """Every element of the page within the text column, at 1280 px and at 390 px."""
+    if _REDIRECT.search((BOOK_HTML / relative).read_text(encoding="utf-8")):
+        return  # the root index.html only redirects (checked above)
+    viewport = VIEWPORT if width == "laptop" else PHONE
+    report = PageReport(browser, relative, viewport)
+    try:
+        problems = report.page.evaluate(_WIDER_THAN_COLUMN, width == "phone")
+    finally:
+        report.close()
+    assert not problems, (f"{relative} at {viewport['width']} px, elements wider than the "
+                          "text column:\n  " + "\n  ".join(problems))
 
 
 def _public_names() -> dict[str, list[str]]:

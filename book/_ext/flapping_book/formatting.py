@@ -20,7 +20,8 @@ import numpy as np
 
 __all__ = ["E_NUMBER", "PLAIN_NUMBER", "minus_sign", "text_minus", "scientific",
            "split_scientific", "latex_scientific", "roundoff_bound", "term_latex", "complex_text",
-           "text_number", "latex_complex", "bmatrix", "latex_array", "setup"]
+           "text_number", "latex_complex", "bmatrix", "latex_array", "source_markdown",
+           "is_number_text", "setup"]
 
 #: A number in Python's ``e`` notation, alone in its text: ``1.2e-13``, ``-3e+05``, ``4.0E2``.
 E_NUMBER = re.compile(r"^(?P<sign>[-+−]?)(?P<mantissa>\d+(?:\.\d+)?)[eE](?P<exponent>[-+]?\d+)$")
@@ -177,6 +178,61 @@ def roundoff_bound(value: float, scale: float) -> float:
     return max(abs(float(value)), float(np.finfo(float).eps) * abs(float(scale)))
 
 
+#: Plain-text formulas of the presets' source notes (``flapping.model.presets``) and their LaTeX.
+#: Longest first, so that ``S = R c_bar`` is replaced before ``c_bar``.
+_SOURCE_FORMULAS = (
+    ("r2 = 0.929 r1^0.732", r"$\hat r_2 = 0.929\,\hat r_1^{0.732}$"),
+    ("m (L^2 + d^2)/20", r"$m\,(L^2 + d^2)/20$"),
+    ("(m / m_monarch)^(1/3)", r"$(m/m_\mathrm{monarch})^{1/3}$"),
+    ("R x c_bar = 51.9 x 18.26 mm", r"$R \times \bar c$ = 51.9 mm × 18.26 mm"),
+    ("S = R c_bar", r"$S = R\,\bar c$"),
+    ("2 m_w / m", r"$2 m_w / m$"),
+    ("c_bar ~", r"$\bar c \approx$"),
+    ("c_bar", r"$\bar c$"),
+    ("+-", "±"),
+    ("measured r1 ", r"measured $\hat r_1$ "),
+)
+#: Data-file and variable names in the source notes, set as code: ``morp_params.mat``,
+#: ``sim_QS_x_hover_*.mat``, ``WK.beta``.
+_SOURCE_CODE = re.compile(r"(?<![`\w])((?:[\w*-]+/)*[\w*-]+\.(?:mat|m)\b|WK\.\w+)(?![\w`])")
+
+
+def source_markdown(text: str) -> str:
+    r"""A preset's source or note (plain text in :mod:`flapping.model.presets`) as Markdown for a
+    table: its formulas as math (``r2 = 0.929 r1^0.732`` -> :math:`\hat r_2 = 0.929\,\hat
+    r_1^{0.732}`), file and variable names as code (```morp_params.mat```), ``~60 deg`` as
+    ``≈60°``.
+
+    Parameters
+    ----------
+    text : str
+        Plain text.
+
+    Returns
+    -------
+    str
+        Markdown; text without formulas, names or degrees is returned unchanged.
+    """
+    text = str(text)
+    for plain, latex in _SOURCE_FORMULAS:
+        text = text.replace(plain, latex)
+    text = _SOURCE_CODE.sub(r"`\1`", text)
+    text = re.sub(r"~\s?(?=\d)", "≈", text)
+    return re.sub(r"(\d) deg\b", "\\1°", text)
+
+
+_NUMBER_CELL = re.compile(r"[-+−±]?\s?\d[\d.,]*(?:\s?(?:[eE]|×\s?10)[-+−⁻]?[\d⁰¹²³⁴⁵⁶⁷⁸⁹]+)?"
+                          r"(?:\s?[-+−±]\s?\d[\d.]*i)?")
+
+
+def is_number_text(text: str) -> bool:
+    """Whether a table cell holds one number and nothing else: ``1.558652210716``, ``-3e-05``,
+    ``−0.25 ± 8.67i``, ``+0.123`` (a sign, digits, a decimal point, an exponent, ``±`` and ``i``
+    of a complex number; spaces between them)."""
+    text = str(text).strip()
+    return bool(text) and _NUMBER_CELL.fullmatch(text) is not None
+
+
 # ------------------------------------------------------------------------------ Sphinx extension
 def _typeset(node, nodes) -> bool:
     """Typeset the lone number that is ``node``'s only child: base + superscript, or a true minus
@@ -206,6 +262,8 @@ def _transform(app, doctree, docname) -> None:
         if "pasted-text" in node.get("classes", []):
             _typeset(node, nodes)
     for entry in list(doctree.findall(nodes.entry)):
+        if is_number_text(entry.astext()):
+            entry["classes"].append("number")  # custom.css: a long number may break on a phone
         for paragraph in entry.findall(nodes.paragraph):
             _typeset(paragraph, nodes)
 

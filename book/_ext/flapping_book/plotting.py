@@ -95,7 +95,7 @@ def _time_axis(t, period):
     t = np.asarray(t, dtype=float)
     if period is None:
         return t, "time $t$ [s]"
-    return t / float(period), "time $t/T$ [cycles]"
+    return t / float(period), "time $t/T$ [wingbeats]"  # the insect's period: one wingbeat
 
 
 def shade_half_strokes(ax, start: float = 0.0, stop: float = 1.0, *, color: str = "0.92",

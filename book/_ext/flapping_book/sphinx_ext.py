@@ -173,4 +173,8 @@ def setup(app) -> dict[str, Any]:
     # the rows first, then their status symbols as words
     app.connect("doctree-resolved", _merge_exec_tables, priority=400)
     app.connect("doctree-resolved", _exec_status_as_words)
+    # The References page's style (bibtex_default_style: flapping): alphabetical as printed.
+    from flapping_book.bibstyle import register
+
+    register()
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
