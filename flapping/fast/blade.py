@@ -83,6 +83,9 @@ SUPPORTED_FIELDS: Mapping[str, str] = MappingProxyType({
     "wing_mass": "the wings' inertial loads (flapping.model.inertia, generated code)",
     "wing_mass_r1": "the wings' first mass moment A1",
     "wing_mass_r2": "the wings' second mass moment A2",
+    "roll_inertia": "none: the planar model has no roll (six degrees of freedom only)",
+    "yaw_inertia": "none: the planar model has no yaw (six degrees of freedom only)",
+    "roll_yaw_product": "none: the planar model has no roll or yaw",
 })
 
 _LOG = logging.getLogger("flapping")

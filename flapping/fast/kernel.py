@@ -184,6 +184,9 @@ SUPPORTED_FIELDS: Mapping[str, str] = MappingProxyType({
     "mu1": "the rotational damping of M_q (mu1 f K_nu)",
     "mu2": "none: eq. (29)'s loads have no mu2 term (as on the adaptive linear path)",
     "hinge_height": "h_w terms of the generated derivatives",
+    "roll_inertia": "none: the planar model has no roll (six degrees of freedom only)",
+    "yaw_inertia": "none: the planar model has no yaw (six degrees of freedom only)",
+    "roll_yaw_product": "none: the planar model has no roll or yaw",
 })
 
 _LOG = logging.getLogger("flapping")
