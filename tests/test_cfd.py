@@ -329,3 +329,25 @@ def test_threshold_refuses_a_bad_base_or_no_bracket(comparison):
     flat = dataclasses.replace(comparison, table=table)
     with pytest.raises(ValueError, match="no threshold"):
         cfd.mode_type_threshold(flat, "ours")
+
+
+def test_the_hinge_height_law_fitted_over_the_orbits_is_the_minus_h_xu_over_c_law(physics,
+                                                                                   comparison):
+    """Six orbits (h = 0 ... 4 h_source) on one line of slope -X_u+/c; 1 % as above."""
+    law = cfd.mu_law(physics, comparison, "hinge_height")
+    assert len(law.values) == 6 and law.values[0] == 0.0
+    xu, c = comparison.table.loc["Xu", "ours"], comparison.study.value("mean_chord")
+    assert law.slope == pytest.approx(-xu / c, rel=0.01)
+    assert law.max_residual < 0.01 * abs(law.slope) * law.values[-1]
+    h0 = law.value_for(0.0)
+    assert h0 == pytest.approx(cfd.hinge_height_for(comparison, 0.0), rel=0.01)
+
+
+def test_the_centre_of_pressure_law_needs_three_cases_and_an_insect_field(physics, comparison):
+    law = cfd.mu_law(physics, comparison, "center_of_pressure")
+    assert list(law.values) == [0.1, 0.25, 0.4]
+    assert law.slope < 0.0           # nearer the leading edge, more nose-up M_u
+    with pytest.raises(ValueError, match="at least 3"):
+        cfd.mu_law(physics, comparison, "wing_mass")
+    with pytest.raises(ValueError, match="Insect field"):
+        cfd.mu_law(physics, comparison, "wingspan")

@@ -115,6 +115,8 @@ __all__ = [
     "BASES",
     "mu_sweep",
     "mode_type_threshold",
+    "MuLaw",
+    "mu_law",
 ]
 
 #: The nine longitudinal derivatives, in the order of the matrix rows (X, Z, M) and columns
@@ -922,3 +924,80 @@ def mode_type_threshold(comparison: CFDComparison, base: str = "ours",
         else:
             hi = mid
     return 0.5 * (lo + hi)
+
+
+@dataclass(frozen=True)
+class MuLaw:
+    """A straight-line fit of our M_u+ against one insect field over solved orbits (:func:`mu_law`).
+
+    Attributes
+    ----------
+    field : str
+        The :class:`~flapping.model.morphology.Insect` field (SI, or a chord fraction).
+    values, mu : ndarray
+        The field's values and our M_u+ on the orbits fitted (sorted by value).
+    slope, intercept : float
+        M_u+ = intercept + slope * value.
+    max_residual : float
+        Largest deviation of a fitted point from the line (the line's evidence).
+    """
+
+    field: str
+    values: np.ndarray
+    mu: np.ndarray
+    slope: float
+    intercept: float
+    max_residual: float
+
+    def value_for(self, mu: float) -> float:
+        """The field's value at which the line reaches ``mu`` (an extrapolation if outside)."""
+        return (_validation.real("mu", mu) - self.intercept) / self.slope
+
+
+def mu_law(physics: pandas.DataFrame, comparison: CFDComparison, field: str) -> MuLaw:
+    """Fit our M_u+ against one field over the cases of :func:`physics_table` that vary only it.
+
+    A case is used if it found its orbit and every other field it changes keeps the compared
+    insect's value (so "hinge at the CG", which also sets the already-zero offset, counts for the
+    hinge height); the case "as compared" enters at the insect's own value.
+
+    Parameters
+    ----------
+    physics : pandas.DataFrame
+        From :func:`physics_table`.
+    comparison : CFDComparison
+        The comparison the table was made from.
+    field : str
+        An insect field, e.g. ``"hinge_height"`` or ``"center_of_pressure"``.
+
+    Returns
+    -------
+    MuLaw
+
+    Raises
+    ------
+    ValueError
+        If fewer than three cases vary the field (a line through two points is no evidence).
+    """
+    _validation.instance("comparison", comparison, CFDComparison)
+    insect = comparison.insect
+    if not hasattr(insect, field):
+        raise ValueError(f"field must be an Insect field; got {field!r}")
+    xs, ys = [], []
+    for _, row in physics.iterrows():
+        if row.get("message") or not math.isfinite(row.get("Mu", math.nan)):
+            continue
+        changes = dict(row["changes"])
+        others = {k: v for k, v in changes.items() if k != field}
+        if any(getattr(insect, k) != v for k, v in others.items()):
+            continue
+        xs.append(float(changes.get(field, getattr(insect, field))))
+        ys.append(float(row["Mu"]))
+    if len(set(xs)) < 3:
+        raise ValueError(f"field {field!r} is varied by {len(set(xs))} distinct case(s) of the "
+                         "physics table; a law needs at least 3")
+    order = np.argsort(xs)
+    x, y = np.asarray(xs)[order], np.asarray(ys)[order]
+    slope, intercept = np.polyfit(x, y, 1)
+    resid = float(np.max(np.abs(y - (intercept + slope * x))))
+    return MuLaw(field, x, y, float(slope), float(intercept), resid)

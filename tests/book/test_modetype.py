@@ -57,11 +57,11 @@ def test_physics_rows_show_a_complex_multiplier_and_a_failed_case():
     table = pandas.DataFrame([
         {"case": "a", "Mu": 0.17, "Mq": -0.86, "averaged_type": "oscillatory",
          "floquet_type": "oscillatory", "leading_multiplier": complex(1.007, 0.0437),
-         "stroke_mean_deg": 0.0, "message": ""},
+         "stroke_mean_deg": -2.9e-12, "message": ""},
         {"case": "b", "message": "ConvergenceError: no orbit"},
     ])
     rows = modetype.physics_rows(table, 6.4e-3)
-    assert rows[0][5] == "1.0070 ± 0.0437i"
+    assert rows[0][5] == "1.0070 ± 0.0437i" and rows[0][7] == "0.0"
     expected = math.log(2) / math.log(abs(complex(1.007, 0.0437)))
     assert rows[0][6] == f"{expected:.1f}"
     assert rows[1][3] == "no orbit" and "ConvergenceError" in rows[1][-1]
@@ -86,3 +86,23 @@ def test_the_hinge_height_figure_marks_the_neutral_and_matching_heights():
                                               theirs=1.0, body_length=1.0, source_height=0.0)
     matplotlib.pyplot.close(fig)
     assert np.isfinite(neutral.get_xdata()).all()
+
+
+def test_the_sweep_figure_marks_each_threshold_on_the_zero_frequency_line():
+    pytest.importorskip("matplotlib")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    mu = np.linspace(-0.2, 1.0, 13)
+    sweep = pandas.DataFrame({"Mu": mu, "rate": 5 * np.abs(mu),
+                              "frequency": np.where(mu > 0, 10 * mu, 0.0)})
+    fig = modetype.plot_mu_sweep({"ours": sweep}, {"ours": 0.0}, ours=-0.18, theirs=2.4,
+                                 period=6.4e-3)
+    top, bottom = fig.axes[:2]
+    marks = [ln for ln in bottom.lines if ln.get_marker() == "o"]
+    assert len(marks) == 1 and marks[0].get_ydata()[0] == 0.0
+    assert [ln.get_linestyle() for ln in top.lines if ln.get_marker() != "o"][0] == "-"
+    with pytest.raises(ValueError, match="without a sweep"):
+        modetype.plot_mu_sweep({"ours": sweep}, {"theirs": 0.0}, ours=0.0, theirs=1.0,
+                               period=1.0)
+    matplotlib.pyplot.close(fig)

@@ -16,7 +16,11 @@ import numpy as np
 from flapping_book.style import GUIDE_COLOR, SOURCE_COLORS, STATE_COLORS
 
 __all__ = ["DERIVATIVE_SYMBOLS", "derivative_rows", "mode_rows", "swap_rows", "physics_rows",
-           "plot_mu_against_hinge_height"]
+           "plot_mu_against_hinge_height", "plot_mu_sweep"]
+
+#: Line style of each system in :func:`plot_mu_sweep`: ours solid, theirs dashed.
+SYSTEM_LINESTYLES: dict[str, str] = {"ours": "-", "theirs": "--"}
+SYSTEM_LABELS: dict[str, str] = {"ours": "our other terms", "theirs": "Sun & Xiong's other terms"}
 
 #: The non-dimensional derivatives as the chapter writes them.
 DERIVATIVE_SYMBOLS: dict[str, str] = {
@@ -187,8 +191,9 @@ def physics_rows(physics: Any, period: float) -> list[list[str]]:
         mult = (f"{mu.real:.4f}" if abs(mu.imag) < 1e-12
                 else f"{mu.real:.4f} ± {abs(mu.imag):.4f}i")
         doubling = "–" if abs(mu) <= 1.0 else f"{math.log(2.0) / math.log(abs(mu)):.1f}"
+        phibar = round(r["stroke_mean_deg"], 1) + 0.0     # no "-0.0" for a trim at rounding
         rows.append([r["case"], f"{r['Mu']:.3f}", f"{r['Mq']:.3f}", r["averaged_type"],
-                     r["floquet_type"], mult, doubling, f"{r['stroke_mean_deg']:.1f}"])
+                     r["floquet_type"], mult, doubling, f"{phibar:.1f}"])
     return rows
 
 
@@ -260,4 +265,65 @@ def plot_mu_against_hinge_height(heights: Sequence[float], mu: Sequence[float],
     ax.set_xlabel(r"hinge height above the centre of gravity, $h/L$ [body lengths]")
     ax.set_ylabel(r"$M_u^+$ [–]")
     ax.legend(loc="upper left", fontsize="small", frameon=False)
+    return fig
+
+
+def plot_mu_sweep(sweeps: Mapping[str, Any], thresholds: Mapping[str, float], *, ours: float,
+                  theirs: float, period: float):
+    """The leading mode's growth rate and frequency as M_u+ alone varies, per system.
+
+    Parameters
+    ----------
+    sweeps : mapping of str to pandas.DataFrame
+        :func:`flapping.studies.cfd.mu_sweep` per base (``"ours"``, ``"theirs"``).
+    thresholds : mapping of str to float
+        :func:`flapping.studies.cfd.mode_type_threshold` per base (marked).
+    ours, theirs : float
+        The two M_u+ (dotted verticals).
+    period : float
+        The wingbeat period [s] (> 0): rates are shown per wingbeat too, on a second axis.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    ValueError
+        If a threshold names a system with no sweep, or ``period`` is not positive.
+    """
+    import matplotlib.pyplot as plt
+
+    if set(thresholds) - set(sweeps):
+        raise ValueError(f"thresholds name systems without a sweep: "
+                         f"{sorted(set(thresholds) - set(sweeps))}")
+    if not period > 0.0:
+        raise ValueError(f"period must be positive [s]; got {period!r}")
+    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(6.4, 4.6), layout="constrained")
+    for base, sweep in sweeps.items():
+        style = SYSTEM_LINESTYLES.get(base, ":")
+        top.plot(sweep["Mu"], sweep["rate"], color=STATE_COLORS["q"], ls=style,
+                 label=SYSTEM_LABELS.get(base, base))
+        bottom.plot(sweep["Mu"], sweep["frequency"], color=STATE_COLORS["theta"], ls=style,
+                    label=SYSTEM_LABELS.get(base, base))
+        if base in thresholds:
+            x0 = thresholds[base]
+            rate0 = float(np.interp(x0, sweep["Mu"], sweep["rate"]))
+            top.plot([x0], [rate0], "o", color="k", ms=4)
+            bottom.plot([x0], [0.0], "o", color="k", ms=4)
+    for ax in (top, bottom):
+        ax.axhline(0.0, color="0.7", lw=0.6, zorder=1)
+        for x in (ours, theirs):
+            ax.axvline(x, color=GUIDE_COLOR, lw=0.8, ls=":")
+    top.annotate("our $M_u^+$", (ours, top.get_ylim()[1]), ha="left", va="top",
+                 fontsize="small", color="0.35")
+    top.annotate("CFD's $M_u^+$", (theirs, top.get_ylim()[1]), ha="right", va="top",
+                 fontsize="small", color="0.35")
+    top.set_ylabel("growth rate [1/s]")
+    bottom.set_ylabel("angular frequency\n[rad/s]")
+    bottom.set_xlabel(r"$M_u^+$ [–]")
+    top.legend(loc="lower right", fontsize="small", frameon=False)
+    per_wingbeat = top.secondary_yaxis("right", functions=(lambda r: r * period,
+                                                          lambda g: g / period))
+    per_wingbeat.set_ylabel("per wingbeat [–]")
     return fig
