@@ -429,7 +429,7 @@ def identify_mass_and_inertia(study_: CFDStudy) -> tuple[float, float]:
 
     Parameters
     ----------
-    study_ : CFDStudy
+    study\\_ : CFDStudy
 
     Returns
     -------
@@ -531,7 +531,7 @@ def study_insect(study_: CFDStudy, **changes: Any) -> Insect:
 
     Parameters
     ----------
-    study_ : CFDStudy
+    study\\_ : CFDStudy
     **changes
         Insect fields to change (SI), e.g. ``hinge_height=0.0``.
 
@@ -565,7 +565,7 @@ def our_derivatives(study_: CFDStudy, stability: HoverStability) -> np.ndarray:
 
     Parameters
     ----------
-    study_ : CFDStudy
+    study\\_ : CFDStudy
     stability : HoverStability
         Of our insect's hover orbit.
 

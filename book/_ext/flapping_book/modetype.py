@@ -257,14 +257,14 @@ def plot_mu_against_hinge_height(heights: Sequence[float], mu: Sequence[float],
     ax.axhline(theirs, color=SOURCE_COLORS["paper"], lw=1.4,
                label=r"CFD $M_u^+$ (Sun & Xiong)")
     ax.axvline(source_height * scale, color=GUIDE_COLOR, lw=0.8, ls=":")
-    ax.annotate("estimated hinge", (source_height * scale, theirs * 0.55), rotation=90,
-                ha="right", va="center", fontsize="small", color="0.35")
+    ax.text(source_height * scale, 0.5, " estimated hinge", transform=ax.get_xaxis_transform(),
+            rotation=90, ha="left", va="center", fontsize="small", color="0.35")
     ax.plot([h_zero * scale], [0.0], "x", color="k", ms=7, label="neutral height")
     ax.plot([h_match * scale], [theirs], "s", color=SOURCE_COLORS["paper"], ms=6,
             label="CFD's value reached")
     ax.set_xlabel(r"hinge height above the centre of gravity, $h/L$ [body lengths]")
     ax.set_ylabel(r"$M_u^+$ [–]")
-    ax.legend(loc="upper left", fontsize="small", frameon=False)
+    ax.legend(loc="lower right", fontsize="small", frameon=False)
     return fig
 
 
@@ -307,18 +307,14 @@ def plot_mu_sweep(sweeps: Mapping[str, Any], thresholds: Mapping[str, float], *,
         bottom.plot(sweep["Mu"], sweep["frequency"], color=STATE_COLORS["theta"], ls=style,
                     label=SYSTEM_LABELS.get(base, base))
         if base in thresholds:
-            x0 = thresholds[base]
-            rate0 = float(np.interp(x0, sweep["Mu"], sweep["rate"]))
-            top.plot([x0], [rate0], "o", color="k", ms=4)
-            bottom.plot([x0], [0.0], "o", color="k", ms=4)
+            bottom.plot([thresholds[base]], [0.0], "o", color="k", ms=4)
     for ax in (top, bottom):
         ax.axhline(0.0, color="0.7", lw=0.6, zorder=1)
         for x in (ours, theirs):
             ax.axvline(x, color=GUIDE_COLOR, lw=0.8, ls=":")
-    top.annotate("our $M_u^+$", (ours, top.get_ylim()[1]), ha="left", va="top",
-                 fontsize="small", color="0.35")
-    top.annotate("CFD's $M_u^+$", (theirs, top.get_ylim()[1]), ha="right", va="top",
-                 fontsize="small", color="0.35")
+    for x, text, side in ((ours, " our $M_u^+$", "left"), (theirs, "CFD's $M_u^+$ ", "right")):
+        bottom.text(x, 0.95, text, transform=bottom.get_xaxis_transform(), ha=side, va="top",
+                    fontsize="small", color="0.35")
     top.set_ylabel("growth rate [1/s]")
     bottom.set_ylabel("angular frequency\n[rad/s]")
     bottom.set_xlabel(r"$M_u^+$ [–]")
