@@ -64,7 +64,15 @@ turns their oscillation real; no other single term changes the type. Ours has th
 physics the model has, the hinge height above the CG adds -h X_u+/c to M_u+ (the wings' drag
 acting above the CG), a centre of pressure nearer the leading edge raises M_u+ too, and wing mass
 and a hinge offset (with the mean stroke angle trimmed) move it little; :func:`physics_table`
-gives the numbers. Why CFD's M_u+ is large and positive is not settled here.
+gives the numbers, and :func:`mu_law` the straight lines they lie on. With M_u+ varied alone
+(:func:`mu_sweep`), the type changes where M_u+ changes sign, in our system and in theirs
+(:func:`mode_type_threshold`). Why CFD's M_u+ is large and positive is not settled here.
+
+A centre of pressure that moves with the angle of attack (issue 28's candidate) is not an
+option here: in these loads forward speed enters a section's speed U, not its induced angle
+w_eff/U (w_eff does not contain u), so on the hover orbit, where w_eff is small, it would move
+M_u+ only through its mean position, which :func:`physics_table` varies. Testing it needs an
+induced flow (a downwash or wake model) in the aerodynamic model first.
 
 Conventions: SI inside; the derivative names are ``"Xu", "Xw", "Xq", "Zu", ..., "Mq"`` and
 stand for the non-dimensional X_u+ ... M_q+.
