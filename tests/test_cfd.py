@@ -282,3 +282,72 @@ def test_the_neutral_hinge_height_turns_our_mode_oscillatory_just_above_it(compa
     assert kinds[0.9] == (-1.0, "real") and kinds[1.1] == (1.0, "oscillatory")
     # their M_u+ needs a hinge far above ours: more than a bumblebee body length (18 mm)
     assert cfd.hinge_height_for(comparison) > 18e-3
+
+
+def test_the_hinge_height_is_its_stated_fraction_of_the_body_length():
+    """The estimate the chapter quotes in body lengths: 0.13 L (Sun's group's hoverfly)."""
+    s = cfd.study("sun2005")
+    assert s.value("hinge_height") / s.value("body_length") == pytest.approx(0.13, rel=1e-14)
+    assert s.reference["body_length"].status == "estimated"
+
+
+def test_the_mode_type_changes_once_between_our_and_their_speed_pitch_moment(comparison):
+    """Bisection finds one switch; either side has the other type (checked, not assumed)."""
+    for base in cfd.BASES:
+        mu0 = cfd.mode_type_threshold(comparison, base)
+        below, above = cfd.mu_sweep(comparison, [mu0 - 1e-6, mu0 + 1e-6], base)["type"]
+        assert (below, above) == ("real", "oscillatory"), base
+        ends = cfd.mu_sweep(comparison, [comparison.table.loc["Mu", "ours"],
+                                         comparison.table.loc["Mu", "theirs"]], base)
+        assert list(ends["type"]) == ["real", "oscillatory"]
+
+
+def test_with_our_other_terms_the_switch_sits_where_the_real_root_leaves_zero(comparison):
+    """Ours has X_w+ = Z_u+ = Z_q+ = M_w+ = 0 (fore-aft symmetry), so det A+ is proportional to
+    M_u+: a root passes through zero at M_u+ = 0, and the switch lies just above it."""
+    sweep = cfd.mu_sweep(comparison, [-1e-3, 0.0], "ours")
+    assert sweep["type"].tolist() == ["real", "real"]
+    assert sweep["rate"][0] > 0.0 and abs(sweep["rate"][1]) < 1e-9
+    assert 0.0 < cfd.mode_type_threshold(comparison, "ours") < 0.05
+
+
+def test_mu_sweep_reproduces_the_swap_of_m_u_alone(comparison):
+    swaps = cfd.swap_table(comparison)
+    row = swaps[(swaps.direction == "ours <- theirs") & (swaps.swapped == "Mu")].iloc[0]
+    sweep = cfd.mu_sweep(comparison, [comparison.table.loc["Mu", "theirs"]], "ours").iloc[0]
+    assert sweep["type"] == row["type"] and sweep["rate"] == pytest.approx(row["rate"], 1e-12)
+    assert sweep["frequency"] == pytest.approx(2 * math.pi / row["period"], rel=1e-12)
+
+
+def test_threshold_refuses_a_bad_base_or_no_bracket(comparison):
+    with pytest.raises(ValueError, match="base"):
+        cfd.mode_type_threshold(comparison, "mine")
+    import dataclasses
+
+    table = comparison.table.copy()
+    table.loc["Mu", "theirs"] = -0.5          # both real: no switch between them
+    flat = dataclasses.replace(comparison, table=table)
+    with pytest.raises(ValueError, match="no threshold"):
+        cfd.mode_type_threshold(flat, "ours")
+
+
+def test_the_hinge_height_law_fitted_over_the_orbits_is_the_minus_h_xu_over_c_law(physics,
+                                                                                   comparison):
+    """Six orbits (h = 0 ... 4 h_source) on one line of slope -X_u+/c; 1 % as above."""
+    law = cfd.mu_law(physics, comparison, "hinge_height")
+    assert len(law.values) == 6 and law.values[0] == 0.0
+    xu, c = comparison.table.loc["Xu", "ours"], comparison.study.value("mean_chord")
+    assert law.slope == pytest.approx(-xu / c, rel=0.01)
+    assert law.max_residual < 0.01 * abs(law.slope) * law.values[-1]
+    h0 = law.value_for(0.0)
+    assert h0 == pytest.approx(cfd.hinge_height_for(comparison, 0.0), rel=0.01)
+
+
+def test_the_centre_of_pressure_law_needs_three_cases_and_an_insect_field(physics, comparison):
+    law = cfd.mu_law(physics, comparison, "center_of_pressure")
+    assert list(law.values) == [0.1, 0.25, 0.4]
+    assert law.slope < 0.0           # nearer the leading edge, more nose-up M_u
+    with pytest.raises(ValueError, match="at least 3"):
+        cfd.mu_law(physics, comparison, "wing_mass")
+    with pytest.raises(ValueError, match="Insect field"):
+        cfd.mu_law(physics, comparison, "wingspan")

@@ -64,7 +64,15 @@ turns their oscillation real; no other single term changes the type. Ours has th
 physics the model has, the hinge height above the CG adds -h X_u+/c to M_u+ (the wings' drag
 acting above the CG), a centre of pressure nearer the leading edge raises M_u+ too, and wing mass
 and a hinge offset (with the mean stroke angle trimmed) move it little; :func:`physics_table`
-gives the numbers. Why CFD's M_u+ is large and positive is not settled here.
+gives the numbers, and :func:`mu_law` the straight lines they lie on. With M_u+ varied alone
+(:func:`mu_sweep`), the type changes where M_u+ changes sign, in our system and in theirs
+(:func:`mode_type_threshold`). Why CFD's M_u+ is large and positive is not settled here.
+
+A centre of pressure that moves with the angle of attack (issue 28's candidate) is not an
+option here: in these loads forward speed enters a section's speed U, not its induced angle
+w_eff/U (w_eff does not contain u), so on the hover orbit, where w_eff is small, it would move
+M_u+ only through its mean position, which :func:`physics_table` varies. Testing it needs an
+induced flow (a downwash or wake model) in the aerodynamic model first.
 
 Conventions: SI inside; the derivative names are ``"Xu", "Xw", "Xq", "Zu", ..., "Mq"`` and
 stand for the non-dimensional X_u+ ... M_q+.
@@ -112,6 +120,11 @@ __all__ = [
     "swap_table",
     "physics_table",
     "hinge_height_for",
+    "BASES",
+    "mu_sweep",
+    "mode_type_threshold",
+    "MuLaw",
+    "mu_law",
 ]
 
 #: The nine longitudinal derivatives, in the order of the matrix rows (X, Z, M) and columns
@@ -201,7 +214,8 @@ class CFDStudy:
         ``stroke_amplitude`` Phi [rad] (peak to peak, the sources' convention), ``frequency`` n
         [Hz], ``air_density`` [kg/m^3], ``gravity`` [m/s^2], ``hinge_height`` (the wing root
         above the centre of gravity at hover, [m]), ``hinge_offset`` (the wing root ahead of it,
-        [m]), ``wing_mass`` (one wing, [kg]).
+        [m]), ``wing_mass`` (one wing, [kg]), ``body_length`` [m] (the unit in which the
+        hinge height is estimated).
     modes : PublishedModes
     notes : tuple of str
         What the comparison with our model does not model, and other caveats.
@@ -304,8 +318,12 @@ _SX_MEMORY = ("sun2005 after dudley1990 (bumblebee BB01): from an earlier readin
               "bumblebee preset, not re-read here")
 
 
+_BUMBLEBEE_BODY_LENGTH = 18e-3  # [m], dudley1990 (unverified)
+
+
 def _sun_xiong_2005() -> CFDStudy:
     values = (-0.785, 0.050, -0.090, -0.031, -1.033, -0.031, 2.389, -0.190, -0.883)
+    body = _BUMBLEBEE_BODY_LENGTH
     derivs = {n: Number(v, _SX, _SX_TABLE, "read") for n, v in zip(DERIVATIVES, values,
                                                                      strict=True)}
     ref = {
@@ -322,7 +340,9 @@ def _sun_xiong_2005() -> CFDStudy:
         "air_density": Number(1.225, "sea-level standard air", "-", "estimated",
                               "the density of the CFD not read"),
         "gravity": Number(9.81, "standard gravity", "-", "estimated"),
-        "hinge_height": Number(0.13 * 18e-3, "sun2007 (hoverfly: wing root to CG 0.13 body "
+        "body_length": Number(body, "dudley1990 (bumblebee body length, unverified)", "-",
+                              "estimated", "sets the hinge height below; not read in sun2005"),
+        "hinge_height": Number(0.13 * body, "sun2007 (hoverfly: wing root to CG 0.13 body "
                                "lengths, the CG hanging below it) scaled to a bumblebee body "
                                "length of 18 mm (dudley1990, unverified)", "-", "estimated",
                                "Sun & Xiong's own hinge-to-CG distance and body angle were "
@@ -417,7 +437,7 @@ def identify_mass_and_inertia(study_: CFDStudy) -> tuple[float, float]:
 
     Parameters
     ----------
-    study_ : CFDStudy
+    study\\_ : CFDStudy
 
     Returns
     -------
@@ -519,7 +539,7 @@ def study_insect(study_: CFDStudy, **changes: Any) -> Insect:
 
     Parameters
     ----------
-    study_ : CFDStudy
+    study\\_ : CFDStudy
     **changes
         Insect fields to change (SI), e.g. ``hinge_height=0.0``.
 
@@ -553,7 +573,7 @@ def our_derivatives(study_: CFDStudy, stability: HoverStability) -> np.ndarray:
 
     Parameters
     ----------
-    study_ : CFDStudy
+    study\\_ : CFDStudy
     stability : HoverStability
         Of our insect's hover orbit.
 
@@ -822,3 +842,170 @@ def hinge_height_for(comparison: CFDComparison, mu: float | None = None) -> floa
     ours = comparison.table["ours"]
     chord = comparison.study.value("mean_chord")
     return float(comparison.insect.hinge_height - (target - ours["Mu"]) * chord / ours["Xu"])
+
+
+# =========================================================================== M_u+ alone
+#: The systems :func:`mu_sweep` and :func:`mode_type_threshold` vary M_u+ in: ours (our other
+#: eight derivatives) or theirs, both at the m+, I+ and g+ of the published system.
+BASES: tuple[str, ...] = ("ours", "theirs")
+
+
+def _base(comparison: CFDComparison, base: str) -> tuple[np.ndarray, float, float, CFDStudy]:
+    _validation.instance("comparison", comparison, CFDComparison)
+    _validation.choice("base", base, BASES)
+    s = comparison.study
+    d = (comparison.table["ours"] if base == "ours" else comparison.table["theirs"]).to_numpy()
+    mp, ip = identify_mass_and_inertia(s)
+    return np.array(d, dtype=float), mp, ip, s
+
+
+def _leading(d: np.ndarray, mu: float, mp: float, ip: float, s: CFDStudy) -> dict[str, Any]:
+    d = d.copy()
+    d[DERIVATIVES.index("Mu")] = mu
+    return mode_summary(np.linalg.eigvals(_system(d, mp, ip, s.gravity_ratio)) / s.period)
+
+
+def mu_sweep(comparison: CFDComparison, values: ArrayLike, base: str = "ours"
+             ) -> pandas.DataFrame:
+    """The leading mode of the published system as M_u+ alone varies.
+
+    Parameters
+    ----------
+    comparison : CFDComparison
+    values : array_like of float
+        The M_u+ values.
+    base : {"ours", "theirs"}
+        Whose other eight derivatives the system keeps (at the published m+, I+, g+).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per value: ``Mu``, ``type``, ``rate`` [1/s], ``frequency`` (the angular
+        frequency of the leading mode, 0 if real, [rad/s]), ``period`` [s], ``doubling_time``
+        [s].
+    """
+    import pandas
+
+    d, mp, ip, s = _base(comparison, base)
+    rows = []
+    for mu in np.atleast_1d(np.asarray(values, dtype=float)):
+        lead = _leading(d, float(mu), mp, ip, s)
+        freq = 0.0 if lead["type"] == "real" else 2.0 * math.pi / lead["period"]
+        rows.append({"Mu": float(mu), **lead, "frequency": freq})
+    return pandas.DataFrame(rows)
+
+
+def mode_type_threshold(comparison: CFDComparison, base: str = "ours",
+                        xtol: float = 1e-10) -> float:
+    """The M_u+ at which the leading mode changes type, between ours and theirs (bisection).
+
+    Parameters
+    ----------
+    comparison : CFDComparison
+    base : {"ours", "theirs"}
+        Whose other eight derivatives the system keeps (:func:`mu_sweep`).
+    xtol : float
+        Width of the final bracket (> 0).
+
+    Returns
+    -------
+    float
+        The threshold M_u+: one type below it, the other above (within ``xtol``).
+
+    Raises
+    ------
+    ValueError
+        If the leading mode has the same type at our M_u+ and at theirs (no bracket).
+    """
+    d, mp, ip, s = _base(comparison, base)
+    tol = _validation.positive("xtol", xtol)
+    lo = float(comparison.table.loc["Mu", "ours"])
+    hi = float(comparison.table.loc["Mu", "theirs"])
+    kind_lo = _leading(d, lo, mp, ip, s)["type"]
+    if kind_lo == _leading(d, hi, mp, ip, s)["type"]:
+        raise ValueError(f"the leading mode is {kind_lo} at both our M_u+ ({lo:.4g}) and theirs "
+                         f"({hi:.4g}) in the {base!r} system: no threshold between them")
+    while abs(hi - lo) > tol:
+        mid = 0.5 * (lo + hi)
+        if _leading(d, mid, mp, ip, s)["type"] == kind_lo:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+@dataclass(frozen=True)
+class MuLaw:
+    """A straight-line fit of our M_u+ against one insect field over solved orbits (:func:`mu_law`).
+
+    Attributes
+    ----------
+    field : str
+        The :class:`~flapping.model.morphology.Insect` field (SI, or a chord fraction).
+    values, mu : ndarray
+        The field's values and our M_u+ on the orbits fitted (sorted by value).
+    slope, intercept : float
+        M_u+ = intercept + slope * value.
+    max_residual : float
+        Largest deviation of a fitted point from the line (the line's evidence).
+    """
+
+    field: str
+    values: np.ndarray
+    mu: np.ndarray
+    slope: float
+    intercept: float
+    max_residual: float
+
+    def value_for(self, mu: float) -> float:
+        """The field's value at which the line reaches ``mu`` (an extrapolation if outside)."""
+        return (_validation.real("mu", mu) - self.intercept) / self.slope
+
+
+def mu_law(physics: pandas.DataFrame, comparison: CFDComparison, field: str) -> MuLaw:
+    """Fit our M_u+ against one field over the cases of :func:`physics_table` that vary only it.
+
+    A case is used if it found its orbit and every other field it changes keeps the compared
+    insect's value (so "hinge at the CG", which also sets the already-zero offset, counts for the
+    hinge height); the case "as compared" enters at the insect's own value.
+
+    Parameters
+    ----------
+    physics : pandas.DataFrame
+        From :func:`physics_table`.
+    comparison : CFDComparison
+        The comparison the table was made from.
+    field : str
+        An insect field, e.g. ``"hinge_height"`` or ``"center_of_pressure"``.
+
+    Returns
+    -------
+    MuLaw
+
+    Raises
+    ------
+    ValueError
+        If fewer than three cases vary the field (a line through two points is no evidence).
+    """
+    _validation.instance("comparison", comparison, CFDComparison)
+    insect = comparison.insect
+    if not hasattr(insect, field):
+        raise ValueError(f"field must be an Insect field; got {field!r}")
+    xs, ys = [], []
+    for _, row in physics.iterrows():
+        if row.get("message") or not math.isfinite(row.get("Mu", math.nan)):
+            continue
+        changes = dict(row["changes"])
+        others = {k: v for k, v in changes.items() if k != field}
+        if any(getattr(insect, k) != v for k, v in others.items()):
+            continue
+        xs.append(float(changes.get(field, getattr(insect, field))))
+        ys.append(float(row["Mu"]))
+    if len(set(xs)) < 3:
+        raise ValueError(f"field {field!r} is varied by {len(set(xs))} distinct case(s) of the "
+                         "physics table; a law needs at least 3")
+    order = np.argsort(xs)
+    x, y = np.asarray(xs)[order], np.asarray(ys)[order]
+    slope, intercept = np.polyfit(x, y, 1)
+    resid = float(np.max(np.abs(y - (intercept + slope * x))))
+    return MuLaw(field, x, y, float(slope), float(intercept), resid)
