@@ -90,7 +90,7 @@ ZHANG_SUN_2010_DOUBLING_WINGBEATS = 14.0
 #: decades between species: a fruit fly is 2000 times lighter than a hawkmoth); the others
 #: (r1, r2, chord fractions, hinge offset, damping coefficients) linearly.
 SCALE_FIELDS = ("semi_span", "wing_area", "frequency", "stroke_amplitude", "mass",
-                "pitch_inertia", "air_density", "a0")
+                "pitch_inertia", "air_density", "a0", "roll_inertia", "yaw_inertia")
 
 _NUMERIC = tuple(f.name for f in dataclasses.fields(Insect)
                  if f.init and f.name not in ("name", "aspect_ratio_convention"))
@@ -127,8 +127,13 @@ def interpolate_insects(start: Insect, target: Insect, s: float) -> Insect:
     if s == 1.0:
         return target
     values: dict[str, Any] = {}
+    lateral = ("roll_inertia", "yaw_inertia", "roll_yaw_product")
+    given = all(getattr(x, n) is not None for x in (start, target) for n in lateral)
     for name in _NUMERIC:
         a, b = getattr(start, name), getattr(target, name)
+        if name in lateral and not given:  # six-dof only: the target's, whole (or None)
+            values[name] = b
+            continue
         if name in ("wing_mass_r1", "wing_mass_r2"):
             if a is None and b is None:  # both the area's radii: so is every intermediate
                 continue
