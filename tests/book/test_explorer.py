@@ -96,6 +96,8 @@ def test_figure_starts_at_the_point_asked_for(data):
         np.testing.assert_array_equal(trace.y, rec["orbit"][k])
     np.testing.assert_array_equal(fig.data[4].x, rec["mu_re"])
     np.testing.assert_array_equal(fig.data[5].y, rec["mode"])
+    assert list(fig.data[5].text) == [f"{p:.0f}" for p in rec["phase_deg"]]
+    assert {abs(p) for p in rec["phase_deg"]} <= {0.0, 180.0} or rec["mu_im"][0] != 0.0
     names = [s.name for s in fig.layout.sliders]
     assert names == [a[0] for a in explorer.SLIDER_AXES]
     for slider in fig.layout.sliders:

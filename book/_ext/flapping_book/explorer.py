@@ -216,6 +216,8 @@ def explorer_figure(data: dict[str, Any], start: dict[str, Any] | None = None) -
                              name="μ", marker={"color": "black", "size": 9},
                              showlegend=False), row=1, col=1)
     fig.add_trace(go.Bar(x=["u", "w", "q", "θ"], y=rec.get("mode", []), name="|v|",
+                         text=_phases(rec), textposition="none",
+                         hovertemplate="%{x}: |v| = %{y:.3f}, phase %{text}°<extra></extra>",
                          marker={"color": [STATE_COLORS[s] for s in STATE_NAMES]},
                          showlegend=False), row=2, col=1)
     angle = np.linspace(0.0, 2.0 * math.pi, 121)
@@ -250,6 +252,11 @@ def explorer_figure(data: dict[str, Any], start: dict[str, Any] | None = None) -
     return fig
 
 
+def _phases(rec: dict[str, Any]) -> list[str]:
+    """The eigenvector's phases as the bar chart's hover text (degrees, rounded)."""
+    return [f"{p:.0f}" for p in rec.get("phase_deg", [])]
+
+
 def _css_grey(color: str) -> str:
     """A matplotlib grey level ("0.6") as a CSS colour; other colours unchanged."""
     try:
@@ -281,6 +288,8 @@ _SCRIPT = """
       y: [ok ? p.orbit[0] : e, ok ? p.orbit[1] : e, ok ? p.orbit[2] : e, ok ? p.orbit[3] : e,
           ok ? p.mu_im : e, ok ? p.mode : e]
     }, [0, 1, 2, 3, 4, 5]);
+    Plotly.restyle(gd, {text: [ok ? p.phase_deg.map(function (v) { return v.toFixed(0); })
+                               : e]}, [5]);
     out.textContent = p.text;
     gd.setAttribute('data-point', String(i));
   }
