@@ -139,7 +139,7 @@ class ExplorerGrid:
 #: wings of 0-6 % of the insect's mass (the hawkmoth's measured pair is ~5.7 %). The monarch is
 #: left out: from the default first guess its solves fail at scattered points of such a grid
 #: (13 of its 90 in a trial: Newton's cap, a non-finite integration, Phi stepped past 90 deg),
-#: and |mu_1| goes from 1.30 (real) at 0.10 R to 0.85 (oscillatory) at 0.20 R across a point
+#: and abs(mu_1) goes from 1.30 (real) at 0.10 R to 0.85 (oscillatory) at 0.20 R across a point
 #: without an orbit; a map of it needs continuation
 #: (as :func:`~flapping.studies.atlas.hover_by_homotopy` does).
 DEFAULT_GRID = ExplorerGrid(

@@ -47,7 +47,7 @@ STATE_TITLES: dict[str, str] = {"u": "u [m/s]", "w": "w [m/s]", "q": "q [rad/s]"
 _INDEX_AXES = ("species", "frequency_ratio", "wing_mass_percent", "hinge_height_ratio")
 
 #: Significant digits of the numbers written into the page (the plots need ~4; the readout
-#: prints |mu_1| to 4 decimals).
+#: prints abs(mu_1) to 4 decimals).
 _DIGITS = 6
 
 #: Height of the figure [px]: the six panels, and below them (in the bottom margin)
