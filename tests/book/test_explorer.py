@@ -78,8 +78,10 @@ def test_readout_says_what_the_reader_sees(explored):
     text = explorer.readout(ok)
     assert f"|μ₁| = {ok.max_abs_mu:.4f}" in text and f"{ok.mode_type} mode" in text
     assert f"doubles in {math.log(2) / math.log(ok.max_abs_mu):.1f} wingbeats" in text
-    bad = explorer.readout(points[~points.converged].iloc[0])
-    assert "no hover orbit (ValueError" in bad
+    failed = points[~points.converged].iloc[0]
+    bad = explorer.readout(failed)
+    assert "no hover orbit (" in bad and "exceeds the largest mean lift" in bad
+    assert "ValueError" not in bad and len(bad) < len(explorer.readout(ok)) + 160
     stable = dict(ok, stable=True, mu1_real=0.9, doubling_wingbeats=math.inf)
     assert "stable: every |μ| < 1" in explorer.readout(stable)
 

@@ -50,6 +50,9 @@ _INDEX_AXES = ("species", "frequency_ratio", "wing_mass_percent", "hinge_height_
 #: prints abs(mu_1) to 4 decimals).
 _DIGITS = 6
 
+#: Most characters of a failed point's reason in the readout.
+_REASON_CHARS = 160
+
 #: Height of the figure [px]: the six panels, and below them (in the bottom margin)
 #: the three sliders. Its width follows the column.
 HEIGHT_PX = 860
@@ -95,8 +98,10 @@ def readout(row: Any) -> str:
              f"(×{row['frequency_ratio']:.2f}), h_w = {row['hinge_height_mm']:.2f} mm "
              f"({row['hinge_height_ratio']:.2f} R), wings {row['wing_mass_percent']:g} % of m")
     if not row["converged"]:
-        message = str(row["message"]).split(":", 1)[0] if row["message"] else "no orbit"
-        return f"{where}: no hover orbit ({message}; see the table below the figure)"
+        reason = str(row["message"]).split(": ", 1)[-1] or "no orbit"
+        if len(reason) > _REASON_CHARS:
+            reason = reason[:_REASON_CHARS - 3].rstrip() + "..."
+        return f"{where}: no hover orbit ({reason})"
     mu = complex(row["mu1_real"], row["mu1_imag"])
     if row["stable"]:
         growth = "stable: every |μ| < 1"
