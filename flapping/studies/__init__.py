@@ -7,7 +7,12 @@
 - :mod:`flapping.studies.control`: what would make hover stable (the wing hinge's height, the
   mean stroke angle) and feedback once per wingbeat;
 - :mod:`flapping.studies.cfd`: Sun's group's CFD stability derivatives as data, our model on
-  their insect term by term, and which term decides the mode type.
+  their insect term by term, and which term decides the mode type;
+- :mod:`flapping.studies.sensitivity`: the verdict's uncertainty, globally (Sobol indices over
+  the uncertain inputs, SALib);
+- :mod:`flapping.studies.explorer`: the grid behind the book's interactive stability map.
 
-Each imports :mod:`flapping.hover` and the layers below it, never another study.
+Each imports :mod:`flapping.hover` and the layers below it; of the other studies only the batch
+tool :mod:`flapping.studies.sweep` (and the published data of
+:mod:`flapping.studies.literature`).
 """
