@@ -8,7 +8,6 @@ import pytest
 from flapping.model import presets
 from flapping.studies import lateral as lat
 
-
 # --- Mode classification on synthetic multipliers (no model) ---------------------------------
 
 def test_a_real_multiplier_above_one_is_a_divergence_with_its_doubling_time():
