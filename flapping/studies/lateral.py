@@ -276,8 +276,8 @@ def lateral_table(names: Iterable[str] | None = None,
         ``leading_multiplier``, ``leading_modulus``, ``leading_type``, ``leading_kind``,
         ``stable``, ``doubling_wingbeats``, ``doubling_ms`` (of the leading mode, when unstable;
         nan otherwise), ``floquet_exponents_per_s`` (ln(mu)/T of the modes),
-        ``averaged_eigenvalues_per_s`` (the averaged lateral system's), ``averaged_leading_per_s``, ``coupling``,
-        ``multiplier_error``, ``liouville_error``.
+        ``averaged_eigenvalues_per_s`` (the averaged lateral system's),
+        ``averaged_leading_per_s``, ``coupling``, ``multiplier_error``, ``liouville_error``.
     """
     import pandas as pd
 
@@ -524,9 +524,10 @@ PUBLISHED_LATERAL: tuple[PublishedLateral, ...] = (
         "zhu2020", "dronefly", "hoverfly", "CFD derivatives + averaging",
         ((None, False),), None,
         "Zhu, Meng & Sun (2020), Sci. Rep., doi 10.1038/s41598-020-58762-5, abstract (PubMed "
-        "32029787): 'At hovering flight, the motion of the dronefly is weakly unstable owing to two unstable natural "
-        "modes of motion, a longitudinal one and a lateral one'; 'The longitudinal derivatives "
-        "due to the lateral motion are approximately 3 orders of magnitude smaller'",
+        "32029787): 'At hovering flight, the motion of the dronefly is weakly unstable owing "
+        "to two unstable natural modes of motion, a longitudinal one and a lateral one'; 'The "
+        "longitudinal derivatives due to the lateral motion are approximately 3 orders of "
+        "magnitude smaller'",
         "verified",
         note="One unstable lateral mode; its type and doubling time are not in the abstract."),
     PublishedLateral(
