@@ -41,7 +41,12 @@ def test_a_negative_multiplier_is_a_flip_and_modes_sort_by_modulus():
     assert modes[0].kind == "unstable flip"
 
 
-@pytest.mark.parametrize("bad", [[0.0], [np.inf], [1 + 1j, 0.5], []])
+def test_an_underflowed_multiplier_is_a_subsidence_that_halves_at_once():
+    (mode,) = lat.classify_multipliers([0.0], 0.01)
+    assert (mode.kind, mode.time_wingbeats, mode.growth_rate) == ("subsidence", 0.0, -math.inf)
+
+
+@pytest.mark.parametrize("bad", [[np.nan], [np.inf], [1 + 1j, 0.5], []])
 def test_bad_multipliers_are_refused(bad):
     with pytest.raises(ValueError, match="multipliers"):
         lat.classify_multipliers(bad, 1.0)

@@ -134,7 +134,8 @@ def classify_multipliers(multipliers: Sequence[complex] | np.ndarray,
     Parameters
     ----------
     multipliers : sequence of complex
-        The multipliers (e.g. :attr:`SixDofStability.lateral` ``.multipliers``); nonzero, finite.
+        The multipliers (e.g. :attr:`SixDofStability.lateral` ``.multipliers``), finite; a zero
+        one (an underflowed subsidence) is a real stable mode with a halving time of 0.
     period : float
         The flapping period T [s].
 
@@ -145,13 +146,13 @@ def classify_multipliers(multipliers: Sequence[complex] | np.ndarray,
     Raises
     ------
     ValueError
-        If ``period`` is not positive, or a multiplier is zero or not finite, or a complex
+        If ``period`` is not positive, or a multiplier is not finite, or a complex
         multiplier has no conjugate partner.
     """
     period = check.positive("period", period, unit="s")
     mu = np.asarray(multipliers, dtype=complex).ravel()
-    if mu.size == 0 or not np.all(np.isfinite(mu)) or np.any(mu == 0):
-        raise ValueError(f"`multipliers` must be nonzero and finite; got {mu!r}")
+    if mu.size == 0 or not np.all(np.isfinite(mu)):
+        raise ValueError(f"`multipliers` must be finite (and at least one); got {mu!r}")
     modes = []
     complex_ = np.abs(mu.imag) > REAL_TOL * np.abs(mu)
     upper, lower = np.sort_complex(mu[complex_ & (mu.imag > 0)]), np.sort_complex(
@@ -160,13 +161,14 @@ def classify_multipliers(multipliers: Sequence[complex] | np.ndarray,
         raise ValueError(f"`multipliers` must come in complex-conjugate pairs; got {mu!r}")
     for m in list(mu[~complex_].real.astype(complex)) + list(upper):
         modulus = abs(m)
-        log_mod = math.log(modulus)
+        # A multiplier of exactly 0 (a subsidence so fast that it underflows): halves at once.
+        log_mod = -math.inf if modulus == 0.0 else math.log(modulus)
         time = math.inf if log_mod == 0.0 else math.log(2.0) / abs(log_mod)
         if m.imag != 0.0:
             kind, period_ms = "oscillatory", 1e3 * 2.0 * math.pi * period / abs(
                 math.atan2(m.imag, m.real))
         else:
-            kind, period_ms = ("real" if m.real > 0 else "flip"), math.nan
+            kind, period_ms = ("flip" if m.real < 0 else "real"), math.nan
         modes.append(Mode(multiplier=complex(m), type=kind, stable=modulus < 1.0,
                           growth_rate=log_mod / period, time_wingbeats=time,
                           time_ms=1e3 * time * period, period_ms=period_ms))
@@ -375,7 +377,8 @@ def _lateral_multipliers(orbit: SixDofHoverOrbit) -> np.ndarray:
 
 
 def inertia_sensitivity(name: str, factors: Sequence[float] = (0.5, 2.0),
-                        aerodynamics: str = "small-angle") -> Any:
+                        aerodynamics: str = "small-angle",
+                        scaled: Sequence[str] = ("I_x", "I_z", "both")) -> Any:
     """The leading lateral mode with the ESTIMATED roll and yaw inertia scaled.
 
     Each row scales I_x, I_z or both by a factor. The hover orbit does not depend on either
@@ -391,6 +394,8 @@ def inertia_sensitivity(name: str, factors: Sequence[float] = (0.5, 2.0),
     factors : sequence of float
         Positive scale factors.
     aerodynamics : {"small-angle", "exact"}
+    scaled : sequence of {"I_x", "I_z", "both"}
+        Which inertia each set of rows scales.
 
     Returns
     -------
@@ -407,35 +412,37 @@ def inertia_sensitivity(name: str, factors: Sequence[float] = (0.5, 2.0),
     """
     import pandas as pd
 
-    base = analyse(name, aerodynamics)
     factors = [check.positive(f"factors[{i}]", f) for i, f in enumerate(factors)]
+    which = [check.choice(f"scaled[{i}]", w, ("I_x", "I_z", "both"))
+             for i, w in enumerate(scaled)]
+    base = analyse(name, aerodynamics)
     insect = base.orbit.insect
     if insect.roll_yaw_product != 0.0:
         raise ValueError("inertia_sensitivity reuses the orbit, which needs roll_yaw_product 0")
     assert insect.roll_inertia is not None and insect.yaw_inertia is not None
 
-    def row(scaled: str, factor: float, mu: Any) -> dict[str, Any]:
+    def row(what: str, factor: float, mu: Any) -> dict[str, Any]:
         modes = classify_multipliers(mu, base.orbit.period)
         lead = modes[0]
-        fx = factor if scaled in ("I_x", "both") else 1.0
-        fz = factor if scaled in ("I_z", "both") else 1.0
+        fx = factor if what in ("I_x", "both") else 1.0
+        fz = factor if what in ("I_z", "both") else 1.0
         assert insect.roll_inertia is not None and insect.yaw_inertia is not None
-        return {"scaled": scaled, "factor": factor, "roll_inertia": fx * insect.roll_inertia,
+        return {"scaled": what, "factor": factor, "roll_inertia": fx * insect.roll_inertia,
                 "yaw_inertia": fz * insect.yaw_inertia, "leading_multiplier": lead.multiplier,
                 "leading_modulus": abs(lead.multiplier), "leading_type": lead.type,
                 "stable": all(m.stable for m in modes),
                 "doubling_wingbeats": math.nan if lead.stable else lead.time_wingbeats}
 
     rows = [row("none", 1.0, base.stability.lateral.multipliers)]
-    for scaled in ("I_x", "I_z", "both"):
+    for what in which:
         for f in factors:
             changes = {}
-            if scaled in ("I_x", "both"):
+            if what in ("I_x", "both"):
                 changes["roll_inertia"] = f * insect.roll_inertia
-            if scaled in ("I_z", "both"):
+            if what in ("I_z", "both"):
                 changes["yaw_inertia"] = f * insect.yaw_inertia
             orbit = replace(base.orbit, insect=insect.with_(**changes))
-            rows.append(row(scaled, f, _lateral_multipliers(orbit)))
+            rows.append(row(what, f, _lateral_multipliers(orbit)))
     return pd.DataFrame(rows)
 
 
