@@ -190,8 +190,11 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
         flat = find_hover_orbit(insect, aerodynamics=aerodynamics, backend=backend, **planar)
     else:
         flat = planar_orbit
+        # The planar orbit does not depend on the lateral inertia: compare the rest.
+        lateral = {name: getattr(insect, name) for name in
+                   ("roll_inertia", "yaw_inertia", "roll_yaw_product")}
         if (flat.model.aerodynamics != aerodynamics
-                or flat.model.insect.with_(stroke_mean=insect.stroke_mean) != insect):
+                or flat.model.insect.with_(stroke_mean=insect.stroke_mean, **lateral) != insect):
             raise ValueError("`planar_orbit` must be an orbit of the same insect and "
                              "aerodynamic model")
     trimmed = insect if flat.stroke_mean == insect.stroke_mean else insect.with_(

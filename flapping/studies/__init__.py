@@ -10,7 +10,9 @@
   their insect term by term, and which term decides the mode type;
 - :mod:`flapping.studies.sensitivity`: the verdict's uncertainty, globally (Sobol indices over
   the uncertain inputs, SALib);
-- :mod:`flapping.studies.explorer`: the grid behind the book's interactive stability map.
+- :mod:`flapping.studies.explorer`: the grid behind the book's interactive stability map;
+- :mod:`flapping.studies.lateral`: the presets in six degrees of freedom, their lateral modes
+  beside the published ones.
 
 Each imports :mod:`flapping.hover` and the layers below it; of the other studies only the batch
 tool :mod:`flapping.studies.sweep` (and the published data of
