@@ -15,6 +15,5 @@
   beside the published ones.
 
 Each imports :mod:`flapping.hover` and the layers below it; of the other studies only the batch
-tool :mod:`flapping.studies.sweep` (and the published data of
-:mod:`flapping.studies.literature`).
+tool, :mod:`flapping.studies.sweep`.
 """
