@@ -43,8 +43,9 @@ __all__ = ["SIXDOF_STATE_NAMES", "SIXDOF_AERODYNAMIC_MODELS", "LONGITUDINAL", "L
 SIXDOF_STATE_NAMES: tuple[str, ...] = ("u", "v", "w", "p", "q", "r", "roll", "theta")
 #: Aerodynamic models of :class:`SixDofDynamics`.
 SIXDOF_AERODYNAMIC_MODELS: tuple[str, ...] = ("small-angle", "exact")
-#: Indices of the longitudinal states (u, w, q, theta) and of the lateral ones (v, p, r, roll).
+#: Indices of the longitudinal states (u, w, q, theta) in the eight-state vector.
 LONGITUDINAL: tuple[int, ...] = (0, 2, 4, 7)
+#: Indices of the lateral states (v, p, r, roll) in the eight-state vector.
 LATERAL: tuple[int, ...] = (1, 3, 5, 6)
 
 # The generated functions take their arguments spread from tuples (their signatures are long).

@@ -356,13 +356,13 @@ def _solve_line(line: tuple[str, float, float], hinge_heights: Sequence[float],
     return out
 
 
-def explore_hover(grid: ExplorerGrid = DEFAULT_GRID, *, backend: FixedStep | None = None,
+def explore_hover(grid: ExplorerGrid | None = None, *, backend: FixedStep | None = None,
                   n_samples: int = 48, executor: Executor | None = None) -> Exploration:
     """Hover, its Floquet multipliers (eqs. 42-49), its leading mode and its orbit over a grid.
 
     Parameters
     ----------
-    grid : ExplorerGrid
+    grid : ExplorerGrid, optional
         The axes (default :data:`DEFAULT_GRID`).
     backend : FixedStep, optional
         The fixed-step path's options (default ``FixedStep()``: Richardson error estimates of
@@ -383,7 +383,7 @@ def explore_hover(grid: ExplorerGrid = DEFAULT_GRID, *, backend: FixedStep | Non
     """
     import pandas
 
-    grid = _validation.instance("grid", grid, ExplorerGrid)
+    grid = DEFAULT_GRID if grid is None else _validation.instance("grid", grid, ExplorerGrid)
     backend = FixedStep() if backend is None else _validation.instance("backend", backend,
                                                                        FixedStep)
     n = _validation.integer("n_samples", n_samples, low=8, high=1024)
