@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from flapping import _validation
 from flapping.backends import AUTO, Adaptive, Backend
 from flapping.errors import ConvergenceError
 from flapping.model.kinematics import segment_stroke_sign
@@ -415,8 +416,6 @@ def averaged_lateral(orbit: SixDofHoverOrbit, n_average: int = 32) -> LateralDer
     -------
     LateralDerivatives
     """
-    from flapping import _validation
-
     n_average = _validation.integer("n_average", n_average, low=1, high=4096)
     model = orbit.model
     T = model.period

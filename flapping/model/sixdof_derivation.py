@@ -38,7 +38,8 @@ everything the six-degree-of-freedom model needs that is geometry and mechanics,
 ``flapping/model/_sixdof_generated.py``, committed; a test regenerates it and compares the text.
 Importing :mod:`flapping` never runs this derivation.
 
-Layering: imports nothing of the model (SymPy only).
+Layering: SymPy, and the planar wing-inertia derivation's integral over a wing
+(:mod:`flapping.model.inertia_derivation`).
 """
 
 from __future__ import annotations
@@ -47,6 +48,8 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import sympy as sp
+
+from flapping.model.inertia_derivation import _wing_integral  # the planar derivation's
 
 __all__ = ["STATE_NAMES", "CONSTANT_NAMES", "RESULTANT_NAMES", "SixDofSymbols", "sixdof_symbols",
            "strip_kinematics", "wing_loads", "equations_of_motion", "euler_rates",
@@ -194,16 +197,6 @@ def wing_loads() -> sp.Matrix:
                 else:
                     total[row] += coefficient * integral[(f_t if a else f_n, i, j)]
     return total.applyfunc(lambda x: sp.trigsimp(sp.expand(x)))
-
-
-def _wing_integral(expr: sp.Expr, rho: sp.Symbol, m_w: sp.Expr, a1: sp.Expr,
-                   a2: sp.Expr) -> sp.Expr:
-    """int over one wing of expr dm, expr a polynomial of degree <= 2 in rho."""
-    moments = {0: m_w, 1: a1 / 2, 2: a2 / 2}
-    total = sp.Integer(0)
-    for (power,), coefficient in sp.Poly(sp.expand(expr), rho).terms():
-        total += coefficient * moments[power]
-    return total
 
 
 def gravity_body() -> sp.Matrix:
