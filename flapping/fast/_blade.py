@@ -289,6 +289,7 @@ def loads(t, u, w, q, s, amplitude, phi_bar, data):  # pragma: no cover - compil
 # compiled here as the hover kernel compiles its generated derivatives.
 mass_matrix = _jit(_inertia_generated.mass_matrix)
 forcing = _jit(_inertia_generated.forcing)
+rigid_rates = _jit(_inertia_generated.rigid_rates)
 
 
 @_jit
@@ -360,19 +361,21 @@ def rhs_into(t, y, p, sign, data, out):  # pragma: no cover - compiled
     phi_bar = p[1] if n_cond == 2 else data[I_PHI_BAR]
     u, w, q, theta = y[0], y[1], y[2], y[3]
     X, Z, M = loads(t, u, w, q, sign, amplitude, phi_bar, data)
-    g, m = data[I_G], data[I_MASS]
-    st, ct = math.sin(theta), math.cos(theta)
+    m = data[I_MASS]
+    # The generated planar equations (massless wings), and the wings' mass matrix if they have
+    # mass; theta' and the earth-frame velocity are the same either way.
+    rates = rigid_rates(u, w, q, theta, data[I_G])  # eq. (2) at zero load
     if data[I_INERTIA] != 0.0:
         acc = wing_accelerations(t, amplitude, phi_bar, u, w, q, theta, X, Z, M, data)
         out[0], out[1], out[2] = acc[0], acc[1], acc[2]
     else:
-        out[0] = -q * w - g * st + X / m
-        out[1] = q * u + g * ct + Z / m
-        out[2] = M / data[I_IY]
-    out[3] = q
-    out[4] = -u * st + w * ct
+        out[0] = rates[0] + X / m
+        out[1] = rates[1] + Z / m
+        out[2] = rates[2] + M / data[I_IY]
+    out[3] = rates[3]
+    out[4] = rates[4]
     if n_cond == 2:
-        out[5] = u * ct + w * st
+        out[5] = rates[5]
 
 
 @_jit

@@ -53,6 +53,7 @@ import numpy as np
 from numba.np.linalg import _LAPACK, F_INT_nptype, _dummy_liveness_func
 
 from flapping.fast import _dop853, _generated
+from flapping.model import _inertia_generated
 
 #: Whether numba found a writable place for its on-disk cache (see :func:`_jit`).
 CACHED = True
@@ -90,6 +91,9 @@ _NO_C_WRAPPER: dict[str, Any] = {"no_cfunc_wrapper": True}
 # The generated formulas (plain Python, from the SymPy derivation), compiled here.
 derivatives = _helper(_generated.derivatives)
 derivatives_and_amplitude = _helper(_generated.derivatives_and_amplitude)
+# The planar equations of motion (the six-dof derivation's planar case, never written by hand).
+rigid_rates = _helper(_inertia_generated.rigid_rates)
+rigid_state_jac = _helper(_inertia_generated.rigid_state_jac)
 
 N_STAGES = _dop853.N_STAGES
 RK_A = np.ascontiguousarray(_dop853.A)
@@ -136,12 +140,12 @@ def plain_rhs(t, x, amp, sign, k, p, d, out):  # pragma: no cover - compiled
     phi, phidot, absphidot, sphi, cphi, s2phi, c2phi = _phase(t, amp, sign, p)
     derivatives(phi, phidot, absphidot, sphi, cphi, s2phi, c2phi, k, d)
     u, w, q, th = x[0], x[1], x[2], x[3]
-    sth, cth = math.sin(th), math.cos(th)
-    out[0] = -q * w - p[0] * sth + d[0] * p[2] + d[3] * u + d[4] * w + d[5] * q
-    out[1] = q * u + p[0] * cth + d[1] * p[2] + d[6] * u + d[7] * w + d[8] * q
-    out[2] = d[2] * p[3] + d[9] * u + d[10] * w + d[11] * q
-    out[3] = q
-    out[4] = -u * sth + w * cth
+    r = rigid_rates(u, w, q, th, p[0])  # the generated eq. (2) at zero load
+    out[0] = r[0] + d[0] * p[2] + d[3] * u + d[4] * w + d[5] * q
+    out[1] = r[1] + d[1] * p[2] + d[6] * u + d[7] * w + d[8] * q
+    out[2] = r[2] + d[2] * p[3] + d[9] * u + d[10] * w + d[11] * q
+    out[3] = r[3]
+    out[4] = r[4]
 
 
 @_helper
@@ -151,32 +155,35 @@ def variational_rhs(t, y, amp, sign, k, p, d, out):  # pragma: no cover - compil
     derivatives_and_amplitude(phi, phidot, absphidot, sphi, cphi, s2phi, c2phi, k, d)
     g, im, ii = p[0], p[2], p[3]
     u, w, q, th = y[0], y[1], y[2], y[3]
-    sth, cth = math.sin(th), math.cos(th)
-    out[0] = -q * w - g * sth + d[0] * im + d[3] * u + d[4] * w + d[5] * q
-    out[1] = q * u + g * cth + d[1] * im + d[6] * u + d[7] * w + d[8] * q
-    out[2] = d[2] * ii + d[9] * u + d[10] * w + d[11] * q
-    out[3] = q
-    out[4] = -u * sth + w * cth
-    # The Jacobian of the augmented field (its z column is zero: z feeds back into nothing).
-    j00, j01, j02, j03 = d[3], d[4] - q, d[5] - w, -g * cth
-    j10, j11, j12, j13 = d[6] + q, d[7], d[8] + u, -g * sth
-    j20, j21, j22 = d[9], d[10], d[11]
-    j40, j41, j43 = -sth, cth, -u * cth - w * sth
+    rates = rigid_rates(u, w, q, th, g)  # the generated eq. (2) at zero load
+    out[0] = rates[0] + d[0] * im + d[3] * u + d[4] * w + d[5] * q
+    out[1] = rates[1] + d[1] * im + d[6] * u + d[7] * w + d[8] * q
+    out[2] = rates[2] + d[2] * ii + d[9] * u + d[10] * w + d[11] * q
+    out[3] = rates[3]
+    out[4] = rates[4]
+    # The Jacobian of the augmented field (its z column is zero: z feeds back into nothing):
+    # the generated rigid-body part plus eq. (29)'s derivatives.
+    r = rigid_state_jac(u, w, q, th, g)
+    j00, j01, j02, j03 = r[0] + d[3], r[1] + d[4], r[2] + d[5], r[3]
+    j10, j11, j12, j13 = r[4] + d[6], r[5] + d[7], r[6] + d[8], r[7]
+    j20, j21, j22, j23 = r[8] + d[9], r[9] + d[10], r[10] + d[11], r[11]
+    j30, j31, j32, j33 = r[12], r[13], r[14], r[15]
+    j40, j41, j42, j43 = r[16], r[17], r[18], r[19]
     for c in range(5):  # the 4 columns of Y, then s
         b = 5 + c if c < 4 else 25
         step = 4 if c < 4 else 1
         y0, y1, y2, y3 = y[b], y[b + step], y[b + 2 * step], y[b + 3 * step]
         out[b] = j00 * y0 + j01 * y1 + j02 * y2 + j03 * y3
         out[b + step] = j10 * y0 + j11 * y1 + j12 * y2 + j13 * y3
-        out[b + 2 * step] = j20 * y0 + j21 * y1 + j22 * y2
-        out[b + 3 * step] = y2
-        out[b + 4 * step] = j40 * y0 + j41 * y1 + j43 * y3
+        out[b + 2 * step] = j20 * y0 + j21 * y1 + j22 * y2 + j23 * y3
+        out[b + 3 * step] = j30 * y0 + j31 * y1 + j32 * y2 + j33 * y3
+        out[b + 4 * step] = j40 * y0 + j41 * y1 + j42 * y2 + j43 * y3
     inv = 1.0 / amp  # the generated amplitude derivatives are Phi d/dPhi
     out[25] += inv * (d[12] * im + d[15] * u + d[16] * w + d[17] * q)
     out[26] += inv * (d[13] * im + d[18] * u + d[19] * w + d[20] * q)
     out[27] += inv * (d[14] * ii + d[21] * u + d[22] * w + d[23] * q)
-    out[30] = d[3] + d[7] + d[11]
-    out[31] = u * cth + w * sth  # forward speed: no variations needed (nothing depends on x_e)
+    out[30] = j00 + j11 + j22 + j33  # trace J, for Liouville's formula
+    out[31] = rates[5]  # forward speed: no variations needed (nothing depends on x_e)
 
 
 @_helper
@@ -514,21 +521,15 @@ def states_at(x0, amp, n_steps, k, p, times):  # pragma: no cover - compiled
 
 @_helper
 def _add_jacobian(d, x, g, weight, total):  # pragma: no cover - compiled
-    """total += weight J, with J the Jacobian of eq. (2) + eq. (29)'s loads at x (eqs. 44-47)."""
-    u, w, q, th = x[0], x[1], x[2], x[3]
-    sth, cth = math.sin(th), math.cos(th)
-    total[0, 0] += weight * d[3]
-    total[0, 1] += weight * (d[4] - q)
-    total[0, 2] += weight * (d[5] - w)
-    total[0, 3] += weight * (-g * cth)
-    total[1, 0] += weight * (d[6] + q)
-    total[1, 1] += weight * d[7]
-    total[1, 2] += weight * (d[8] + u)
-    total[1, 3] += weight * (-g * sth)
-    total[2, 0] += weight * d[9]
-    total[2, 1] += weight * d[10]
-    total[2, 2] += weight * d[11]
-    total[3, 2] += weight
+    """total += weight J, with J the Jacobian of eq. (2) + eq. (29)'s loads at x (eqs. 44-47):
+    the generated rigid-body part plus the derivatives."""
+    r = rigid_state_jac(x[0], x[1], x[2], x[3], g)
+    for i in range(4):
+        for j in range(4):
+            entry = r[4 * i + j]
+            if i < 3 and j < 3:
+                entry = entry + d[3 + 3 * i + j]
+            total[i, j] += weight * entry
 
 
 @_jit
@@ -571,9 +572,9 @@ def orbit_quadrature(x0, amp, k, p, nodes, weights, min_steps):  # pragma: no co
             derivatives(phi, phidot, absphidot, sphi, cphi, s2phi, c2phi, k, d)
             weight = h * weights[i]
             _add_jacobian(d, y, p[0], weight, total)
-            sth, cth = math.sin(y[3]), math.cos(y[3])
-            velocity[0] += weight * (y[0] * cth + y[1] * sth)
-            velocity[1] += weight * (y[0] * sth - y[1] * cth)
+            rates = rigid_rates(y[0], y[1], y[2], y[3], 0.0)
+            velocity[0] += weight * rates[5]
+            velocity[1] += weight * -rates[4]  # climb = -down
     for i in range(4):
         for j in range(4):
             total[i, j] /= period

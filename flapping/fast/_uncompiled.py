@@ -10,7 +10,8 @@ every call when ``NUMBA_DISABLE_JIT`` is set.
 replacement, so that every number is the one the compiled code computes:
 
 - the calls between them go to the Python copies (a call to numba's dispatcher would compile);
-- the generated derivatives (:mod:`flapping.fast._generated`) are re-compiled by Python with
+- the generated derivatives (:mod:`flapping.fast._generated`) and planar equations of motion
+  (:mod:`flapping.model._inertia_generated`) are re-compiled by Python with
   each ``x**n`` written as numba writes it for an integer constant ``n``, a product of ``x``
   (Python's ``**`` calls C's ``pow``, which can differ from the product in the last bit);
 - the three LAPACK calls (``dgetrf``, ``dgesv``, ``dgeev`` through numba's bindings, which
@@ -32,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from flapping.fast import _generated
+from flapping.model import _inertia_generated
 
 
 class _Products(ast.NodeTransformer):
@@ -55,16 +57,17 @@ class _Products(ast.NodeTransformer):
         return ast.copy_location(result, node)
 
 
-@functools.lru_cache(maxsize=1)
-def generated() -> dict[str, Any]:
-    """The namespace of :mod:`flapping.fast._generated` compiled by Python with numba's powers
-    (the module's own, with Python's powers, if its source cannot be read)."""
-    path = Path(_generated.__file__)
+@functools.lru_cache(maxsize=4)
+def generated(module: types.ModuleType = _generated) -> dict[str, Any]:
+    """The namespace of a generated module (:mod:`flapping.fast._generated`, or the planar
+    equations of motion of :mod:`flapping.model._inertia_generated`) compiled by Python with
+    numba's powers (the module's own, with Python's powers, if its source cannot be read)."""
+    path = Path(module.__file__ or "")
     try:
         tree = _Products().visit(ast.parse(path.read_text(), filename=str(path)))
     except (OSError, SyntaxError, ValueError):  # e.g. installed without sources
-        return dict(vars(_generated))
-    ns: dict[str, Any] = {"__name__": _generated.__name__}
+        return dict(vars(module))
+    ns: dict[str, Any] = {"__name__": module.__name__}
     exec(compile(ast.fix_missing_locations(tree), str(path), "exec"), ns)  # noqa: S102
     return ns
 
@@ -121,7 +124,7 @@ def namespace(compiled: types.ModuleType) -> dict[str, Any]:
     """The globals of ``compiled`` (:mod:`flapping.fast._compiled`) with every function as
     plain Python calling the others' Python copies (see the module notes)."""
     ns = dict(vars(compiled))
-    gen = generated()
+    generated_modules = {m.__name__: m for m in (_generated, _inertia_generated)}
     for name, obj in vars(compiled).items():
         fn = _python_function(obj)
         if fn is None:
@@ -129,8 +132,8 @@ def namespace(compiled: types.ModuleType) -> dict[str, Any]:
         if fn.__module__ == compiled.__name__:
             ns[name] = types.FunctionType(fn.__code__, ns, fn.__name__, fn.__defaults__,
                                           fn.__closure__)
-        elif fn.__module__ == _generated.__name__:
-            ns[name] = gen[fn.__name__]
+        elif fn.__module__ in generated_modules:
+            ns[name] = generated(generated_modules[fn.__module__])[fn.__name__]
     ns["_det_is_zero"] = _det_is_zero
     ns["_solve_negated"] = _solve_negated
     ns["eigenvalues"] = functools.partial(_eigenvalues, ns)

@@ -8,11 +8,12 @@ literature, each number with its source) and ``insect_file`` (an insect from a T
 nonlinear in the body states; the trim of eq. 40; the K constants of the linearised loads) ->
 ``derivation`` (SymPy, at derive time only: the stability derivatives, generated into
 ``_derivatives_generated``) -> ``derivatives`` (the time-periodic stability derivatives
-X0..Mq(t), from the generated code) -> ``inertia_derivation`` / ``inertia`` (the wings' inertial
-loads, planar) -> ``dynamics`` (eq. 2/29 as ``rhs(t, x)`` and ``jac(t, x)``) ->
-``sixdof_derivation`` (SymPy: the insect in six degrees of freedom, strip kinematics, load
-assembly and equations of motion, generated into ``_sixdof_generated``) -> ``sixdof``
-(:class:`~flapping.model.sixdof.SixDofDynamics`).
+X0..Mq(t), from the generated code) -> ``sixdof_derivation`` (SymPy: the insect in six degrees of
+freedom, strip kinematics, load assembly and equations of motion: the package's one derivation
+of the mechanics) -> ``inertia_derivation`` (its planar case, with and without wing mass,
+generated into ``_inertia_generated``, which every planar path runs) / ``inertia`` (the wings'
+inertial loads, planar) -> ``dynamics`` (eq. 2/29 as ``rhs(t, x)`` and ``jac(t, x)``) ->
+``_sixdof_generated`` -> ``sixdof`` (:class:`~flapping.model.sixdof.SixDofDynamics`).
 
 Conventions: SI units and radians throughout; degrees and millimetres only at the edges (tables,
 CLI). Public functions and constructors check their arguments once, through

@@ -109,3 +109,14 @@ def euler_rates(u, v, w, p, q, r, roll, theta):
     c0 = math.sin(roll)
     c1 = math.cos(roll)
     return (p + (c0*q + c1*r)*math.tan(theta), -c0*r + c1*q,)
+
+
+def earth_velocity(u, v, w, p, q, r, roll, theta):
+    """(forward, right, down) velocity in the earth frame at zero heading."""
+    c0 = math.cos(theta)
+    c1 = math.sin(theta)
+    c2 = math.sin(roll)
+    c3 = c2*v
+    c4 = math.cos(roll)
+    c5 = c4*w
+    return (c0*u + c1*c3 + c1*c5, -c2*w + c4*v, c0*c3 + c0*c5 - c1*u,)

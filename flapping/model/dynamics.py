@@ -8,6 +8,11 @@ pitch angle [rad], nose-up positive. Rigid body, wing inertia neglected (eq. 2):
     q' =  M / I_y
     theta' = q
 
+These equations, and those with the wings' mass, are not written here: they are the planar case
+of the six-degree-of-freedom derivation (:mod:`flapping.model.sixdof_derivation`), restricted in
+:mod:`flapping.model.inertia_derivation` and printed into ``_inertia_generated`` (``rigid_rates``,
+``rigid_state_jac``; ``mass_matrix``, ``forcing`` with wing mass), which every planar path runs.
+
 The aerodynamic loads (X, Z, M) come from one of three models:
 
 ``"linear"``
@@ -41,6 +46,7 @@ import numpy as np
 import flapping._numdiff as _numdiff
 import flapping._validation as _validation
 from flapping.model import _derivatives_generated as _gen
+from flapping.model import _inertia_generated as _mechanics
 from flapping.model.aerodynamics import (
     AeroConstants,
     BladeElementModel,
@@ -155,8 +161,8 @@ def inertial_velocity(u: float, w: float, theta: float) -> tuple[float, float]:
         If an argument is not a finite real number (named in the message).
     """
     _check_velocity_args(u, w, theta)
-    c, s = math.cos(theta), math.sin(theta)
-    return u * c + w * s, -u * s + w * c
+    rates = _mechanics.rigid_rates(u, w, 0.0, theta, 0.0)
+    return rates[5], rates[4]
 
 
 def inertial_velocity_jac(u: float, w: float, theta: float) -> np.ndarray:
@@ -180,8 +186,8 @@ def inertial_velocity_jac(u: float, w: float, theta: float) -> np.ndarray:
         If an argument is not a finite real number (named in the message).
     """
     _check_velocity_args(u, w, theta)
-    c, s = math.cos(theta), math.sin(theta)
-    return np.array([[c, s, 0.0, -u * s + w * c], [-s, c, 0.0, -u * c - w * s]])
+    jac = np.reshape(_mechanics.rigid_state_jac(u, w, 0.0, theta, 0.0), (6, 4))
+    return np.array(jac[[5, 4]], dtype=float)
 
 
 class UncheckedCalls(NamedTuple):
@@ -412,12 +418,9 @@ class LongitudinalDynamics:
             acc = self._inertia._accelerations(self._phase(t, amplitude), (u, w, q, theta),
                                               (X, Z, M))
             return np.array([acc[0], acc[1], acc[2], q])
-        return np.array([
-            -q * w - g * math.sin(theta) + X / c.m,
-            q * u + g * math.cos(theta) + Z / c.m,
-            M / c.Iy,
-            q,
-        ])
+        # The generated eq. (2) at zero load, plus the loads over diag(m, m, I_y).
+        rates = _mechanics.rigid_rates(u, w, q, theta, g)
+        return np.array([rates[0] + X / c.m, rates[1] + Z / c.m, rates[2] + M / c.Iy, rates[3]])
 
     def _jac(self, t: float, x: Sequence[float] | np.ndarray, stroke: float | None = None,
              amplitude: float | None = None) -> np.ndarray:
@@ -445,14 +448,8 @@ class LongitudinalDynamics:
                                                loads_jac)
             J[3, 2] = 1.0
             return J
-        J[:3, :3] = aero
-        J[0, 1] -= q
-        J[0, 2] -= w
-        J[0, 3] = -g * math.cos(theta)
-        J[1, 0] += q
-        J[1, 2] += u
-        J[1, 3] = -g * math.sin(theta)
-        J[3, 2] = 1.0
+        J[:, :] = np.reshape(_mechanics.rigid_state_jac(u, w, q, theta, g), (6, 4))[:4]
+        J[:3, :3] += aero
         return J
 
     def _amplitude_jac(self, t: float, x: Sequence[float] | np.ndarray,

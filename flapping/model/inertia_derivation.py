@@ -2,8 +2,9 @@
 
 The paper's eq. (2) treats the insect as one rigid body: massless wings. Real wings are not
 (a hawkmoth's pair weighs ~6 % of its body), and flapping them shakes the body every stroke. This
-module derives, by computer algebra, the longitudinal equations of motion of a rigid body carrying
-two wings whose motion relative to the body is prescribed (the stroke angle phi(t)):
+module gives the longitudinal equations of motion of a rigid body carrying two wings whose motion
+relative to the body is prescribed (the stroke angle phi(t)), as the special case of the
+six-degree-of-freedom derivation (:mod:`flapping.model.sixdof_derivation`) in the plane:
 
 1. the body frame: x forward, z down, y to the right wing; the reference point O is the body's own
    centre of gravity (the states u, w, q, theta describe the body, as in eq. 2);
@@ -25,7 +26,14 @@ two wings whose motion relative to the body is prescribed (the stroke angle phi(
 phi_ddot) as plain Python into ``flapping/model/_inertia_generated.py``, committed; a test checks
 that regenerating it gives the same text. Importing :mod:`flapping` never runs this derivation.
 
-Layering: imports nothing of the model (SymPy only).
+The derivation itself is :mod:`flapping.model.sixdof_derivation`'s (the insect in six degrees of
+freedom): this module restricts it to the plane of symmetry (v = p = r = roll = 0, both wings
+alike) and prints the planar equations of motion that every planar path runs: with wing mass
+(A and F, and their derivatives), and without (:func:`rigid_body`, the paper's eq. 2, with the
+pitch angle's rate and the earth-frame velocity). Nothing of the equations of motion is written
+by hand anywhere else in the package.
+
+Layering: imports :mod:`flapping.model.sixdof_derivation` only (SymPy).
 """
 
 from __future__ import annotations
@@ -36,8 +44,10 @@ from functools import lru_cache
 import sympy as sp
 import sympy.core.random as sympy_random
 
-__all__ = ["InertiaSymbols", "inertia_symbols", "equations_of_motion", "generate_source",
-           "CONSTANT_NAMES"]
+from flapping.model import sixdof_derivation
+
+__all__ = ["InertiaSymbols", "inertia_symbols", "equations_of_motion", "rigid_body",
+           "generate_source", "CONSTANT_NAMES"]
 
 #: Order of the constants tuple ``k`` of the generated functions.
 CONSTANT_NAMES: tuple[str, ...] = ("m", "I_b", "m_w", "A1", "A2", "x_h", "h_w", "g")
@@ -83,64 +93,42 @@ def inertia_symbols() -> InertiaSymbols:
     )
 
 
-def _cross(a: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
-    return a.cross(b)
-
-
-def _wing_integral(expr: sp.Expr, rho: sp.Symbol, m_w: sp.Expr, a1: sp.Expr,
-                   a2: sp.Expr) -> sp.Expr:
-    """int over one wing of expr dm, expr a polynomial of degree <= 2 in the span position rho."""
-    poly = sp.Poly(sp.expand(expr), rho)
-    moments = {0: m_w, 1: a1 / 2, 2: a2 / 2}
-    total = sp.Integer(0)
-    for (power,), coefficient in poly.terms():
-        if power not in moments:
-            raise AssertionError(f"wing integrand of degree {power} in rho")  # cannot happen
-        total += coefficient * moments[power]
-    return total
+def _planar() -> dict[sp.Symbol, sp.Expr]:
+    """The substitution that restricts the six-dof derivation to the plane of symmetry."""
+    six = sixdof_derivation.sixdof_symbols()
+    s = inertia_symbols()
+    u, v, w, p, q, r, roll, theta = six.states
+    const = dict(zip(sixdof_derivation.CONSTANT_NAMES, six.constants, strict=True))
+    lateral = {v: 0, p: 0, r: 0, roll: 0, const["y_w"]: 0}
+    lateral.update({x: 0 for x in (six.rates[1], six.rates[3], six.rates[5])})
+    lateral.update({six.loads[1]: 0, six.loads[3]: 0, six.loads[5]: 0})
+    # Same names and assumptions are the same SymPy symbols, except the body's pitch inertia.
+    lateral[const["I_y"]] = s.constants[1]
+    return lateral
 
 
 @lru_cache(maxsize=1)
 def equations_of_motion() -> tuple[sp.Matrix, sp.Matrix]:
     """The mass matrix A (3 x 3) and the forcing F (3 x 1) of A x_dot = (X, Z, M) + F.
 
+    The rows (u, w, q) of :func:`flapping.model.sixdof_derivation.equations_of_motion` in the
+    plane of symmetry (v = p = r = roll = 0, both wings alike, roots on the plane of symmetry).
+    There the longitudinal rows do not involve the lateral accelerations (checked here: the
+    restriction raises otherwise).
+
     Returns
     -------
     A, F : sympy.Matrix
         In the symbols of :func:`inertia_symbols`; x_dot = (u_dot, w_dot, q_dot).
     """
-    s = inertia_symbols()
-    u, w, q, theta = s.states
-    u_dot, w_dot, q_dot = s.rates
-    m, i_b, m_w, a1, a2, x_h, h_w, g = s.constants
-    t, rho = sp.symbols("t rho", real=True)
-    phi_t = sp.Function("phi", real=True)(t)
-
-    omega = sp.Matrix([0, q, 0])
-    omega_dot = sp.Matrix([0, q_dot, 0])
-    velocity = sp.Matrix([u, 0, w])
-    a_origin = sp.Matrix([u_dot, 0, w_dot]) + _cross(omega, velocity)
-    gravity = g * sp.Matrix([-sp.sin(theta), 0, sp.cos(theta)])
-
-    force = (m - 2 * m_w) * (a_origin - gravity)      # the body, its CG at O
-    moment_y = i_b * q_dot                              # the body's pitch about its own CG
-    for side in (1, -1):
-        r = sp.Matrix([x_h + rho * sp.sin(phi_t), side * rho * sp.cos(phi_t), -h_w])
-        r_dot, r_ddot = r.diff(t), r.diff(t, 2)
-        accel = (a_origin + _cross(omega_dot, r) + _cross(omega, _cross(omega, r))
-                 + 2 * _cross(omega, r_dot) + r_ddot)
-        net = accel - gravity                           # per unit mass: m a - m g
-        phase = {phi_t.diff(t, 2): s.kinematics[2], phi_t.diff(t): s.kinematics[1],
-                 phi_t: s.kinematics[0]}
-        net = net.subs(phase)
-        torque_y = _cross(r.subs(phase), net)[1]
-        force += sp.Matrix([_wing_integral(net[i], rho, m_w, a1, a2) for i in range(3)])
-        moment_y += _wing_integral(torque_y, rho, m_w, a1, a2)
-
-    X, Z, M = s.loads
-    residual = [sp.expand(force[0] - X), sp.expand(force[2] - Z), sp.expand(moment_y - M)]
-    A, b = sp.linear_eq_to_matrix(residual, list(s.rates))
-    forcing = (b - sp.Matrix(list(s.loads))).applyfunc(sp.expand)
+    A6, F6 = sixdof_derivation.equations_of_motion()
+    planar = _planar()
+    rows, lateral = (0, 2, 4), (1, 3, 5)
+    coupling = [sp.simplify(A6[i, j].subs(planar)) for i in rows for j in lateral]
+    if any(c != 0 for c in coupling):
+        raise AssertionError(f"longitudinal rows couple to lateral rates: {coupling}")
+    A = sp.Matrix(3, 3, lambda i, j: sp.expand(A6[rows[i], rows[j]].subs(planar)))
+    forcing = sp.Matrix([sp.expand(F6[i].subs(planar)) for i in rows])
     # simplify's factorisation (Wang's algorithm) draws random evaluation points from SymPy's
     # unseeded generator: the result is unique, but an unlucky draw once ran for over 20
     # minutes (a CI run) where the derivation takes ~3 s. A fixed seed makes the path, and the
@@ -153,15 +141,52 @@ def equations_of_motion() -> tuple[sp.Matrix, sp.Matrix]:
         sympy_random.rng.setstate(state)
 
 
-def _printed(name: str, args: str, doc: str, exprs: list[sp.Expr]) -> list[str]:
+@lru_cache(maxsize=1)
+def rigid_body() -> tuple[sp.Matrix, sp.Matrix]:
+    """The planar rigid-body equations (massless wings, the paper's eq. 2) without the loads.
+
+    With m_w = A1 = A2 = 0 the mass matrix is diag(m, m, I_b), so the rates are
+    (X / m, Z / m, M / I_b, 0, 0, 0) plus what this returns: the rates at zero aerodynamic
+    load, with the pitch angle's rate and the earth-frame velocity (forward, down) of the
+    six-dof derivation in the plane. The loads are added by the caller in the form its
+    aerodynamic model gives them (eq. 29's derivatives come per unit mass and inertia).
+
+    Returns
+    -------
+    rates : sympy.Matrix
+        (u_dot, w_dot, q_dot, theta_dot, down, forward) at zero load, 6 x 1, in u, w, q, theta
+        and g.
+    jacobian : sympy.Matrix
+        d rates / d(u, w, q, theta), 6 x 4.
+    """
+    s = inertia_symbols()
+    m, i_b, m_w, a1, a2 = s.constants[:5]
+    A, F = equations_of_motion()
+    massless = {m_w: 0, a1: 0, a2: 0}
+    if A.subs(massless) != sp.diag(m, m, i_b):
+        raise AssertionError("massless wings must leave diag(m, m, I_b)")  # cannot happen
+    accel = A.subs(massless).LUsolve(F.subs(massless)).applyfunc(sp.simplify)
+    planar = _planar()
+    theta_dot = sixdof_derivation.euler_rates()[1].subs(planar)
+    forward, _, down = (x.subs(planar) for x in sixdof_derivation.earth_velocity())
+    rates = sp.Matrix([*accel, theta_dot, down, forward])
+    return rates, rates.jacobian(sp.Matrix(s.states))
+
+
+def _printed(name: str, args: str, doc: str, exprs: list[sp.Expr],
+             floats: bool = False) -> list[str]:
     """Lines of one generated function returning ``exprs`` (common subexpressions shared)."""
     s = inertia_symbols()
     replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("c"))
     lines = [f"def {name}({args}):", f'    """{doc}"""']
-    lines.append("    " + ", ".join(str(c) for c in s.constants) + " = k")
+    if args.endswith(", k"):
+        lines.append("    " + ", ".join(str(c) for c in s.constants) + " = k")
     for symbol, expr in replacements:
         lines.append(f"    {symbol} = {sp.pycode(expr, fully_qualified_modules=True)}")
-    body = ", ".join(sp.pycode(e, fully_qualified_modules=True) for e in reduced)
+    # Whole-number entries as floats in the massless functions, so that numba types their
+    # tuples as homogeneous (indexable in a loop); A's entries keep SymPy's printing.
+    body = ", ".join(f"{float(e)!r}" if floats and e.is_Integer
+                     else sp.pycode(e, fully_qualified_modules=True) for e in reduced)
     lines.append(f"    return ({body},)")
     return lines
 
@@ -173,10 +198,12 @@ def generate_source() -> str:
     -------
     str
         Python source: ``mass_matrix``, ``forcing``, ``forcing_state_jac``,
-        ``mass_matrix_phi_jac`` and ``forcing_kinematic_jac`` (row-major tuples).
+        ``mass_matrix_phi_jac``, ``forcing_kinematic_jac``, ``rigid_rates`` and
+        ``rigid_state_jac`` (row-major tuples).
     """
     s = inertia_symbols()
     A, F = equations_of_motion()
+    rates, jac = rigid_body()
     phi, phi_dot, phi_ddot = s.kinematics
     states, kin = list(s.states), list(s.kinematics)
     a_entries = [A[i, j] for i in range(3) for j in range(3)]
@@ -192,12 +219,19 @@ def generate_source() -> str:
         ("forcing_kinematic_jac", "phi, phi_dot, phi_ddot, u, w, q, theta, k",
          "dF/d(phi, phi_dot, phi_ddot), row-major (9 values).",
          [sp.diff(F[i], x) for i in range(3) for x in kin]),
+        ("rigid_rates", "u, w, q, theta, g",
+         "(u_dot, w_dot, q_dot, theta_dot, down, forward) of eq. 2 at zero load (6 values).",
+         list(rates), True),
+        ("rigid_state_jac", "u, w, q, theta, g",
+         "d rigid_rates / d(u, w, q, theta), row-major (24 values).",
+         [jac[i, j] for i in range(6) for j in range(4)], True),
     ]
     del phi_dot, phi_ddot
     out = ['"""Generated by flapping.model.inertia_derivation.generate_source(): do not edit.',
-           "", "The wings' inertial loads (mass matrix A and forcing F); constants k in the order",
-           "of :data:`flapping.model.inertia_derivation.CONSTANT_NAMES`.", '"""', "",
+           "", "The planar equations of motion: with the wings' mass (mass matrix A and forcing F;",
+           "constants k in the order of :data:`flapping.model.inertia_derivation.CONSTANT_NAMES`)",
+           "and without (rigid_rates).", '"""', "",
            "import math", ""]
-    for name, args, doc, exprs in functions:
-        out += ["", *_printed(name, args, doc, exprs), ""]
+    for name, args, doc, exprs, *floats in functions:
+        out += ["", *_printed(name, args, doc, exprs, *floats), ""]
     return "\n".join(out).rstrip() + "\n"

@@ -27,19 +27,26 @@ everything the six-degree-of-freedom model needs that is geometry and mechanics,
    T0 = int F_t, T1 = int rho F_t, Tc = int c F_t, N0, N1, Nc likewise of F_n, and Q = int tau
    (:func:`wing_loads`).
 5. **Equations of motion.** Newton's and Euler's laws for the body and the two wings, whose mass
-   lies on their span lines (as in :mod:`flapping.model.inertia_derivation`): the absolute
+   lies on their span lines (its chordwise mass moments and the feathering rotation are
+   neglected: they are second order in the chord): the absolute
    acceleration of a wing element, a = a_O + Omega_dot x r + Omega x (Omega x r)
    + 2 Omega x r_dot + r_ddot, is integrated over each wing through its mass moments. The
    result is linear in the accelerations:
    A(phi) (u_dot, v_dot, w_dot, p_dot, q_dot, r_dot) = (X, Y, Z, L, M, N) + F.
    Massless wings give A = diag(m, m, m, inertia tensor) and the rigid-body equations.
+6. **Kinematics of the attitude and the path.** The 3-2-1 Euler angle rates (roll, theta) from
+   (p, q, r), and the velocity in the earth frame (x north, z down; heading zero, since it does
+   not feed back), whose vertical component the hover condition holds at zero mean.
 
 :func:`generate_source` prints these as plain Python (math only, common subexpressions shared) into
 ``flapping/model/_sixdof_generated.py``, committed; a test regenerates it and compares the text.
 Importing :mod:`flapping` never runs this derivation.
 
-Layering: SymPy, and the planar wing-inertia derivation's integral over a wing
-(:mod:`flapping.model.inertia_derivation`).
+The planar model is this derivation's special case: :mod:`flapping.model.inertia_derivation`
+restricts it to the plane of symmetry (v = p = r = roll = 0) and prints the planar equations of
+motion, with and without wing mass, that every planar path of the package runs.
+
+Layering: imports nothing of the model (SymPy only).
 """
 
 from __future__ import annotations
@@ -49,11 +56,9 @@ from functools import lru_cache
 
 import sympy as sp
 
-from flapping.model.inertia_derivation import _wing_integral  # the planar derivation's
-
 __all__ = ["STATE_NAMES", "CONSTANT_NAMES", "RESULTANT_NAMES", "SixDofSymbols", "sixdof_symbols",
            "strip_kinematics", "wing_loads", "equations_of_motion", "euler_rates",
-           "generate_source"]
+           "earth_velocity", "wing_integral", "generate_source"]
 
 #: The eight states that feed back, in order (heading and position do not).
 STATE_NAMES: tuple[str, ...] = ("u", "v", "w", "p", "q", "r", "roll", "theta")
@@ -109,6 +114,23 @@ def sixdof_symbols() -> SixDofSymbols:
 
 #: The two wings: name and side (+1 right, -1 left).
 SIDES: tuple[tuple[str, int], ...] = (("R", 1), ("L", -1))
+
+
+def wing_integral(expr: sp.Expr, rho: sp.Symbol, m_w: sp.Expr, a1: sp.Expr,
+                  a2: sp.Expr) -> sp.Expr:
+    """int over one wing of expr dm, expr a polynomial of degree <= 2 in the span position rho.
+
+    The wing's mass lies on its span line: int dm = m_w, int rho dm = A1 / 2 and
+    int rho^2 dm = A2 / 2 (A1, A2 of the pair).
+    """
+    poly = sp.Poly(sp.expand(expr), rho)
+    moments = {0: m_w, 1: a1 / 2, 2: a2 / 2}
+    total = sp.Integer(0)
+    for (power,), coefficient in poly.terms():
+        if power not in moments:
+            raise AssertionError(f"wing integrand of degree {power} in rho")  # cannot happen
+        total += coefficient * moments[power]
+    return total
 
 
 def _frame(phi: sp.Expr, side: int) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
@@ -239,8 +261,8 @@ def equations_of_motion() -> tuple[sp.Matrix, sp.Matrix]:
                  + 2 * Omega.cross(r_dot) + r_ddot)
         net = (accel - gravity).subs(phase)                 # per unit mass: a - g
         torque = r.subs(phase).cross(net)
-        force += sp.Matrix([_wing_integral(net[i], s.rho, m_w, a1, a2) for i in range(3)])
-        moment += sp.Matrix([_wing_integral(torque[i], s.rho, m_w, a1, a2) for i in range(3)])
+        force += sp.Matrix([wing_integral(net[i], s.rho, m_w, a1, a2) for i in range(3)])
+        moment += sp.Matrix([wing_integral(torque[i], s.rho, m_w, a1, a2) for i in range(3)])
     residual = [sp.expand(x - load) for x, load in zip(list(force) + list(moment), s.loads,
                                                          strict=True)]
     A, b = sp.linear_eq_to_matrix(residual, list(s.rates))
@@ -255,6 +277,23 @@ def euler_rates() -> tuple[sp.Expr, sp.Expr]:
     p, q, r, roll, theta = s.states[3:]
     return (p + (q * sp.sin(roll) + r * sp.cos(roll)) * sp.tan(theta),
             q * sp.cos(roll) - r * sp.sin(roll))
+
+
+@lru_cache(maxsize=1)
+def earth_velocity() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+    """The body's velocity in the earth frame (x forward at zero heading, y right, z down).
+
+    The body-to-earth rotation of 3-2-1 Euler angles with the heading set to zero (it does not
+    feed back into anything), applied to (u, v, w).
+    """
+    s = sixdof_symbols()
+    roll, theta = s.states[6:]
+    V, _ = _body_rates()
+    c_roll, s_roll = sp.cos(roll), sp.sin(roll)
+    c_th, s_th = sp.cos(theta), sp.sin(theta)
+    pitch = sp.Matrix([[c_th, 0, s_th], [0, 1, 0], [-s_th, 0, c_th]])
+    bank = sp.Matrix([[1, 0, 0], [0, c_roll, -s_roll], [0, s_roll, c_roll]])
+    return tuple(sp.expand(x) for x in pitch * bank * V)  # type: ignore[return-value]
 
 
 def _printed(name: str, args: str, doc: str, exprs: list[sp.Expr], unpack: str = "") -> list[str]:
@@ -278,7 +317,7 @@ def generate_source() -> str:
     str
         Python source: ``strip_kinematics`` (per wing U0, U1, W0, W1, Omega_k; right then left),
         ``wing_loads`` (X, Y, Z, L, M, N from the 14 span integrals), ``mass_matrix`` (36 values,
-        row-major), ``forcing`` (6) and ``euler_rates`` (2).
+        row-major), ``forcing`` (6), ``euler_rates`` (2) and ``earth_velocity`` (3).
     """
     s = sixdof_symbols()
     states = ", ".join(str(x) for x in s.states)
@@ -299,6 +338,9 @@ def generate_source() -> str:
          list(F), constants),
         ("euler_rates", f"{states}", "(roll_dot, theta_dot) of the 3-2-1 Euler angles.",
          list(euler_rates()), ""),
+        ("earth_velocity", f"{states}",
+         "(forward, right, down) velocity in the earth frame at zero heading.",
+         list(earth_velocity()), ""),
     ]
     out = ['"""Generated by flapping.model.sixdof_derivation.generate_source(): do not edit.',
            "", "The insect in six degrees of freedom: strip kinematics, load assembly, equations",

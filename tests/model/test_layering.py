@@ -9,8 +9,8 @@ import flapping.model
 
 #: The order of the package docstring: a module may import only the ones before it.
 ORDER = ["kinematics", "morphology", "presets", "insect_file", "aerodynamics", "derivation",
-         "_derivatives_generated", "derivatives", "inertia_derivation", "_inertia_generated",
-         "inertia", "dynamics", "sixdof_derivation", "_sixdof_generated", "sixdof"]
+         "_derivatives_generated", "derivatives", "sixdof_derivation", "inertia_derivation",
+         "_inertia_generated", "inertia", "dynamics", "_sixdof_generated", "sixdof"]
 PACKAGE = Path(flapping.model.__file__).parent
 
 
