@@ -85,3 +85,15 @@ def test_no_module_writes_the_equations_of_motion_by_hand(module):
     hand = {"q*w", "q*u", "w*q", "u*q", "u*cth", "w*sth", "u*sth", "w*cth", "g*sth", "g*cth",
             "u*st", "w*ct", "g*st", "g*ct"}
     assert not _products(ROOT / module) & hand
+
+
+def test_the_force_budgets_named_terms_add_up_to_the_generated_equations():
+    # The hover chapter's budget names eq. (2)'s terms one by one (for its table): over a period
+    # of the orbit each equation's terms must average to zero (the states are periodic), which
+    # holds only if the named terms are the equations the solver ran (the generated ones).
+    from flapping.hover.orbit import force_budget
+
+    budget = force_budget(flapping.find_hover_orbit(flapping.hawkmoth()), n_samples=4000)
+    scale = max(abs(v) for terms in budget.values() for v in terms.values())  # ~ g
+    for equation, terms in budget.items():
+        assert abs(sum(terms.values())) <= 1e-6 * scale, (equation, terms)
