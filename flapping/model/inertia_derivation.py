@@ -207,18 +207,18 @@ def generate_source() -> str:
     phi, phi_dot, phi_ddot = s.kinematics
     states, kin = list(s.states), list(s.kinematics)
     a_entries = [A[i, j] for i in range(3) for j in range(3)]
-    functions = [
-        ("mass_matrix", "phi, k", "A of A x_dot = loads + F, row-major (9 values).", a_entries),
+    functions: list[tuple[str, str, str, list[sp.Expr], bool]] = [
+        ("mass_matrix", "phi, k", "A of A x_dot = loads + F, row-major (9 values).", a_entries, False),
         ("forcing", "phi, phi_dot, phi_ddot, u, w, q, theta, k",
-         "F of A x_dot = loads + F (3 values).", list(F)),
+         "F of A x_dot = loads + F (3 values).", list(F), False),
         ("forcing_state_jac", "phi, phi_dot, phi_ddot, u, w, q, theta, k",
          "dF/d(u, w, q, theta), row-major (12 values).",
-         [sp.diff(F[i], x) for i in range(3) for x in states]),
+         [sp.diff(F[i], x) for i in range(3) for x in states], False),
         ("mass_matrix_phi_jac", "phi, k", "dA/dphi, row-major (9 values).",
-         [sp.diff(e, phi) for e in a_entries]),
+         [sp.diff(e, phi) for e in a_entries], False),
         ("forcing_kinematic_jac", "phi, phi_dot, phi_ddot, u, w, q, theta, k",
          "dF/d(phi, phi_dot, phi_ddot), row-major (9 values).",
-         [sp.diff(F[i], x) for i in range(3) for x in kin]),
+         [sp.diff(F[i], x) for i in range(3) for x in kin], False),
         ("rigid_rates", "u, w, q, theta, g",
          "(u_dot, w_dot, q_dot, theta_dot, down, forward) of eq. 2 at zero load (6 values).",
          list(rates), True),
@@ -232,6 +232,6 @@ def generate_source() -> str:
            "constants k in the order of :data:`flapping.model.inertia_derivation.CONSTANT_NAMES`)",
            "and without (rigid_rates).", '"""', "",
            "import math", ""]
-    for name, args, doc, exprs, *floats in functions:
-        out += ["", *_printed(name, args, doc, exprs, *floats), ""]
+    for name, args, doc, exprs, floats in functions:
+        out += ["", *_printed(name, args, doc, exprs, floats), ""]
     return "\n".join(out).rstrip() + "\n"

@@ -293,7 +293,8 @@ def earth_velocity() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     c_th, s_th = sp.cos(theta), sp.sin(theta)
     pitch = sp.Matrix([[c_th, 0, s_th], [0, 1, 0], [-s_th, 0, c_th]])
     bank = sp.Matrix([[1, 0, 0], [0, c_roll, -s_roll], [0, s_roll, c_roll]])
-    return tuple(sp.expand(x) for x in pitch * bank * V)  # type: ignore[return-value]
+    forward, right, down = (sp.expand(x) for x in pitch * bank * V)
+    return forward, right, down
 
 
 def _printed(name: str, args: str, doc: str, exprs: list[sp.Expr], unpack: str = "") -> list[str]:
