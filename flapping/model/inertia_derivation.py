@@ -208,7 +208,8 @@ def generate_source() -> str:
     states, kin = list(s.states), list(s.kinematics)
     a_entries = [A[i, j] for i in range(3) for j in range(3)]
     functions: list[tuple[str, str, str, list[sp.Expr], bool]] = [
-        ("mass_matrix", "phi, k", "A of A x_dot = loads + F, row-major (9 values).", a_entries, False),
+        ("mass_matrix", "phi, k", "A of A x_dot = loads + F, row-major (9 values).",
+         a_entries, False),
         ("forcing", "phi, phi_dot, phi_ddot, u, w, q, theta, k",
          "F of A x_dot = loads + F (3 values).", list(F), False),
         ("forcing_state_jac", "phi, phi_dot, phi_ddot, u, w, q, theta, k",
