@@ -1,6 +1,7 @@
 """CFD derivatives as data and our model on their insect (flapping.studies.cfd, issue 28)."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -97,6 +98,15 @@ def test_the_unattributed_table_is_kept_out():
     assert cfd.UNATTRIBUTED and all("why" in t for t in cfd.UNATTRIBUTED)
     for s in cfd.STUDIES.values():
         assert s.derivatives["Xu"].value != -1.28
+
+
+def test_searched_studies_are_cited_kept_out_and_say_why():
+    bib = (Path(__file__).resolve().parents[1] / "book" / "references.bib").read_text()
+    assert cfd.SEARCHED
+    for key, entry in cfd.SEARCHED.items():
+        assert f"{{{key}," in bib, key
+        assert key not in cfd.STUDIES
+        assert entry["insect"] and entry["found"] and entry["why"]
 
 
 def test_mode_summary_reads_the_leading_mode():

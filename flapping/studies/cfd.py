@@ -54,7 +54,11 @@ What the sources give and what they do not (2026-12-03):
   morphology gives (6 % apart at rho = 1.225: their density and wing area were not read).
 - Sun, Wang & Xiong (2007, hoverfly, cranefly, dronefly, hawkmoth), Taha, Hajj & Nayfeh (2014,
   the hawkmoth QS-versus-CFD comparison) and Gao et al. (2009): their tables were not found in the
-  stored sources; they are not in :data:`STUDIES`.
+  stored sources; they are not in :data:`STUDIES`. A second, wider search (2026-12-03, branch
+  cfdmore; :data:`SEARCHED` lists each study, what its stored pages show and why it is left out)
+  found no further table: the stored full-text pages of these papers are excerpted from their
+  beginning (title, abstract, introduction), so only their abstracts and the two J. Exp. Biol.
+  table pages above could be read.
 
 What the evidence supports (Sun & Xiong's bumblebee; tests/test_cfd.py checks each statement):
 the term that decides the mode type is M_u+, the pitch moment per forward speed. Swapped alone
@@ -107,6 +111,7 @@ __all__ = [
     "CFDStudy",
     "STUDIES",
     "UNATTRIBUTED",
+    "SEARCHED",
     "study",
     "mode_summary",
     "identify_mass_and_inertia",
@@ -381,9 +386,72 @@ UNATTRIBUTED: tuple[Mapping[str, Any], ...] = (
         "why": "paper and insect not established; one term missing, so its modes cannot be "
                "checked. A guess, not used: Sun & Wang (2007, J. Exp. Biol. 210:2714, model "
                "hoverfly), whose summary speaks of 'stability and control derivatives' where Sun "
-               "& Xiong's speaks of 'aerodynamic derivatives' (the two tables' titles)",
+               "& Xiong's speaks of 'aerodynamic derivatives' (the two tables' titles). Searched "
+               "again (branch cfdmore): no stored page repeats these numbers or names the "
+               "table's paper, and no stored source gives that paper's modes as times (Sun & "
+               "Wang's summary gives mode types only). The one number found that could bear on "
+               "a hoverfly-like model insect, zhang2010's abstract (the model dronefly's "
+               "longitudinal unstable mode doubles in about 14 wingbeats), leaves three unknowns "
+               "(the missing term, m+, I+) against one datum, so it cannot attribute the table",
     }),
 )
+
+#: Studies searched for a longitudinal derivative table and left out of :data:`STUDIES`, by
+#: {cite} key: what the stored sources show of them (read during this work) and why they are
+#: not used. None gives both a table and its modes.
+SEARCHED: Mapping[str, Mapping[str, str]] = MappingProxyType({
+    "sun2007": MappingProxyType({
+        "insect": "model insect with hoverfly data",
+        "found": "summary and introduction (jeb.biologists.org/cgi/content/full/210/15/2714, "
+                 "cob.silverchair.com article-split page): the same three modes as the "
+                 "bumblebee, one unstable oscillatory, one fast and one slow subsidence; CFD "
+                 "stability and control derivatives",
+        "why": "the derivative table is not in the stored excerpts (possibly the unattributed "
+               "table, see UNATTRIBUTED) and the summary gives mode types, not times",
+    }),
+    "sun2007acta": MappingProxyType({
+        "insect": "hoverfly, cranefly, dronefly, hawkmoth",
+        "found": "nothing of the paper itself; its result second-hand (Sci. Rep. 2025 "
+                 "introduction: the same modes as the bumblebee)",
+        "why": "no table and no modes in the stored sources",
+    }),
+    "taha2014": MappingProxyType({
+        "insect": "hawkmoth (Sun et al.'s kinematics and trim)",
+        "found": "first page (m.moam.info copy, JGCD 37(3), doi 10.2514/1.62323): QS "
+                 "derivatives by complex-step differences, for the hawkmoth with the "
+                 "kinematics and trim data of Sun et al.'s CFD, to compare with it",
+        "why": "the comparison table is not in the stored excerpt",
+    }),
+    "gao2009": MappingProxyType({
+        "insect": "hawkmoth",
+        "found": "abstract (fdocuments.net and scribd copies, J. Biomech. Sci. Eng. 4(1):105): "
+                 "CFD derivatives; a stable oscillatory, a stable fast and a stable slow "
+                 "subsidence mode, hover stable",
+        "why": "the derivative table and the modes' times are not in the stored excerpts",
+    }),
+    "wu2012": MappingProxyType({
+        "insect": "dronefly and hawkmoth",
+        "found": "abstract: Floquet against averaging; averaging valid for the dronefly only",
+        "why": "no derivative table or modes' times in the stored sources",
+    }),
+    "zhang2010": MappingProxyType({
+        "insect": "dronefly (lateral)",
+        "found": "abstract (m.moam.info copy): the longitudinal unstable mode doubles in about "
+                 "14 wingbeat periods",
+        "why": "lateral derivatives only; one longitudinal number, no table",
+    }),
+    "sun2005honeybee": MappingProxyType({
+        "insect": "honeybee",
+        "found": "abstract (from an earlier reading, see book/references.bib): the unstable "
+                 "oscillatory mode doubles in 0.11 s, 22 wingbeats of 5.1 ms",
+        "why": "no derivative table in the stored sources",
+    }),
+    "chengdeng2011": MappingProxyType({
+        "insect": "four species (quasi-steady, not CFD)",
+        "found": "abstract and first page: analytic QS damping derivatives at hover",
+        "why": "not a CFD table; no numbers in the stored excerpt",
+    }),
+})
 
 
 def study(key: str) -> CFDStudy:
