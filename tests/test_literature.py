@@ -277,6 +277,20 @@ def test_zhang_and_sun_lateral_modes_type_first():
     assert [(m.kind, m.stability) for m in r.modes] == [
         ("real", "unstable"), ("oscillatory", "stable"), ("real", "stable")]
     assert r.mode_labels[0].startswith("real, unstable: slow divergence")
+    assert r.compared_with == "hoverfly"
+
+
+def test_the_lateral_rows_agree_with_the_lateral_chapters_table():
+    # flapping.studies.lateral keeps its own records for its chapter: same sources, same verdicts
+    # and, where both state it, the same type of unstable mode.
+    from flapping.studies.lateral import PUBLISHED_LATERAL
+    ours = {r.cite: r for r in published_motion("lateral")}
+    for theirs in PUBLISHED_LATERAL:
+        r = ours[theirs.cite]
+        unstable = [kind for kind, stable in theirs.modes if not stable]
+        assert r.verdict == "unstable" and unstable
+        if unstable[0] is not None and r.mode_type is not None:
+            assert r.mode_type == unstable[0], theirs.cite
 
 
 def test_the_deciding_mode_is_among_the_stated_modes():
@@ -342,4 +356,4 @@ def test_a_mode_is_checked_and_says_its_motion_in_a_record_of_both():
 def test_as_rows_carries_the_new_columns():
     row = next(r for r in as_rows() if r["cite"] == "zhang2010")
     assert row["motion"] == "lateral" and row["methods"] == ("CFD",)
-    assert row["reading"] == "secondary" and len(row["modes"]) == 3
+    assert row["reading"] == "abstract" and len(row["modes"]) == 3

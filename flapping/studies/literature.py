@@ -411,18 +411,21 @@ def _sun_group() -> list[PublishedResult]:
                  "(references.bib).", methods=("CFD",), reading="secondary"),
         PublishedResult(
             "zhang2010", "dronefly", "CFD derivatives + averaging", "free", "unstable", "real",
-            "second-hand",
-            f"Second-hand, from {_SCIREP2025}: Sun and colleagues 'studied the lateral dynamic "
-            "flight stability of several hovering model insects (dronefly and hoverfly). They "
-            "found that the lateral motion of the insects had three natural modes: an unstable "
-            "divergence mode, a stable oscillatory mode, and a stable subsidence mode'; and "
-            f"from {_PERL2022}",
-            note="Lateral. 'Slow' and 'fast' from the project's reading list (READING.md), not "
-                 "from a text read; the paper itself not read, no numbers. Which insect of the "
-                 "two is this paper's is not established here.", motion="lateral",
+            "verified",
+            "Zhang & Sun (2010), Acta Mech. Sin. 26:175, abstract (as quoted in "
+            "flapping.studies.lateral.PUBLISHED_LATERAL): 'one unstable slow divergence mode "
+            "(mode 1), one stable slow oscillatory mode (mode 2), and one stable fast subsidence "
+            "mode (mode 3)'; 'Modes 1 and 2 mainly consist of a rotation about the horizontal "
+            "longitudinal axis (x-axis) and a side translation'; 'td, the time for initial "
+            "disturbances to double, is about 9 times the wingbeat period'",
+            note="Lateral. The abstract read by the lateral chapter's session, not re-read in "
+                 "this one; second-hand agreement in the introduction of Sci. Rep. (2025) "
+                 "s41598-025-24175-5 and in Perl et al. (2022). Sun's group's model dronefly is "
+                 "our hoverfly preset's morphology.", preset="hoverfly", motion="lateral",
             methods=("CFD",), modes=(
-                Mode("real", "unstable", "slow divergence (roll and sideways motion)"),
-                Mode("oscillatory", "stable", "slow oscillation"),
+                Mode("real", "unstable", "slow divergence, roll and side translation, doubles "
+                     "in about 9 wingbeats"),
+                Mode("oscillatory", "stable", "slow oscillation, roll and side translation"),
                 Mode("real", "stable", "fast subsidence"))),
         PublishedResult(
             "xu2013", "bumblebee", "CFD derivatives + averaging", "free", "unstable", None,
@@ -438,12 +441,13 @@ def _sun_group() -> list[PublishedResult]:
             modes=(Mode("not stated", "unstable", "roll moment from the sideways wind"),)),
         PublishedResult(
             "zhu2020", "dronefly", "CFD derivatives + averaging, 0 to 8.6 m/s", "free",
-            "unstable", None, "second-hand",
-            "Zhu, Meng & Sun (2020), Sci. Rep.: the paper's introduction read on nature.com; "
-            "the hover result as the abstract states it, recorded in references.bib by an "
-            "earlier session (PubMed 32029787): at hover the drone fly is weakly unstable, with "
-            "one unstable longitudinal and one unstable lateral mode",
-            note="The abstract not re-read in this session. Mode types and numbers not read.",
+            "unstable", None, "verified",
+            "Zhu, Meng & Sun (2020), Sci. Rep., abstract (PubMed 32029787, as quoted in "
+            "flapping.studies.lateral.PUBLISHED_LATERAL): 'At hovering flight, the motion of the "
+            "dronefly is weakly unstable owing to two unstable natural modes of motion, a "
+            "longitudinal one and a lateral one'; the paper's introduction read on nature.com",
+            note="The abstract read by the lateral chapter's session, not re-read in this one. "
+                 "Mode types and doubling times not in the abstract.", preset="hoverfly",
             motion="both", methods=("CFD",), modes=(
                 Mode("not stated", "unstable", "one longitudinal mode, weak",
                      motion="longitudinal"),
