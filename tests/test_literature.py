@@ -9,13 +9,20 @@ import pytest
 
 from flapping.studies.literature import (
     ATTITUDES,
+    METHODS,
+    MODE_KINDS,
+    MODE_STABILITIES,
     MODE_TYPES,
+    MOTIONS,
     PUBLISHED,
+    READINGS,
     STATUSES,
     VERDICTS,
+    Mode,
     PublishedResult,
     as_rows,
     published_for,
+    published_motion,
 )
 
 BIB = Path(__file__).resolve().parents[1] / "book" / "references.bib"
@@ -228,3 +235,125 @@ def test_agreement_compares_mode_types_of_unstable_results_and_verdicts_otherwis
     assert agreement(stable, "real", "stable") == "yes"
     with pytest.raises(ValueError, match="verdict"):
         agreement(sun, "real", "maybe")
+
+
+# ------------------------------------------------------------------ motion, method, modes, reading
+
+
+def test_labels_are_in_their_sets_and_no_row_is_there_twice():
+    seen = set()
+    for r in PUBLISHED:
+        assert r.motion in MOTIONS and r.reading in READINGS
+        assert r.methods and set(r.methods) <= set(METHODS), r.methods
+        for m in r.modes:
+            assert m.kind in MODE_KINDS and m.stability in MODE_STABILITIES
+            assert m.motion in (None, "longitudinal", "lateral")
+        key = (r.cite, r.species, r.motion)
+        assert key not in seen, f"row {key} twice"
+        seen.add(key)
+
+
+def test_the_referees_missing_studies_are_in_the_table():
+    cites = {r.cite for r in PUBLISHED}
+    assert {"liang2013", "gao2011", "faruque2010a", "faruque2010b", "zhang2010", "xu2013",
+            "zhu2020", "perl2022"} <= cites
+
+
+def test_lateral_rows_are_found_by_the_filter_and_both_rows_by_either():
+    lateral = published_motion("lateral")
+    longitudinal = published_motion("longitudinal")
+    assert all(r.is_lateral for r in lateral)
+    assert not any(r.motion == "lateral" for r in longitudinal)
+    both = [r for r in PUBLISHED if r.motion == "both"]
+    assert both and all(r in lateral and r in longitudinal for r in both)
+    assert {r.cite for r in lateral} >= {"zhang2010", "xu2013", "zhu2020", "perl2022", "xu2015"}
+    with pytest.raises(ValueError, match="`motion`"):
+        published_motion("both")
+
+
+def test_zhang_and_sun_lateral_modes_type_first():
+    (r,) = [r for r in PUBLISHED if r.cite == "zhang2010"]
+    assert r.motion == "lateral" and r.mode_type == "real" and r.verdict == "unstable"
+    assert [(m.kind, m.stability) for m in r.modes] == [
+        ("real", "unstable"), ("oscillatory", "stable"), ("real", "stable")]
+    assert r.mode_labels[0].startswith("real, unstable: slow divergence")
+    assert r.compared_with == "hoverfly"
+
+
+def test_the_lateral_rows_agree_with_the_lateral_chapters_table():
+    # flapping.studies.lateral keeps its own records for its chapter: same sources, same verdicts
+    # and, where both state it, the same type of unstable mode.
+    from flapping.studies.lateral import PUBLISHED_LATERAL
+    ours = {r.cite: r for r in published_motion("lateral")}
+    for theirs in PUBLISHED_LATERAL:
+        r = ours[theirs.cite]
+        unstable = [kind for kind, stable in theirs.modes if not stable]
+        assert r.verdict == "unstable" and unstable
+        if unstable[0] is not None and r.mode_type is not None:
+            assert r.mode_type == unstable[0], theirs.cite
+
+
+def test_the_deciding_mode_is_among_the_stated_modes():
+    # A record that names the deciding mode and lists modes must list an unstable one of that
+    # type (or, for a stable verdict, only stable modes).
+    for r in PUBLISHED:
+        if not r.modes:
+            continue
+        unstable = [m for m in r.modes if m.stability == "unstable"]
+        if r.verdict == "stable":
+            assert not unstable, r.cite
+        elif r.mode_type in ("real", "oscillatory"):
+            assert any(m.kind == r.mode_type for m in unstable), r.cite
+        if r.verdict == "unstable":
+            assert unstable, r.cite
+
+
+def test_fwuav_method_is_its_linearised_equations_and_it_covers_both_motions():
+    for r in (r for r in PUBLISHED if r.cite == "fwuav"):
+        assert "finite difference" not in r.method and "sim_pert" in r.method
+        assert r.methods == ("QS",) and r.reading == "source" and r.motion == "both"
+        assert [m.motion for m in r.modes] == ["longitudinal", "longitudinal", "lateral"]
+
+
+def test_perl_and_beatus_find_an_oscillating_lateral_divergence_in_the_fruit_fly():
+    rows = [r for r in published_for("fruit_fly") if r.cite in ("perl2022", "perl2023")]
+    assert len(rows) == 2
+    for r in rows:
+        assert r.motion == "lateral" and r.mode_type == "oscillatory"
+        assert r.taxon == "Drosophila melanogaster" and r.reading == "abstract"
+
+
+def test_reading_follows_status_unless_given():
+    assert _valid().reading == "abstract"
+    assert _valid(status="second-hand").reading == "secondary"
+    assert _valid(status="unverified", quote="").reading == "not read"
+    assert _valid(reading="source").reading == "source"
+
+
+@pytest.mark.parametrize("field, value", [
+    ("motion", "vertical"), ("methods", "CFD"), ("methods", ()), ("methods", ("finite differences",)),
+    ("modes", "real"), ("modes", ("real",)), ("reading", "skimmed"), ("taxon", None),
+])
+def test_a_bad_new_field_is_refused_by_name(field, value):
+    with pytest.raises(ValueError, match=rf"`{field}"):
+        _valid(**{field: value})
+
+
+def test_a_mode_is_checked_and_says_its_motion_in_a_record_of_both():
+    with pytest.raises(ValueError, match="`kind`"):
+        Mode("divergent", "unstable")
+    with pytest.raises(ValueError, match="`stability`"):
+        Mode("real", "neutral")
+    assert Mode("real", "stable", "fast subsidence").label == "real, stable: fast subsidence"
+    with pytest.raises(ValueError, match=r"`modes\[0\]`"):
+        _valid(motion="both", modes=(Mode("real", "unstable"),))
+    with pytest.raises(ValueError, match=r"`modes\[0\]\.motion`"):
+        _valid(motion="longitudinal", modes=(Mode("real", "unstable", motion="lateral"),))
+    r = _valid(motion="both", modes=(Mode("real", "unstable", motion="lateral"),))
+    assert r.mode_labels == ("lateral: real, unstable",)
+
+
+def test_as_rows_carries_the_new_columns():
+    row = next(r for r in as_rows() if r["cite"] == "zhang2010")
+    assert row["motion"] == "lateral" and row["methods"] == ("CFD",)
+    assert row["reading"] == "abstract" and len(row["modes"]) == 3
