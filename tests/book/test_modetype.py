@@ -53,6 +53,12 @@ def test_swap_rows_name_the_terms_in_symbols_and_refuse_an_unknown_swap():
         modetype.swap_rows(_swaps(), "ours <- theirs", ["Mq"], 6.4e-3)
 
 
+def test_case_labels_use_the_books_symbols():
+    assert modetype.case_label("centre of pressure x_hat 0.1") == r"centre of pressure $\hat x$ = 0.1"
+    assert modetype.case_label("hinge height x0.5") == "hinge height ×0.5"
+    assert modetype.case_label("hinge 1 chord ahead") == "hinge 1 chord ahead"
+
+
 def test_physics_rows_show_a_complex_multiplier_and_a_failed_case():
     table = pandas.DataFrame([
         {"case": "a", "Mu": 0.17, "Mq": -0.86, "averaged_type": "oscillatory",

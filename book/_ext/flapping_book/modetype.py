@@ -8,6 +8,7 @@ wingbeats, the swaps and the physics cases, and M_u+ against the hinge height.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -166,6 +167,16 @@ def swap_rows(swaps: Any, direction: str, labels: Sequence[str], period: float
     return rows
 
 
+def case_label(case: str) -> str:
+    """A case of :func:`flapping.studies.cfd.physics_table` in the book's symbols.
+
+    The package names its cases in plain text (``"centre of pressure x_hat 0.1"``,
+    ``"hinge height x2"``); the table shows ``$\\hat x$ = 0.1`` and ``×2``.
+    """
+    case = re.sub(r"\bx_hat (\S+)", r"$\\hat x$ = \1", case)
+    return re.sub(r"\bx(\d)", r"×\1", case)
+
+
 def physics_rows(physics: Any, period: float) -> list[list[str]]:
     """Rows of :func:`flapping.studies.cfd.physics_table`.
 
@@ -185,14 +196,15 @@ def physics_rows(physics: Any, period: float) -> list[list[str]]:
     rows = []
     for _, r in physics.iterrows():
         if r.get("message"):
-            rows.append([r["case"], "–", "–", "no orbit", "–", "–", "–", r["message"]])
+            rows.append([case_label(r["case"]), "–", "–", "no orbit", "–", "–", "–",
+                         r["message"]])
             continue
         mu = complex(r["leading_multiplier"])
         mult = (f"{mu.real:.4f}" if abs(mu.imag) < 1e-12
                 else f"{mu.real:.4f} ± {abs(mu.imag):.4f}i")
         doubling = "–" if abs(mu) <= 1.0 else f"{math.log(2.0) / math.log(abs(mu)):.1f}"
         phibar = round(r["stroke_mean_deg"], 1) + 0.0     # no "-0.0" for a trim at rounding
-        rows.append([r["case"], f"{r['Mu']:.3f}", f"{r['Mq']:.3f}", r["averaged_type"],
+        rows.append([case_label(r["case"]), f"{r['Mu']:.3f}", f"{r['Mq']:.3f}", r["averaged_type"],
                      r["floquet_type"], mult, doubling, f"{phibar:.1f}"])
     return rows
 
