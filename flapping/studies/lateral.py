@@ -51,6 +51,16 @@ The dimensional eigenvalues are those of A+ over T. :func:`compare_lateral` puts
 derivatives (:func:`~flapping.hover.sixdof.averaged_lateral`, whose ``nondimensional`` follows
 these definitions; tests/test_lateral.py recomputes them from the definitions) into this system
 beside the published modes, and :func:`term_table` asks which term decides the mode type.
+
+What the evidence supports (tests/test_lateral.py checks each statement): in Sun's system with
+our derivatives, only L_v+ and L_p+ change the mode types when changed alone, and L_v+'s sign
+decides divergence against oscillation (the characteristic polynomial's constant term is
+-g+ L_v+ over the inertia; :func:`lv_threshold` finds the change at L_v+ ~ 0). Our presets
+have their wing roots at the CG and L_v+ > 0: a real divergence. Of Sun's group's dronefly
+geometry (:func:`geometry_table`), the body inclined at 53.3 deg (a product of inertia I_xz,
+:func:`inclined_body_inertia`) gives Zhang & Sun's mode types, averaged and Floquet alike; the
+wing roots 0.13 body lengths above the CG bring L_v+ to about zero, where the averaged system
+turns stable and Floquet keeps a slower divergence.
 """
 
 from __future__ import annotations
