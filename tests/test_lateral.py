@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from flapping.hover.sixdof import LATERAL_DERIVATIVE_NAMES
 from flapping.model import presets
 from flapping.studies import lateral as lat
 
@@ -184,3 +185,130 @@ def test_the_inertia_sensitivity_reuses_the_orbit_and_matches_a_fresh_solve(bee)
     assert abs(table["leading_multiplier"].iloc[1] - fresh.lateral.multipliers[0]) < 1e-7
     # Scaling the inertia moves the multiplier (the test can fail if it did not).
     assert abs(table["leading_multiplier"].iloc[1] - table["leading_multiplier"].iloc[0]) > 1e-6
+
+
+# --- Sun's group's lateral system and the published reference quantities --------------------
+
+def _inverse_inertia_system(d, r):
+    """The lateral system written the long way: the inertia matrix inverted numerically."""
+    inertia = np.array([[r["Ix"], -r["Ixz"]], [-r["Ixz"], r["Iz"]]])
+    moments = np.array([[d["Lv"], d["Lp"], d["Lr"]], [d["Nv"], d["Np"], d["Nr"]]])
+    rates = np.linalg.solve(inertia, moments)
+    a = np.zeros((4, 4))
+    a[0, :3] = [d["Yv"] / r["m"], d["Yp"] / r["m"], d["Yr"] / r["m"]]
+    a[1, :3], a[2, :3] = rates
+    a[0, 3], a[3, 1] = r["g"], 1.0
+    return a
+
+
+def test_the_lateral_system_solves_the_inertia_coupled_euler_equations():
+    rng = np.random.default_rng(3)
+    d = dict(zip(LATERAL_DERIVATIVE_NAMES, rng.normal(size=9), strict=True))
+    r = {"m": 80.0, "Ix": 4.0, "Iz": 15.0, "Ixz": -3.0, "g": 0.015}
+    np.testing.assert_allclose(lat.lateral_system(d, r), _inverse_inertia_system(d, r),
+                               rtol=1e-13, atol=1e-15)
+
+
+def test_the_lateral_system_refuses_missing_terms_and_a_bad_inertia():
+    d = {n: 0.1 for n in ("Yv", "Yp", "Yr", "Lv", "Lp", "Lr", "Nv", "Np")}
+    r = {"m": 80.0, "Ix": 4.0, "Iz": 15.0, "Ixz": 0.0, "g": 0.015}
+    with pytest.raises(ValueError, match="Nr"):
+        lat.lateral_system(d, r)
+    with pytest.raises(ValueError, match="I_xz"):
+        lat.lateral_system({**d, "Nr": 0.1}, {**r, "Ixz": 8.0})
+    with pytest.raises(ValueError, match="ratios\\['m'\\]"):
+        lat.lateral_system({**d, "Nr": 0.1}, {**r, "m": -1.0})
+
+
+def test_the_published_transcription_cannot_be_checked_and_says_which_terms_are_missing():
+    for key in lat.LATERAL_STUDIES:
+        with pytest.raises(ValueError, match="Yv.*Nr.*were not read"):
+            lat.check_lateral_transcription(key)
+
+
+def test_the_dronefly_reference_is_our_hoverfly_preset_and_read_in_xu_and_sun_2015():
+    ref = lat.lateral_study("zhang2010").reference
+    fly = presets.preset("hoverfly")
+    assert ref["mass"].value == pytest.approx(fly.mass, rel=1e-12)
+    assert ref["semi_span"].value == pytest.approx(fly.semi_span, rel=1e-12)
+    assert ref["mean_chord"].value == pytest.approx(fly.mean_chord, rel=1e-12)
+    assert ref["r2"].value == pytest.approx(fly.r2, rel=1e-12)
+    assert {n.status for n in ref.values()} == {"read"}
+    assert {n.source for n in ref.values()} == {"xu2015"}
+    # 0.13 of a body length of 1.29 R above the CG.
+    assert ref["hinge_to_cg"].value == pytest.approx(0.13 * 1.29 * 11.2e-3, rel=1e-12)
+
+
+def test_our_nondimensional_derivatives_follow_suns_definitions(bee):
+    """Y_v+ = Y_v / (0.5 rho U S_t), Y_p+ = Y_p / (0.5 rho U^2 S_t T), L_v+ = L_v /
+    (0.5 rho U S_t c), L_p+ = L_p / (0.5 rho U^2 S_t c T): U = 2 Phi n r2, S_t both wings."""
+    ins, orbit = bee.orbit.insect, bee.orbit
+    phi_pp = 2.0 * orbit.amplitude
+    u = 2.0 * phi_pp * ins.frequency * ins.r2 * ins.semi_span
+    s_t = 2.0 * ins.wing_area
+    half_rho = 0.5 * ins.air_density
+    d, nd = bee.averaged.dimensional, bee.averaged.nondimensional
+    t, c = 1.0 / ins.frequency, ins.mean_chord
+    scale = {"Yv": half_rho * u * s_t, "Yp": half_rho * u * u * s_t * t,
+             "Lv": half_rho * u * s_t * c, "Lp": half_rho * u * u * s_t * c * t,
+             "Nr": half_rho * u * u * s_t * c * t, "Lr": half_rho * u * u * s_t * c * t}
+    for name, sc in scale.items():
+        assert nd[name] == pytest.approx(d[name] / sc, rel=1e-12, abs=1e-300), name
+
+
+@pytest.fixture(scope="module")
+def bee_comparison(bee):
+    return lat.compare_lateral("xu2013")
+
+
+def test_our_derivatives_in_suns_system_give_our_averaged_modes(bee_comparison):
+    # Two routes to the same eigenvalues: the averaged Jacobian of the right-hand side, and
+    # the averaged loads' derivatives, non-dimensional, in Sun's system. They differ by the
+    # central differences' rounding (steps 1e-6): 1e-5 of the largest eigenvalue.
+    assert bee_comparison.system_error < 1e-5
+    assert list(bee_comparison.derivatives.status) == ["not read"] * 9
+    assert bee_comparison.derivatives.theirs.isna().all()
+    modes = bee_comparison.modes
+    assert modes.floquet_kind.iloc[0] == "divergence" == modes.averaged_kind.iloc[0]
+
+
+def test_the_sign_of_lv_decides_the_lateral_mode_type(bee_comparison):
+    table = lat.term_table(bee_comparison)
+    base = table.iloc[0]
+    assert base.mode_types == "real, real, real, real"
+    changed = table[table.types_change]
+    # Only L_v's sign and L_p's size change the types; negated, L_v gives the oscillating
+    # divergence Perl et al. report for the fruit fly (a restoring slip-roll coupling).
+    assert set(changed.derivative) <= {"Lv", "Lp"}
+    (lv,) = changed[changed.derivative == "Lv"].itertuples()
+    assert lv.change == "negated" and lv.leading_kind == "oscillating divergence"
+    # The threshold is L_v+ = 0 (the characteristic polynomial's constant term is -g+ L_v+
+    # over the inertia, so L_v+ > 0 forces a positive real root), less a sliver where the
+    # slow roots first meet.
+    threshold = lat.lv_threshold(bee_comparison)
+    assert -1e-2 < threshold <= 0.0
+
+
+def test_an_inclined_body_keeps_its_principal_inertias():
+    fly = presets.preset("hoverfly")
+    ia, it = fly.roll_inertia, fly.yaw_inertia
+    assert lat.inclined_body_inertia(fly, 0.0) == pytest.approx((ia, it, 0.0), abs=1e-25)
+    ix, iz, ixz = lat.inclined_body_inertia(fly, math.pi / 2)
+    assert (ix, iz) == pytest.approx((it, ia), rel=1e-12) and abs(ixz) < 1e-24
+    ix, iz, ixz = lat.inclined_body_inertia(fly, math.radians(53.3))
+    eig = np.linalg.eigvalsh(np.array([[ix, -ixz], [-ixz, iz]]))
+    np.testing.assert_allclose(eig, sorted((ia, it)), rtol=1e-12)
+    assert ixz < 0.0  # nose up: the mass ahead of the CG lies above it (z down)
+    with pytest.raises(ValueError, match="body_angle"):
+        lat.inclined_body_inertia(fly, 2.0)
+
+
+def test_suns_inclined_body_gives_zhang_and_suns_mode_types():
+    """With the dronefly's body hanging at 53.3 deg (Xu & Sun 2015) instead of along x, our
+    Floquet and averaged lateral modes are Zhang & Sun's: a divergence, a damped oscillation
+    and a subsidence."""
+    chi = lat.lateral_study("zhang2010").reference["hanging_angle"].value
+    (row,) = lat.geometry_table("hoverfly", (("body inclined", 0.0, chi),)).itertuples()
+    expected = "divergence, damped oscillation, subsidence"
+    assert row.floquet_kinds == expected == row.averaged_kinds
+    assert row.multiplier_error < 1e-7

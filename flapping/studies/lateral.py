@@ -24,10 +24,43 @@ none: its body is FWUAV's measured thorax and abdomen, not the prolate ellipsoid
 :func:`flapping.model.presets.lateral_inertia_estimate`, and no roll or yaw inertia is recorded
 for it.
 
-Published lateral derivatives (Y_v ... N_r of Zhang & Sun 2010 and Xu & Sun 2013) could not be
-read: only the abstracts (and, for Xu & Sun, the publisher's press release) were available, and
-they give no derivative values. :data:`PUBLISHED_LATERAL_DERIVATIVES` is therefore empty, and
-says so.
+Published lateral derivatives (Y_v ... N_r of Zhang & Sun 2010, Xu & Sun 2013, Xu & Sun 2015,
+Zhu, Meng & Sun 2020) could not be read: the stored sources hold their abstracts (Zhang & Sun's
+first page, Xu & Sun 2015's method section up to its inertia table, Zhu et al.'s introduction,
+and for Xu & Sun 2013 the publisher's press release), and no derivative value. What was read is
+kept as data (:data:`LATERAL_STUDIES`, :class:`LateralStudy`): the definitions of the
+non-dimensional derivatives and the model dronefly's reference quantities (Xu & Sun 2015), and
+the published modes (abstracts). :data:`PUBLISHED_LATERAL_DERIVATIVES` stays empty, and
+:func:`check_lateral_transcription` says which terms are missing instead of checking them.
+
+Sun's group's non-dimensional lateral system (:func:`lateral_system`, read in Xu & Sun 2015):
+reference speed U = 2 Phi n r2 (Phi the stroke amplitude, peak to peak; r2 the radius of
+gyration of the wing area), length c (mean chord), time T = 1/n, area S_t of both wings; forces
+over 0.5 rho U^2 S_t, moments over 0.5 rho U^2 S_t c, v+ = v/U, p+ = p T, r+ = r T, t+ = t/T;
+m+ = m / (0.5 rho U S_t T), I+ = I / (0.5 rho U^2 S_t c T^2), g+ = g T / U. Hover (u_e = 0,
+theta_e = 0; x horizontal)::
+
+    d/dt+ [v+, p+, r+, phi] = A+ [v+, p+, r+, phi]
+
+    A+ = [[Y_v+/m+,          Y_p+/m+,          Y_r+/m+,          g+],
+          [(I_z+ L+ + I_xz+ N+)_v / D, ..._p / D, ..._r / D,       0 ],
+          [(I_xz+ L+ + I_x+ N+)_v / D, ..._p / D, ..._r / D,       0 ],
+          [0,                1,                0,                0 ]],   D = I_x+ I_z+ - I_xz+^2
+
+The dimensional eigenvalues are those of A+ over T. :func:`compare_lateral` puts our averaged
+derivatives (:func:`~flapping.hover.sixdof.averaged_lateral`, whose ``nondimensional`` follows
+these definitions; tests/test_lateral.py recomputes them from the definitions) into this system
+beside the published modes, and :func:`term_table` asks which term decides the mode type.
+
+What the evidence supports (tests/test_lateral.py checks each statement): in Sun's system with
+our derivatives, only L_v+ and L_p+ change the mode types when changed alone, and L_v+'s sign
+decides divergence against oscillation (the characteristic polynomial's constant term is
+-g+ L_v+ over the inertia; :func:`lv_threshold` finds the change at L_v+ ~ 0). Our presets
+have their wing roots at the CG and L_v+ > 0: a real divergence. Of Sun's group's dronefly
+geometry (:func:`geometry_table`), the body inclined at 53.3 deg (a product of inertia I_xz,
+:func:`inclined_body_inertia`) gives Zhang & Sun's mode types, averaged and Floquet alike; the
+wing roots 0.13 body lengths above the CG bring L_v+ to about zero, where the averaged system
+turns stable and Floquet keeps a slower divergence.
 """
 
 from __future__ import annotations
@@ -36,6 +69,7 @@ import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 from functools import lru_cache
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -55,12 +89,18 @@ from flapping.hover.sixdof import (
 from flapping.model import presets
 from flapping.model.sixdof import LATERAL
 from flapping.periodic.floquet import floquet_multipliers, monodromy
+from flapping.studies.cfd import Number
+from flapping.studies.cfd import study as cfd_study
 
 __all__ = [
     "LATERAL_PRESETS", "NO_LATERAL_INERTIA", "Mode", "classify_multipliers", "LateralAnalysis",
     "analyse", "lateral_table", "mode_table", "derivative_table", "inertia_sensitivity",
     "PublishedLateral", "PUBLISHED_LATERAL", "PUBLISHED_LATERAL_DERIVATIVES",
     "compare_published", "published_rows", "MODE_KINDS",
+    "LATERAL_STATES", "RATIO_NAMES", "LateralScales", "orbit_ratios", "lateral_system",
+    "eigenvalue_modes", "LateralStudy", "LATERAL_STUDIES", "lateral_study",
+    "check_lateral_transcription", "LateralComparison", "compare_lateral", "TERM_CHANGES",
+    "term_table", "lv_threshold", "inclined_body_inertia", "geometry_table",
 ]
 
 #: A multiplier is real when its imaginary part is below this fraction of its modulus.
@@ -549,6 +589,16 @@ PUBLISHED_LATERAL: tuple[PublishedLateral, ...] = (
         "verified",
         note="Wing elevation (which our model does not have) and wing-wing interaction turn "
              "the divergence into an oscillation; a conference abstract, no numbers."),
+    PublishedLateral(
+        "xu2015", "dronefly", "hoverfly", "CFD derivatives + averaging",
+        ((None, False),), None,
+        "Xu & Sun (2015), J. Beijing Univ. Aeronaut. Astronaut. 41(1):133, English abstract "
+        "(html.rhhz.net/BJHKHTDXXBZRB/20150121.htm): 'at hovering, the longitudinal and "
+        "lateral disturbed motion both includes the unstable mode, therefore hovering is "
+        "unstable'",
+        "verified",
+        note="The paper's method section (read) defines the non-dimensional derivatives and "
+             "gives the model dronefly's data; its tables were not in the stored page."),
 )
 
 #: Published lateral derivatives that could be read: none (see the module docstring).
@@ -612,3 +662,584 @@ def compare_published(aerodynamics: str = "small-angle",
                 "status": r.status,
             })
     return pd.DataFrame(rows)
+
+
+# --- Sun's group's lateral system, the published reference quantities, ours beside theirs --------
+
+#: The lateral states of Sun's group's system, in the order of :func:`lateral_system`.
+LATERAL_STATES: tuple[str, ...] = ("v", "p", "r", "phi")
+#: The non-dimensional mass, inertia and gravity ratios :func:`lateral_system` takes.
+RATIO_NAMES: tuple[str, ...] = ("m", "Ix", "Iz", "Ixz", "g")
+
+
+@dataclass(frozen=True)
+class LateralScales:
+    """Sun's group's reference quantities (module docstring), SI.
+
+    Attributes
+    ----------
+    speed : float
+        U = 2 Phi n r2 [m/s] (Phi peak to peak, r2 the radius of gyration in m).
+    period : float
+        T = 1/n [s].
+    chord : float
+        c, the mean chord [m].
+    area : float
+        S_t, both wings [m^2].
+    density : float
+        rho [kg/m^3].
+    gravity : float
+        g [m/s^2].
+    """
+
+    speed: float
+    period: float
+    chord: float
+    area: float
+    density: float
+    gravity: float
+
+    @classmethod
+    def of_orbit(cls, orbit: SixDofHoverOrbit) -> LateralScales:
+        """The scales of an orbit: its insect and its trimmed amplitude (Phi = 2 amplitude)."""
+        ins = orbit.insect
+        speed = 2.0 * (2.0 * orbit.amplitude) * ins.frequency * ins.r2 * ins.semi_span
+        return cls(speed=speed, period=ins.period, chord=ins.mean_chord,
+                   area=2.0 * ins.semi_span * ins.mean_chord, density=ins.air_density,
+                   gravity=ins.gravity)
+
+    @property
+    def force(self) -> float:
+        """0.5 rho U^2 S_t [N]."""
+        return 0.5 * self.density * self.speed ** 2 * self.area
+
+    def ratios(self, mass: float, roll_inertia: float, yaw_inertia: float,
+               roll_yaw_product: float = 0.0) -> dict[str, float]:
+        """m+, I_x+, I_z+, I_xz+ and g+ (keys :data:`RATIO_NAMES`) of a body [kg, kg m^2]."""
+        inertia = self.force * self.chord * self.period ** 2  # 0.5 rho U^2 S c T^2
+        mass_scale = 0.5 * self.density * self.speed * self.area * self.period
+        return {"m": mass / mass_scale, "Ix": roll_inertia / inertia,
+                "Iz": yaw_inertia / inertia, "Ixz": roll_yaw_product / inertia,
+                "g": self.gravity * self.period / self.speed}
+
+
+def orbit_ratios(orbit: SixDofHoverOrbit) -> dict[str, float]:
+    """m+, I_x+, I_z+, I_xz+, g+ of an orbit's insect in its own scales."""
+    ins = orbit.insect
+    assert ins.roll_inertia is not None and ins.yaw_inertia is not None
+    return LateralScales.of_orbit(orbit).ratios(ins.mass, ins.roll_inertia, ins.yaw_inertia,
+                                                ins.roll_yaw_product or 0.0)
+
+
+def lateral_system(derivatives: dict[str, float] | Any, ratios: dict[str, float] | Any
+                   ) -> np.ndarray:
+    """Sun's group's non-dimensional lateral system matrix A+ (module docstring).
+
+    Parameters
+    ----------
+    derivatives : mapping of str to float
+        Y_v+ ... N_r+, keys :data:`~flapping.hover.sixdof.LATERAL_DERIVATIVE_NAMES`.
+    ratios : mapping of str to float
+        m+, I_x+, I_z+, I_xz+, g+, keys :data:`RATIO_NAMES` (m+, I_x+, I_z+ positive,
+        I_x+ I_z+ > I_xz+^2).
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, 4)
+        In the states (v+, p+, r+, phi); its eigenvalues over T are the dimensional ones.
+
+    Raises
+    ------
+    ValueError
+        If a derivative or ratio is missing or not finite, or the inertia is not positive
+        definite.
+    """
+    d = {n: check.real(n, derivatives[n]) if n in derivatives else math.nan
+         for n in LATERAL_DERIVATIVE_NAMES}
+    missing = [n for n, v in d.items() if not math.isfinite(v)]
+    if missing:
+        raise ValueError(f"`derivatives` must give every lateral derivative; missing {missing}")
+    for n in RATIO_NAMES:
+        if n not in ratios:
+            raise ValueError(f"`ratios` must give {RATIO_NAMES}; missing {n!r}")
+    mp = check.positive("ratios['m']", ratios["m"])
+    ix = check.positive("ratios['Ix']", ratios["Ix"])
+    iz = check.positive("ratios['Iz']", ratios["Iz"])
+    ixz = check.real("ratios['Ixz']", ratios["Ixz"])
+    gp = check.real("ratios['g']", ratios["g"])
+    det = ix * iz - ixz * ixz
+    if det <= 0.0:
+        raise ValueError(f"`ratios` must have I_x+ I_z+ > I_xz+^2; got {ix}, {iz}, {ixz}")
+    rows = []
+    for s in ("v", "p", "r"):
+        side, roll, yaw = d["Y" + s], d["L" + s], d["N" + s]
+        rows.append((side / mp, (iz * roll + ixz * yaw) / det, (ixz * roll + ix * yaw) / det))
+    a = np.zeros((4, 4))
+    a[0, :3], a[1, :3], a[2, :3] = ([r[i] for r in rows] for i in range(3))
+    a[0, 3] = gp
+    a[3, 1] = 1.0
+    return a
+
+
+def eigenvalue_modes(eigenvalues: Sequence[complex] | np.ndarray,
+                     period: float) -> tuple[Mode, ...]:
+    """The modes of a linear system's eigenvalues [1/s], read as multipliers exp(lambda T).
+
+    So that an averaged mode and a Floquet mode are named and timed the same way (doubling or
+    halving time ln 2 / abs(Re lambda), in wingbeats of ``period``).
+    """
+    period = check.positive("period", period, unit="s")
+    ev = np.asarray(eigenvalues, dtype=complex)
+    # A real eigenvalue stays real (exp of a tiny imaginary part is rounding, not a mode).
+    ev = np.where(np.abs(ev.imag) > REAL_TOL * np.abs(ev), ev, ev.real + 0j)
+    return classify_multipliers(np.exp(ev * period), period)
+
+
+@dataclass(frozen=True)
+class LateralStudy:
+    """A lateral CFD study: what of it could be read, as data.
+
+    Attributes
+    ----------
+    key : str
+        Its {cite} key (the :data:`PUBLISHED_LATERAL` record of the same key holds its modes).
+    preset : str
+        Our preset for its insect.
+    reference : mapping of str to Number
+        Reference quantities, SI: ``mass`` [kg], ``semi_span`` R [m], ``mean_chord`` c [m],
+        ``r2`` (over R), ``wing_area`` (one wing) [m^2], ``wing_mass`` (one wing) [kg],
+        ``body_length`` [m], ``root_spacing`` (between the two wing roots) [m],
+        ``hinge_to_cg`` (wing-root axis to CG) [m], ``hanging_angle`` [rad],
+        ``frequency`` [Hz], ``stroke_amplitude`` Phi [rad] (peak to peak); a quantity not read
+        is absent.
+    derivatives : mapping of str to Number
+        The non-dimensional derivatives read (none so far).
+    missing : str
+        Why the derivatives that are absent are absent.
+    """
+
+    key: str
+    preset: str
+    reference: Any
+    derivatives: Any
+    missing: str
+
+    @property
+    def record(self) -> PublishedLateral:
+        """The :data:`PUBLISHED_LATERAL` record of this study (its modes)."""
+        return next(r for r in PUBLISHED_LATERAL if r.cite == self.key)
+
+
+def _dronefly_reference() -> dict[str, Any]:
+    src = "xu2015"
+    where = ("method section, html.rhhz.net/BJHKHTDXXBZRB/20150121.htm and its copy at "
+             "school.freekaoyan.com (read 2026-12-03)")
+    note = ("Xu & Sun's model dronefly (data from R. Dudley); taken as Zhang & Sun's, whose "
+            "table was not read (both are Sun's group's model dronefly)")
+    r = 11.2e-3
+    body = 1.29 * r
+
+    def num(value: float, extra: str = "") -> Number:
+        return Number(value, src, where, "read", note + extra)
+
+    return {"mass": num(145e-6), "semi_span": num(r), "mean_chord": num(3.246e-3),
+            "r2": num(0.534), "wing_area": num(36e-6), "wing_mass": num(0.326e-6),
+            "body_length": num(body, " (1.29 R)"),
+            "root_spacing": num(0.33 * body, " (0.33 body lengths)"),
+            "hinge_to_cg": num(0.13 * body, " (l1 = 0.13 body lengths)"),
+            "hanging_angle": num(math.radians(53.3), " (chi0 = 53.3 deg)")}
+
+
+def _lateral_studies() -> dict[str, LateralStudy]:
+    not_read = ("not read: the stored sources hold the abstract and first page only (no "
+                "derivative table)")
+    bee = cfd_study("sun2005").reference
+    bee_ref = {k: bee[k] for k in ("mass", "semi_span", "mean_chord", "r2", "wing_mass",
+                                   "frequency", "stroke_amplitude")}
+    return {
+        "zhang2010": LateralStudy("zhang2010", "hoverfly",
+                                  MappingProxyType(_dronefly_reference()),
+                                  MappingProxyType({}), not_read),
+        "xu2013": LateralStudy(
+            "xu2013", "bumblebee",
+            MappingProxyType(bee_ref), MappingProxyType({}),
+            "not read: only the publisher's press release was available; the reference "
+            "quantities are Sun & Xiong's bumblebee (flapping.studies.cfd, each with its own "
+            "status), Xu & Sun's own not read"),
+        "xu2015": LateralStudy("xu2015", "hoverfly",
+                               MappingProxyType(_dronefly_reference()),
+                               MappingProxyType({}),
+                               "not read: the stored page ends before the derivative tables"),
+    }
+
+
+#: The lateral studies whose reference quantities and modes were read, by {cite} key.
+LATERAL_STUDIES: Any = MappingProxyType(_lateral_studies())
+
+
+def lateral_study(key: str) -> LateralStudy:
+    """The :class:`LateralStudy` of a {cite} key (``ValueError`` naming the keys if absent)."""
+    return LATERAL_STUDIES[check.choice("study", key, tuple(LATERAL_STUDIES))]
+
+
+def check_lateral_transcription(key: str) -> Any:
+    """The published derivatives in the published lateral system, against the published modes.
+
+    Parameters
+    ----------
+    key : str
+        A key of ``LATERAL_STUDIES``.
+
+    Returns
+    -------
+    tuple of Mode
+        The modes of the published system (when every derivative and ratio has been read).
+
+    Raises
+    ------
+    ValueError
+        Naming the derivatives that were not read (today: all nine, for every study), so that
+        no check is reported that was not made.
+    """
+    s = lateral_study(key)
+    missing = [n for n in LATERAL_DERIVATIVE_NAMES if n not in s.derivatives]
+    if missing:
+        raise ValueError(f"{key}: the published lateral derivatives {missing} were not read "
+                         f"({s.missing}); the transcription cannot be checked")
+    raise ValueError(f"{key}: the published m+, I+ were not read")  # pragma: no cover
+
+
+@dataclass(frozen=True)
+class LateralComparison:
+    """Ours beside one lateral study (:func:`compare_lateral`).
+
+    Attributes
+    ----------
+    study : LateralStudy
+    analysis : LateralAnalysis
+        Our preset's.
+    reference : pandas.DataFrame
+        One row per reference quantity: ``quantity``, ``theirs``, ``ours``, ``unit``,
+        ``status`` (theirs: ``"read"``, ``"estimated"`` or ``"not read"``).
+    ratios : dict of str to float
+        Our m+, I_x+, I_z+, I_xz+, g+ (:data:`RATIO_NAMES`) and ``U`` [m/s].
+    derivatives : pandas.DataFrame
+        Indexed by Y_v ... N_r: ``theirs`` (nan where not read), ``status``, ``ours``.
+    system : numpy.ndarray
+        Our derivatives in Sun's non-dimensional system (:func:`lateral_system`).
+    system_eigenvalues : numpy.ndarray
+        Its eigenvalues over T [1/s], by descending real part.
+    system_error : float
+        Their largest distance from our averaged lateral system's eigenvalues, over the
+        largest modulus (the check that our non-dimensional form is Sun's system's).
+    modes : pandas.DataFrame
+        Mode by mode (rank by growth rate): ``mode``, ``their_kind``,
+        ``their_doubling_wingbeats``, ``averaged_kind``, ``averaged_wingbeats``,
+        ``averaged_per_s``, ``floquet_kind``, ``floquet_wingbeats``, ``multiplier``,
+        ``type_agrees`` (theirs against Floquet's: yes, no, not stated).
+    """
+
+    study: LateralStudy
+    analysis: LateralAnalysis
+    reference: Any
+    ratios: dict[str, float]
+    derivatives: Any
+    system: np.ndarray
+    system_eigenvalues: np.ndarray
+    system_error: float
+    modes: Any
+
+
+_REFERENCE_ROWS: tuple[tuple[str, str, float, str], ...] = (
+    # (key, label, SI -> shown factor, unit shown)
+    ("mass", "m", 1e6, "mg"), ("semi_span", "R", 1e3, "mm"), ("mean_chord", "c", 1e3, "mm"),
+    ("r2", "r2/R", 1.0, "-"), ("wing_area", "S (one wing)", 1e6, "mm^2"),
+    ("wing_mass", "wing mass", 1e6, "mg"), ("hinge_to_cg", "wing root above CG", 1e3, "mm"),
+    ("root_spacing", "root spacing", 1e3, "mm"), ("frequency", "n", 1.0, "Hz"),
+    ("stroke_amplitude", "Phi", 180.0 / math.pi, "deg"),
+)
+
+
+def _our_reference(a: LateralAnalysis) -> dict[str, float]:
+    ins = a.orbit.insect
+    return {"mass": ins.mass, "semi_span": ins.semi_span, "mean_chord": ins.mean_chord,
+            "r2": ins.r2, "wing_area": ins.wing_area, "wing_mass": ins.wing_mass,
+            "hinge_to_cg": ins.hinge_height, "root_spacing": 0.0,
+            "frequency": ins.frequency, "stroke_amplitude": 2.0 * a.orbit.amplitude}
+
+
+def compare_lateral(study: str = "zhang2010",
+                    aerodynamics: str = "small-angle") -> LateralComparison:
+    """Our preset beside a lateral study: reference quantities, derivatives, modes.
+
+    Our derivatives are :func:`~flapping.hover.sixdof.averaged_lateral`'s, non-dimensional as
+    Sun's group's; in Sun's system (:func:`lateral_system`, our m+ and I+) they give the averaged
+    modes; our Floquet modes come from the lateral multipliers. The published modes are the
+    abstract's (:data:`PUBLISHED_LATERAL`), matched by rank of growth rate.
+
+    Parameters
+    ----------
+    study : str
+        A key of ``LATERAL_STUDIES`` (``"zhang2010"``, ``"xu2013"``, ``"xu2015"``).
+    aerodynamics : {"small-angle", "exact"}
+
+    Returns
+    -------
+    LateralComparison
+    """
+    import pandas as pd
+
+    s = lateral_study(study)
+    a = analyse(s.preset, aerodynamics)
+    ours = _our_reference(a)
+    ref_rows = []
+    for key, label, factor, unit in _REFERENCE_ROWS:
+        num = s.reference.get(key)
+        ref_rows.append({"quantity": label, "theirs": math.nan if num is None else
+                         num.value * factor, "ours": ours[key] * factor, "unit": unit,
+                         "status": "not read" if num is None else num.status})
+    ratios = orbit_ratios(a.orbit)
+    scales = LateralScales.of_orbit(a.orbit)
+    d_ours = a.averaged.nondimensional
+    derivs = pd.DataFrame({
+        "theirs": [s.derivatives[n].value if n in s.derivatives else math.nan
+                   for n in LATERAL_DERIVATIVE_NAMES],
+        "status": [s.derivatives[n].status if n in s.derivatives else "not read"
+                   for n in LATERAL_DERIVATIVE_NAMES],
+        "ours": [d_ours[n] for n in LATERAL_DERIVATIVE_NAMES]},
+        index=pd.Index(LATERAL_DERIVATIVE_NAMES, name="derivative"))
+    system = lateral_system(d_ours, ratios)
+    ev = np.linalg.eigvals(system).astype(complex) / scales.period
+    ev = ev[np.argsort(-ev.real, kind="stable")]
+    avg = np.asarray(a.averaged.eigenvalues)
+    error = float(max(np.min(np.abs(avg - e)) for e in ev) / np.max(np.abs(avg)))
+    averaged = eigenvalue_modes(ev, scales.period)
+    rows = []
+    published = s.record.modes
+    for i in range(max(len(published), len(a.modes))):
+        kind, stable = published[i] if i < len(published) else (None, None)
+        fl = a.modes[i] if i < len(a.modes) else None
+        av = averaged[i] if i < len(averaged) else None
+        if i >= len(published):
+            theirs = "-"
+        elif kind is None or stable is None:
+            theirs = "unstable, type not stated" if stable is False else "not stated"
+        else:
+            theirs = MODE_KINDS[(kind, stable)]
+        rows.append({
+            "mode": i + 1, "their_kind": theirs,
+            "their_doubling_wingbeats": (s.record.doubling_wingbeats if i == 0 else None),
+            "averaged_kind": None if av is None else av.kind,
+            "averaged_wingbeats": None if av is None else av.time_wingbeats,
+            "averaged_per_s": None if av is None else av.growth_rate,
+            "floquet_kind": None if fl is None else fl.kind,
+            "floquet_wingbeats": None if fl is None else fl.time_wingbeats,
+            "multiplier": None if fl is None else fl.multiplier,
+            "type_agrees": ("-" if i >= len(published) else
+                            _agree(None if fl is None else fl.type, kind)),
+        })
+    return LateralComparison(s, a, pd.DataFrame(ref_rows), {**ratios, "U": scales.speed},
+                             derivs, system, ev, error, pd.DataFrame(rows))
+
+
+#: What :func:`term_table` does to each derivative.
+TERM_CHANGES: tuple[str, ...] = ("negated", "zeroed", "x2", "x0.5")
+
+
+def _leading_modes(system: np.ndarray, period: float) -> tuple[Mode, ...]:
+    return eigenvalue_modes(np.linalg.eigvals(system) / period, period)
+
+
+def term_table(comparison: LateralComparison, changes: Sequence[str] = TERM_CHANGES) -> Any:
+    """Which derivative decides our lateral mode types: each term changed alone in Sun's system.
+
+    Our derivatives and our m+, I+, g+ (:func:`lateral_system`); one derivative at a time
+    negated, zeroed, doubled or halved. A term that changes the mode types (real modes
+    becoming an oscillation) is one that decides them.
+
+    Parameters
+    ----------
+    comparison : LateralComparison
+    changes : sequence of str
+        Of :data:`TERM_CHANGES`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (derivative, change) after the row ``("none", "-")``: ``derivative``,
+        ``change``, ``value`` (the derivative in the system), ``mode_types`` (of the four
+        eigenvalues, by descending growth rate, e.g. ``"real, oscillatory, real"``),
+        ``leading_kind``, ``leading_per_s``, ``types_change`` (bool), ``stable``.
+    """
+    import pandas as pd
+
+    check.instance("comparison", comparison, LateralComparison)
+    which = [check.choice(f"changes[{i}]", c, TERM_CHANGES) for i, c in enumerate(changes)]
+    base = dict(comparison.analysis.averaged.nondimensional)
+    ratios = {k: comparison.ratios[k] for k in RATIO_NAMES}
+    period = comparison.analysis.orbit.period
+    factor = {"negated": -1.0, "zeroed": 0.0, "x2": 2.0, "x0.5": 0.5}
+
+    def row(name: str, change: str, d: dict[str, float]) -> dict[str, Any]:
+        modes = _leading_modes(lateral_system(d, ratios), period)
+        return {"derivative": name, "change": change,
+                "value": d.get(name, math.nan), "mode_types": ", ".join(m.type for m in modes),
+                "leading_kind": modes[0].kind, "leading_per_s": modes[0].growth_rate,
+                "stable": all(m.stable for m in modes)}
+
+    rows = [row("none", "-", base)]
+    for name in LATERAL_DERIVATIVE_NAMES:
+        for c in which:
+            rows.append(row(name, c, {**base, name: factor[c] * base[name]}))
+    table = pd.DataFrame(rows)
+    table["types_change"] = table.mode_types != rows[0]["mode_types"]
+    return table
+
+
+def lv_threshold(comparison: LateralComparison, xtol: float = 1e-9) -> float:
+    """The L_v+ (ours and our other terms) below which a lateral oscillation appears.
+
+    Bisection between our L_v+ and -our L_v+ on whether a complex pair exists.
+
+    Raises
+    ------
+    ValueError
+        If the types do not differ at the two ends (no threshold between them).
+    """
+    check.instance("comparison", comparison, LateralComparison)
+    tol = check.positive("xtol", xtol)
+    base = dict(comparison.analysis.averaged.nondimensional)
+    ratios = {k: comparison.ratios[k] for k in RATIO_NAMES}
+    period = comparison.analysis.orbit.period
+
+    def oscillates(lv: float) -> bool:
+        modes = _leading_modes(lateral_system({**base, "Lv": lv}, ratios), period)
+        return any(m.type == "oscillatory" for m in modes)
+
+    hi, lo = base["Lv"], -base["Lv"]
+    if oscillates(hi) == oscillates(lo):
+        raise ValueError(f"an oscillation exists at both L_v+ = {hi:.4g} and {lo:.4g}, or at "
+                         "neither: no threshold between them")
+    while abs(hi - lo) > tol:
+        mid = 0.5 * (hi + lo)
+        if oscillates(mid) == oscillates(hi):
+            hi = mid
+        else:
+            lo = mid
+    return 0.5 * (hi + lo)
+
+
+def inclined_body_inertia(insect: Any, body_angle: float) -> tuple[float, float, float]:
+    """(I_x, I_z, I_xz) [kg m^2] of the insect's body with its long axis inclined nose-up.
+
+    The presets' lateral inertia (:func:`~flapping.model.presets.lateral_inertia_estimate`)
+    has the body's long axis along body x. Sun's group's model dronefly hangs with its long
+    axis at chi0 = 53.3 deg to the horizontal x axis of their body frame (Xu & Sun 2015). The
+    same axisymmetric body turned nose-up by ``body_angle`` about y: with I_a = the preset's
+    I_x (about the long axis) and I_t = its I_z (transverse), e = (cos b, 0, -sin b) the long
+    axis (z down), the tensor I_t 1 + (I_a - I_t) e e^T gives I_x = I_a cos^2 b + I_t sin^2 b,
+    I_z = I_a sin^2 b + I_t cos^2 b and I_xz = (I_a - I_t) sin b cos b (the integral of x z
+    dm, negative nose-up; the tensor's xz entry is -I_xz). I_y is unchanged.
+
+    Parameters
+    ----------
+    insect : Insect
+        With its roll and yaw inertia (long axis along x).
+    body_angle : float
+        Nose-up inclination of the long axis [rad], in [0, pi/2].
+
+    Returns
+    -------
+    tuple of float
+    """
+    b = check.real("body_angle", body_angle, low=0.0, high=0.5 * math.pi)
+    if insect.roll_inertia is None or insect.yaw_inertia is None:
+        raise ValueError("`insect` must have a roll and a yaw inertia")
+    ia, it = insect.roll_inertia, insect.yaw_inertia
+    c, sn = math.cos(b), math.sin(b)
+    return ia * c * c + it * sn * sn, ia * sn * sn + it * c * c, (ia - it) * sn * c
+
+
+def _row(label: str, a: LateralAnalysis) -> dict[str, Any]:
+    d = a.averaged.nondimensional
+    averaged = eigenvalue_modes(a.averaged.eigenvalues, a.orbit.period)
+    ins = a.orbit.insect
+    return {
+        "case": label, "hinge_height_mm": 1e3 * ins.hinge_height,
+        "roll_yaw_product": ins.roll_yaw_product or 0.0,
+        "Yv": d["Yv"], "Yp": d["Yp"], "Lv": d["Lv"], "Lp": d["Lp"],
+        "averaged_kinds": ", ".join(m.kind for m in averaged),
+        "averaged_leading_per_s": averaged[0].growth_rate,
+        "floquet_kinds": ", ".join(m.kind for m in a.modes),
+        "leading_multiplier": a.leading.multiplier,
+        "doubling_wingbeats": math.nan if a.leading.stable else a.leading.time_wingbeats,
+        "multiplier_error": a.stability.multiplier_error,
+    }
+
+
+@lru_cache(maxsize=16)
+def _geometry_rows(name: str, cases: tuple[tuple[str, float, float], ...],
+                   aerodynamics: str) -> tuple[dict[str, Any], ...]:
+    base = analyse(name, aerodynamics)
+    rows = []
+    for label, height, angle in cases:
+        if height == base.orbit.insect.hinge_height and angle == 0.0:
+            rows.append(_row(label, base))
+            continue
+        ix, iz, ixz = inclined_body_inertia(base.orbit.insect, angle)
+        insect = base.orbit.insect.with_(hinge_height=height, roll_inertia=ix, yaw_inertia=iz,
+                                         roll_yaw_product=ixz)
+        # With the roots above the CG the wings' drag pitches the body: the mean stroke angle
+        # is a trim too (as flapping.studies.cfd trims it).
+        trims = ("amplitude", "stroke_mean") if height != 0.0 else ("amplitude",)
+        orbit = find_sixdof_hover_orbit(insect, aerodynamics=aerodynamics, trims=trims)
+        stability = sixdof_stability(orbit)
+        rows.append(_row(label, LateralAnalysis(
+            name=name, orbit=orbit, stability=stability, averaged=averaged_lateral(orbit),
+            modes=classify_multipliers(stability.lateral.multipliers, orbit.period))))
+    return tuple(rows)
+
+
+def geometry_table(name: str = "hoverfly",
+                   cases: Sequence[tuple[str, float, float]] | None = None,
+                   aerodynamics: str = "small-angle") -> Any:
+    """The lateral derivatives and modes with Sun's group's body geometry, piece by piece.
+
+    Sun's group's model dronefly (Xu & Sun 2015, :data:`LATERAL_STUDIES`) has its wing-root
+    axis 0.13 body lengths (1.88 mm) above the centre of gravity and its body hanging at 53.3
+    deg; our preset has the roots at the CG and the body's long axis along x. Raising the roots
+    makes the side force act above the CG: L_v gains about h Y_v (Y_v < 0), the term that
+    decides the mode type (:func:`term_table`). Inclining the body gives a product of inertia
+    I_xz (:func:`inclined_body_inertia`) that couples roll and yaw. Each case is a new six-dof
+    orbit (trimmed), its multipliers and its averaged system.
+
+    Parameters
+    ----------
+    name : str
+        A preset of :data:`LATERAL_PRESETS`.
+    cases : sequence of (label, hinge height [m], body angle [rad]), optional
+        Default: the preset; the dronefly's roots above the CG; its inclined body; both.
+    aerodynamics : {"small-angle", "exact"}
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case: ``case``, ``hinge_height_mm``, ``roll_yaw_product`` [kg m^2], ``Yv``,
+        ``Yp``, ``Lv``, ``Lp`` (non-dimensional), ``averaged_kinds`` and ``floquet_kinds`` (the
+        modes, by descending growth rate), ``averaged_leading_per_s``, ``leading_multiplier``
+        (Floquet), ``doubling_wingbeats`` (nan if stable), ``multiplier_error``.
+    """
+    import pandas as pd
+
+    name = _check_name(name)
+    aerodynamics = check.choice("aerodynamics", aerodynamics, ("small-angle", "exact"))
+    if cases is None:
+        ref = LATERAL_STUDIES["zhang2010"].reference
+        h, chi = ref["hinge_to_cg"].value, ref["hanging_angle"].value
+        cases = (("preset", 0.0, 0.0), ("roots above the CG", h, 0.0),
+                 ("body inclined", 0.0, chi), ("both", h, chi))
+    span = presets.preset(name).semi_span
+    checked = tuple((str(label), check.real(f"cases[{i}] height", h, low=0.0, high=span),
+                     check.real(f"cases[{i}] angle", b, low=0.0, high=0.5 * math.pi))
+                    for i, (label, h, b) in enumerate(cases))
+    return pd.DataFrame(list(_geometry_rows(name, checked, aerodynamics)))
