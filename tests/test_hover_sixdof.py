@@ -74,7 +74,7 @@ def test_the_exact_loads_hover_in_six_dof(moth):
 
 def test_six_dof_refuses_what_it_cannot_do(moth):
     with pytest.raises(ValueError, match="aerodynamics"):
-        flapping.find_hover_orbit(moth, dof=6, aerodynamics="linear")
+        flapping.find_hover_orbit(moth, dof=6, aerodynamics="quasi-steady")
     with pytest.raises(ValueError, match="roll_inertia"):
         flapping.find_hover_orbit(moth.with_(roll_inertia=None), dof=6)
     with pytest.raises(ValueError, match="dof"):
@@ -96,3 +96,28 @@ def test_the_command_line_adds_the_lateral_multipliers():
     assert len(report["lateral_multipliers"]) == 4
     assert set(report["lateral_multipliers"][0]) == set(report["multipliers"][0]) == {"re", "im"}
     assert set(report["units"]) >= set(report) - {"units"}
+
+
+@pytest.fixture(scope="module")
+def linear(moth):
+    """The paper's linear loads (eq. 29) in six degrees of freedom, on the Python path."""
+    orbit = flapping.find_hover_orbit(moth, dof=6, aerodynamics="linear", backend="adaptive")
+    return orbit, flapping.hover_stability(orbit)
+
+
+def test_the_linear_loads_hover_in_six_dof(linear):
+    orbit, _ = linear
+    assert orbit.aerodynamics == "linear" and orbit.planar.model.aerodynamics == "linear"
+    assert orbit.residual_norm < 1e-9
+    assert np.max(np.abs(orbit.x0[list(LATERAL)])) < 1e-12
+
+
+@pytest.mark.slow
+def test_the_linear_loads_longitudinal_multipliers_are_the_planar_ones(linear):
+    orbit, stability = linear
+    planar = flapping.hover_stability(orbit.planar, backend="adaptive")
+    np.testing.assert_allclose(stability.longitudinal.multipliers, planar.multipliers,
+                               rtol=0, atol=1e-8)
+    assert stability.coupling < 1e-8
+    assert stability.liouville_error < 1e-8
+    assert stability.multiplier_error < 1e-8

@@ -71,7 +71,7 @@ class SixDofHoverOrbit:
     insect : Insect
         The insect, its mean stroke angle the orbit's (a trim of the planar solve).
     aerodynamics : str
-        ``"small-angle"`` or ``"exact"``.
+        ``"small-angle"``, ``"exact"`` or ``"linear"``.
     alpha_m : float
         Mean geometric angle of attack [rad] (the planar orbit's).
     x0 : ndarray, shape (8,)
@@ -152,7 +152,9 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
     ----------
     insect : Insect
         With its roll and yaw inertia (:func:`~flapping.model.sixdof.body_inertia`).
-    aerodynamics : {"small-angle", "exact"}
+    aerodynamics : {"small-angle", "exact", "linear"}
+        The loads (:data:`~flapping.model.sixdof.SIXDOF_AERODYNAMIC_MODELS`); ``"linear"`` is
+        the paper's eq. (29) in six degrees of freedom.
     backend
         The planar solve's backend (:func:`~flapping.hover.orbit.find_hover_orbit`); the
         eight-state solve is adaptive shooting.
@@ -183,8 +185,7 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
     body_inertia(insect)  # refuse an insect without its lateral inertia before any work
     if aerodynamics not in SIXDOF_AERODYNAMIC_MODELS:
         raise ValueError(
-            f"`aerodynamics` must be one of {SIXDOF_AERODYNAMIC_MODELS} with dof=6 (the linear "
-            f"loads of eq. 29 are not derived in six degrees of freedom yet); got "
+            f"`aerodynamics` must be one of {SIXDOF_AERODYNAMIC_MODELS} with dof=6; got "
             f"{aerodynamics!r}")
     if tol is not None:
         planar["tol"] = tol
