@@ -98,45 +98,127 @@ def linear_loads(phi, phi_dot, abs_phi_dot, alpha_m, k):
     c64 = X_H*c28
     return (
         -c5,
-        0,
+        0.0,
         -c8,
-        0,
+        0.0,
         H_W*c5 + K_31*c7*c9 + X_H*c8 - c10*c12*c4 - c12*c13*c14,
-        0,
+        0.0,
         -c19,
-        0,
+        0.0,
         -c20,
-        0,
+        0.0,
         c21 + c23 + c24,
-        0,
-        0,
+        0.0,
+        0.0,
         -c26,
-        0,
+        0.0,
         K_21*c2*c6*c9*phi_dot - c27,
-        0,
+        0.0,
         c30,
         -c31,
-        0,
+        0.0,
         -c34,
-        0,
+        0.0,
         H_W*c31 - KROT_12*c3 + c35,
-        0,
-        0,
+        0.0,
+        0.0,
         -c27 + c36 + c40 + c42,
-        0,
+        0.0,
         4*H_W*K_12*X_HAT*abs_phi_dot*c10*c25 + 2*H_W*K_12*X_HAT*abs_phi_dot*c13*c25*c6 - c15*c48 - c25*c45 - c26*c56 - c38*c46 - c44 + c50 - c53 - c55,
-        0,
+        0.0,
         2*K_31*c14 + X_H*c36 + X_H*c40 + X_H*c42 + c37*c58 + c41*c58 - c57 - c59,
         2*c21 + c24 + c36 - c37*c61 - c41*c61,
-        0,
+        0.0,
         H_W*c20 + c35 - c4*c51*c62 - c54*c62,
-        0,
+        0.0,
         4*H_W*K_12*X_HAT*abs_phi_dot*c10*c15 + 2*H_W*K_12*X_HAT*abs_phi_dot*c13*c15*c6 + KROT_12*X_H*c2*phi_dot + K_12*X_H*X_HAT*c0*c2*c6*phi_dot + 2*K_12*X_H*X_HAT*c2*c51*phi_dot - c15*c45 - c19*c56 - c21*c49 - c25*c48 - 4*c32*c64 - c34*c63 + c44 - c46*c60 - c50 + c53 + c55,
-        0,
-        0,
+        0.0,
+        0.0,
         c30,
-        0,
+        0.0,
         K_21*X_H*c2*c6*c9*phi_dot + K_31*c2*c6*phi_dot - c57 - c59,
-        0,
+        0.0,
         -8*c1*c64 - c17*c47 - c26*c63,
     )
+
+
+def forcing_jacobian(phi, phi_dot, phi_ddot, u, v, w, p, q, r, roll, theta, k):
+    """dF/d(u, v, w, p, q, r, roll, theta) of A x_dot = loads + F, row-major (48 values)."""
+    m, I_x, I_y, I_z, I_xz, m_w, A1, A2, x_h, y_w, h_w, g = k
+    c0 = m*r
+    c1 = m*q
+    c2 = m_w*r
+    c3 = 2*h_w
+    c4 = c2*c3
+    c5 = -m*w
+    c6 = 4*x_h
+    c7 = m_w*q
+    c8 = math.sin(phi)
+    c9 = A1*c8
+    c10 = c9*q
+    c11 = 2*c10
+    c12 = m*v
+    c13 = m_w*p
+    c14 = c13*c3
+    c15 = c2*c6
+    c16 = c9*r
+    c17 = 2*c16
+    c18 = math.cos(theta)
+    c19 = g*m
+    c20 = c18*c19
+    c21 = m*p
+    c22 = 2*x_h
+    c23 = c10 + c22*c7
+    c24 = -c4
+    c25 = c9*p
+    c26 = c13*c22 + c25
+    c27 = c24 + c26
+    c28 = 2*phi_dot
+    c29 = math.cos(phi)
+    c30 = A1*c29
+    c31 = c28*c30 + m*u
+    c32 = math.cos(roll)
+    c33 = math.sin(roll)
+    c34 = math.sin(theta)
+    c35 = c19*c34
+    c36 = 4*h_w
+    c37 = c16 + c2*c22
+    c38 = A2*phi_dot*math.sin(2*phi)
+    c39 = c3*m_w
+    c40 = c3*c7
+    c41 = I_xz*q - c10*h_w - c40*x_h
+    c42 = c29**2
+    c43 = A2*r
+    c44 = y_w**2
+    c45 = 2*c2
+    c46 = 2*c30*y_w
+    c47 = h_w**2
+    c48 = I_z*r - c45*c47
+    c49 = A2*q
+    c50 = c30*phi_dot
+    c51 = 2*c7
+    c52 = -I_y*q + c44*c51 + c46*q
+    c53 = c18*g
+    c54 = c39*c53
+    c55 = c34*g
+    c56 = c33*c55
+    c57 = c8**2
+    c58 = x_h**2
+    c59 = c22*m_w
+    c60 = c22*c50 + c59*u + c9*u
+    c61 = 2*c13
+    c62 = I_x*p - c22*c25 - c58*c61
+    c63 = c53*c9
+    c64 = c53*c59
+    c65 = c55*c9
+    c66 = A2*p
+    return (0.0, c0, -c1, c4, c11 + c5 + c6*c7, c12 + c14 + c15 + c17, 0.0, -c20, -c0, 0.0, c21, -c23 - c5, -c27, -c31 + 2*h_w*m_w*q, c20*c32, -c33*c35, c1, -c21, 0.0, -c12 - c13*c36 - c37, c31 - c36*c7, -c26, -c20*c33, -c32*c35, c24, 0.0, c14, c28*c9*y_w + c38 + c39*w + c41, I_xz*p + I_y*r - c14*x_h - c25*h_w - c42*c43 - c44*c45 - c46*r - c48, -I_z*q - c3*c50 - c39*u - c42*c49 + 2*c47*m_w*q - c52, c32*c54, -c39*c56, -c23, c27, c40, -I_x*r - 2*I_xz*p + c13*c6*h_w + c17*x_h + c25*c3 + c43*c57 + c45*c58 + c48 + c59*v + c9*v, -c38 - c60 + 2*h_w*m_w*w, A2*c57*p + 2*I_xz*r + I_z*p - c15*h_w - c16*c3 - c39*v - c47*c61 - c62, c33*c63 + c33*c64, c32*c55*c59 + c32*c65 + c54, -c37, 0.0, c26, I_x*q - c11*x_h - 2*c49*c57 + c49 - c51*c58 + c52 + c59*w + c9*w, -I_xz*r - I_y*p + c16*h_w + c4*x_h + c44*c61 + c46*p - 2*c57*c66 + c62 + c66, 2*A1*c8*phi_dot*y_w - c41 - c60, c32*c63 + c32*c64, -c33*c65 - c56*c59,)
+
+
+def euler_rates_jacobian(u, v, w, p, q, r, roll, theta):
+    """d(roll_dot, theta_dot)/d(u, v, w, p, q, r, roll, theta), row-major (16 values)."""
+    c0 = math.sin(roll)
+    c1 = math.tan(theta)
+    c2 = math.cos(roll)
+    c3 = c0*q + c2*r
+    return (0.0, 0.0, 0.0, 1.0, c0*c1, c1*c2, c1*(-c0*r + c2*q), c3*(c1**2 + 1), 0.0, 0.0, 0.0, 0.0, c2, -c0, -c3, 0.0,)
