@@ -2,10 +2,10 @@
 
 What the planar kernel (:mod:`flapping.fast._compiled`) does for (u, w, q, theta), done here for
 the eight states (u, v, w, p, q, r, roll, theta) and the descent z, with every formula generated
-by SymPy (one source of truth): the linear loads and the Jacobians of the mechanics from
-:mod:`flapping.model._sixdof_linear_generated`, the mass matrix, forcing and Euler-angle rates
-from :mod:`flapping.model._sixdof_generated`. Wing mass is included (the mass matrix A(phi) is
-solved at every stage by Gaussian elimination with partial pivoting).
+by SymPy (one source of truth): the linear loads, the mass matrix and the Jacobians of the
+mechanics from :mod:`flapping.model._sixdof_linear_generated` (written into arrays), the forcing
+and Euler-angle rates from :mod:`flapping.model._sixdof_generated`. Wing mass is included (the
+mass matrix A(phi) is solved at every stage by Gaussian elimination with partial pivoting).
 
 - Integration: the DOP853 tableau at a fixed step, ``n`` steps per half-stroke, restarted at
   stroke reversal (the linear loads are not smooth there: they hold ``|phi_dot|``).
@@ -30,7 +30,6 @@ from typing import Any
 
 import numba
 import numpy as np
-from numba import literal_unroll
 
 from flapping.fast import _dop853
 from flapping.model import _sixdof_generated, _sixdof_linear_generated
@@ -53,7 +52,7 @@ def _jit(fn: Any) -> Any:
 _linear_loads = numba.njit(_sixdof_linear_generated.linear_loads)
 _forcing_jacobian = numba.njit(_sixdof_linear_generated.forcing_jacobian)
 _euler_jacobian = numba.njit(_sixdof_linear_generated.euler_rates_jacobian)
-_mass_matrix = numba.njit(_sixdof_generated.mass_matrix)
+_mass_matrix = numba.njit(_sixdof_linear_generated.mass_matrix)  # floats only
 _forcing = numba.njit(_sixdof_generated.forcing)
 _euler_rates = numba.njit(_sixdof_generated.euler_rates)
 
@@ -61,15 +60,6 @@ RK_A = np.ascontiguousarray(_dop853.A)
 RK_B = np.ascontiguousarray(_dop853.B)
 RK_C = np.ascontiguousarray(_dop853.C)
 N_STAGES = _dop853.N_STAGES
-
-
-@numba.njit
-def _fill(values, out):  # pragma: no cover - compiled
-    """out[:len(values)] = values, for a tuple whose items numba may type differently."""
-    i = 0
-    for v in literal_unroll(values):
-        out[i] = v
-        i += 1  # noqa: SIM113 - literal_unroll takes no enumerate
 
 
 @numba.njit
@@ -101,68 +91,86 @@ def _solve(a, b, n, m):  # pragma: no cover - compiled
 
 
 @numba.njit
-def _field(t, y, dy, variational, amplitude, p, klin, kmech, b, a, jf, je):  # pragma: no cover
+def _field(t, y, dy, variational, amplitude, p, klin, kmech, w):  # pragma: no cover
     """dy/dt of the plain (variational False) or the variational state.
 
     ``p`` = (omega [rad/s], phi_bar [rad], alpha_m [rad]); ``klin`` the linear loads' constants,
     ``kmech`` the mechanics' (tuple, :data:`~flapping.model.sixdof_derivation.CONSTANT_NAMES`);
-    ``b`` (6 x 9), ``a`` (6 x 6), ``jf`` (48), ``je`` (16) scratch arrays.
+    ``w`` the scratch arrays of :func:`_work`.
     """
+    lin, b, a, jf, je, jac = w
     omega, phi_bar, alpha_m = p[0], p[1], p[2]
     c, s = math.cos(omega * t), math.sin(omega * t)
     phi = phi_bar + amplitude * c
     phi_dot = -omega * amplitude * s
     phi_ddot = -omega * omega * amplitude * c
-    u, v, w, pr, q, r, roll, theta = y[0], y[1], y[2], y[3], y[4], y[5], y[6], y[7]
-    lin = _linear_loads(phi, phi_dot, abs(phi_dot), alpha_m, klin)
-    _fill(_forcing(phi, phi_dot, phi_ddot, u, v, w, pr, q, r, roll, theta, kmech), jf)
+    u, v, w_, pr, q, r, roll, theta = y[0], y[1], y[2], y[3], y[4], y[5], y[6], y[7]
+    _linear_loads(phi, phi_dot, abs(phi_dot), alpha_m, klin, lin)
+    f0, f1, f2, f3, f4, f5 = _forcing(phi, phi_dot, phi_ddot, u, v, w_, pr, q, r, roll, theta,
+                                      kmech)
+    b[0, 0], b[1, 0], b[2, 0], b[3, 0], b[4, 0], b[5, 0] = f0, f1, f2, f3, f4, f5
     for i in range(6):
-        acc = lin[i] + jf[i]
+        acc = b[i, 0] + lin[i]
         for j in range(6):
             acc += lin[6 + 6 * i + j] * y[j]
         b[i, 0] = acc
     ncol = 1
     if variational:
         ncol = 9
-        _fill(_forcing_jacobian(phi, phi_dot, phi_ddot, u, v, w, pr, q, r, roll, theta, kmech),
-              jf)
+        _forcing_jacobian(phi, phi_dot, phi_ddot, u, v, w_, pr, q, r, roll, theta, kmech, jf)
         for i in range(6):
             for j in range(8):
-                b[i, 1 + j] = jf[8 * i + j] + (lin[6 + 6 * i + j] if j < 6 else 0.0)
-    i = 0
-    for value in literal_unroll(_mass_matrix(phi, kmech)):
-        a[i // 6, i % 6] = value
-        i += 1  # noqa: SIM113 - literal_unroll takes no enumerate
+                b[i, 1 + j] = jf[8 * i + j]
+            for j in range(6):
+                b[i, 1 + j] += lin[6 + 6 * i + j]
+    _mass_matrix(phi, kmech, jf[48:])
+    for i in range(6):
+        for j in range(6):
+            a[i, j] = jf[48 + 6 * i + j]
     _solve(a, b, 6, ncol)
     for i in range(6):
         dy[i] = b[i, 0]
-    er = _euler_rates(u, v, w, pr, q, r, roll, theta)
-    dy[6] = er[0]
-    dy[7] = er[1]
+    roll_dot, theta_dot = _euler_rates(u, v, w_, pr, q, r, roll, theta)
+    dy[6] = roll_dot
+    dy[7] = theta_dot
     sr, cr, st, ct = math.sin(roll), math.cos(roll), math.sin(theta), math.cos(theta)
-    dy[8] = -u * st + v * sr * ct + w * cr * ct
+    dy[8] = -u * st + v * sr * ct + w_ * cr * ct
     if not variational:
         return
-    _fill(_euler_jacobian(u, v, w, pr, q, r, roll, theta), je)
-    gz = (-st, sr * ct, cr * ct, 0.0, 0.0, 0.0, v * cr * ct - w * sr * ct,
-          -u * ct - v * sr * st - w * cr * st)
-    trace = 0.0
+    _euler_jacobian(u, v, w_, pr, q, r, roll, theta, je)
+    # J (9 x 8): the accelerations', the Euler angles' and the descent's rows.
+    for i in range(6):
+        for k in range(8):
+            jac[i, k] = b[i, 1 + k]
+    for k in range(8):
+        jac[6, k] = je[k]
+        jac[7, k] = je[8 + k]
+        jac[8, k] = 0.0
+    jac[8, 0] = -st
+    jac[8, 1] = sr * ct
+    jac[8, 2] = cr * ct
+    jac[8, 6] = v * cr * ct - w_ * sr * ct
+    jac[8, 7] = -u * ct - v * sr * st - w_ * cr * st
     for i in range(9):
         for j in range(8):
-            acc = 0.0
-            for k in range(8):
-                if i < 6:
-                    jik = b[i, 1 + k]
-                elif i < 8:
-                    jik = je[8 * (i - 6) + k]
-                else:
-                    jik = gz[k]
-                acc += jik * y[9 + 8 * k + j]
-            dy[9 + 8 * i + j] = acc
-    for i in range(6):
-        trace += b[i, 1 + i]
-    trace += je[6] + je[15]
+            dy[9 + 8 * i + j] = 0.0
+        for k in range(8):
+            jik = jac[i, k]
+            if jik != 0.0:
+                for j in range(8):
+                    dy[9 + 8 * i + j] += jik * y[9 + 8 * k + j]
+    trace = 0.0
+    for i in range(8):
+        trace += jac[i, i]
     dy[81] = trace
+
+
+@numba.njit
+def _work():  # pragma: no cover - compiled
+    """The scratch arrays of :func:`_field`: loads (42), B (6 x 9), A (6 x 6), dF/dx and A's
+    values (48 + 36), the Euler rates' Jacobian (16), J (9 x 8)."""
+    return (np.empty(42), np.empty((6, 9)), np.empty((6, 6)), np.empty(84), np.empty(16),
+            np.empty((9, 8)))
 
 
 @_jit
@@ -172,7 +180,7 @@ def segment(y0, t0, h, n_steps, variational, amplitude, p, klin, kmech):  # prag
     y = y0.copy()
     stages = np.empty((N_STAGES, n))
     tmp = np.empty(n)
-    b, a, jf, je = np.empty((6, 9)), np.empty((6, 6)), np.empty(48), np.empty(16)
+    work = _work()
     for step in range(n_steps):
         t = t0 + h * step
         for st in range(N_STAGES):
@@ -184,7 +192,7 @@ def segment(y0, t0, h, n_steps, variational, amplitude, p, klin, kmech):  # prag
                     for i in range(n):
                         tmp[i] += aij * stages[j, i]
             _field(t + RK_C[st] * h, tmp, stages[st], variational, amplitude, p, klin, kmech,
-                   b, a, jf, je)
+                   work)
         for st in range(N_STAGES):
             bs = h * RK_B[st]
             if bs != 0.0:
@@ -256,11 +264,17 @@ def newton(model: Any, x0: np.ndarray, amplitude: float, n_steps: int, tol: floa
            max_iter: int = 12) -> tuple[np.ndarray, float, np.ndarray, float, int, int]:
     """Newton on (x0, Phi): periodicity of the eight states and zero net descent.
 
+    Each iteration integrates the variational state (its matrix gives the state columns of
+    Newton's Jacobian) and one plain flow at Phi (1 + 1e-7) (the Phi column by a forward
+    difference: a Jacobian column to ~1e-7 keeps Newton's convergence quadratic to rounding from
+    the planar orbit's start, whose residual is ~1e-9).
+
     Returns
     -------
     tuple
-        x0, amplitude, the variational end state (82) at the solution, the residual norm, the
-        iterations and the evaluations of the right-hand side.
+        x0, amplitude, the variational end state (82) at the solution (its matrix is the
+        monodromy at ``n_steps``), the residual norm, the iterations and the evaluations of the
+        right-hand side.
     """
     x = np.array(x0, dtype=float)
     amp = float(amplitude)
@@ -276,11 +290,10 @@ def newton(model: Any, x0: np.ndarray, amplitude: float, n_steps: int, tol: floa
         jac = np.empty((9, 9))
         jac[:, :8] = end[9:81].reshape(9, 8)
         jac[:8, :8] -= np.eye(8)
-        h = 1e-6 * amp
+        h = 1e-7 * amp
         plus = flow(model, x, amp + h, n_steps, False)
-        minus = flow(model, x, amp - h, n_steps, False)
-        evaluations += 2 * per_flow
-        jac[:, 8] = (plus - minus) / (2.0 * h)
+        evaluations += per_flow
+        jac[:, 8] = (plus - end[:9]) / h
         delta = np.linalg.solve(jac, -residual)
         x += delta[:8]
         amp += float(delta[8])

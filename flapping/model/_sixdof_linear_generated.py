@@ -15,8 +15,8 @@ OUTPUT_NAMES = ('X0', 'Y0', 'Z0', 'L0', 'M0', 'N0', 'Xu', 'Xv', 'Xw', 'Xp', 'Xq'
 CONSTANTS = ('FREQUENCY', 'H_W', 'KROT_12', 'KROT_13', 'KROT_22', 'K_11', 'K_12', 'K_21', 'K_22', 'K_31', 'K_NU', 'MU1', 'X_H', 'X_HAT')
 
 
-def linear_loads(phi, phi_dot, abs_phi_dot, alpha_m, k):
-    """(X0, Y0, Z0, L0, M0, N0) and d(X ... N)/d(u ... r) row-major (42 values)."""
+def linear_loads(phi, phi_dot, abs_phi_dot, alpha_m, k, out):
+    """(X0, Y0, Z0, L0, M0, N0) and d(X ... N)/d(u ... r) row-major into out[:42]."""
     FREQUENCY = k[0]
     H_W = k[1]
     KROT_12 = k[2]
@@ -96,54 +96,52 @@ def linear_loads(phi, phi_dot, abs_phi_dot, alpha_m, k):
     c62 = K_12*X_HAT
     c63 = X_H**2
     c64 = X_H*c28
-    return (
-        -c5,
-        0.0,
-        -c8,
-        0.0,
-        H_W*c5 + K_31*c7*c9 + X_H*c8 - c10*c12*c4 - c12*c13*c14,
-        0.0,
-        -c19,
-        0.0,
-        -c20,
-        0.0,
-        c21 + c23 + c24,
-        0.0,
-        0.0,
-        -c26,
-        0.0,
-        K_21*c2*c6*c9*phi_dot - c27,
-        0.0,
-        c30,
-        -c31,
-        0.0,
-        -c34,
-        0.0,
-        H_W*c31 - KROT_12*c3 + c35,
-        0.0,
-        0.0,
-        -c27 + c36 + c40 + c42,
-        0.0,
-        4*H_W*K_12*X_HAT*abs_phi_dot*c10*c25 + 2*H_W*K_12*X_HAT*abs_phi_dot*c13*c25*c6 - c15*c48 - c25*c45 - c26*c56 - c38*c46 - c44 + c50 - c53 - c55,
-        0.0,
-        2*K_31*c14 + X_H*c36 + X_H*c40 + X_H*c42 + c37*c58 + c41*c58 - c57 - c59,
-        2*c21 + c24 + c36 - c37*c61 - c41*c61,
-        0.0,
-        H_W*c20 + c35 - c4*c51*c62 - c54*c62,
-        0.0,
-        4*H_W*K_12*X_HAT*abs_phi_dot*c10*c15 + 2*H_W*K_12*X_HAT*abs_phi_dot*c13*c15*c6 + KROT_12*X_H*c2*phi_dot + K_12*X_H*X_HAT*c0*c2*c6*phi_dot + 2*K_12*X_H*X_HAT*c2*c51*phi_dot - c15*c45 - c19*c56 - c21*c49 - c25*c48 - 4*c32*c64 - c34*c63 + c44 - c46*c60 - c50 + c53 + c55,
-        0.0,
-        0.0,
-        c30,
-        0.0,
-        K_21*X_H*c2*c6*c9*phi_dot + K_31*c2*c6*phi_dot - c57 - c59,
-        0.0,
-        -8*c1*c64 - c17*c47 - c26*c63,
-    )
+    out[0] = -c5
+    out[1] = 0.0
+    out[2] = -c8
+    out[3] = 0.0
+    out[4] = H_W*c5 + K_31*c7*c9 + X_H*c8 - c10*c12*c4 - c12*c13*c14
+    out[5] = 0.0
+    out[6] = -c19
+    out[7] = 0.0
+    out[8] = -c20
+    out[9] = 0.0
+    out[10] = c21 + c23 + c24
+    out[11] = 0.0
+    out[12] = 0.0
+    out[13] = -c26
+    out[14] = 0.0
+    out[15] = K_21*c2*c6*c9*phi_dot - c27
+    out[16] = 0.0
+    out[17] = c30
+    out[18] = -c31
+    out[19] = 0.0
+    out[20] = -c34
+    out[21] = 0.0
+    out[22] = H_W*c31 - KROT_12*c3 + c35
+    out[23] = 0.0
+    out[24] = 0.0
+    out[25] = -c27 + c36 + c40 + c42
+    out[26] = 0.0
+    out[27] = 4*H_W*K_12*X_HAT*abs_phi_dot*c10*c25 + 2*H_W*K_12*X_HAT*abs_phi_dot*c13*c25*c6 - c15*c48 - c25*c45 - c26*c56 - c38*c46 - c44 + c50 - c53 - c55
+    out[28] = 0.0
+    out[29] = 2*K_31*c14 + X_H*c36 + X_H*c40 + X_H*c42 + c37*c58 + c41*c58 - c57 - c59
+    out[30] = 2*c21 + c24 + c36 - c37*c61 - c41*c61
+    out[31] = 0.0
+    out[32] = H_W*c20 + c35 - c4*c51*c62 - c54*c62
+    out[33] = 0.0
+    out[34] = 4*H_W*K_12*X_HAT*abs_phi_dot*c10*c15 + 2*H_W*K_12*X_HAT*abs_phi_dot*c13*c15*c6 + KROT_12*X_H*c2*phi_dot + K_12*X_H*X_HAT*c0*c2*c6*phi_dot + 2*K_12*X_H*X_HAT*c2*c51*phi_dot - c15*c45 - c19*c56 - c21*c49 - c25*c48 - 4*c32*c64 - c34*c63 + c44 - c46*c60 - c50 + c53 + c55
+    out[35] = 0.0
+    out[36] = 0.0
+    out[37] = c30
+    out[38] = 0.0
+    out[39] = K_21*X_H*c2*c6*c9*phi_dot + K_31*c2*c6*phi_dot - c57 - c59
+    out[40] = 0.0
+    out[41] = -8*c1*c64 - c17*c47 - c26*c63
 
 
-def forcing_jacobian(phi, phi_dot, phi_ddot, u, v, w, p, q, r, roll, theta, k):
-    """dF/d(u, v, w, p, q, r, roll, theta) of A x_dot = loads + F, row-major (48 values)."""
+def forcing_jacobian(phi, phi_dot, phi_ddot, u, v, w, p, q, r, roll, theta, k, out):
+    """dF/d(u, v, w, p, q, r, roll, theta) of A x_dot = loads + F, row-major into out[:48]."""
     m, I_x, I_y, I_z, I_xz, m_w, A1, A2, x_h, y_w, h_w, g = k
     c0 = m*r
     c1 = m*q
@@ -212,13 +210,128 @@ def forcing_jacobian(phi, phi_dot, phi_ddot, u, v, w, p, q, r, roll, theta, k):
     c64 = c53*c59
     c65 = c55*c9
     c66 = A2*p
-    return (0.0, c0, -c1, c4, c11 + c5 + c6*c7, c12 + c14 + c15 + c17, 0.0, -c20, -c0, 0.0, c21, -c23 - c5, -c27, -c31 + 2*h_w*m_w*q, c20*c32, -c33*c35, c1, -c21, 0.0, -c12 - c13*c36 - c37, c31 - c36*c7, -c26, -c20*c33, -c32*c35, c24, 0.0, c14, c28*c9*y_w + c38 + c39*w + c41, I_xz*p + I_y*r - c14*x_h - c25*h_w - c42*c43 - c44*c45 - c46*r - c48, -I_z*q - c3*c50 - c39*u - c42*c49 + 2*c47*m_w*q - c52, c32*c54, -c39*c56, -c23, c27, c40, -I_x*r - 2*I_xz*p + c13*c6*h_w + c17*x_h + c25*c3 + c43*c57 + c45*c58 + c48 + c59*v + c9*v, -c38 - c60 + 2*h_w*m_w*w, A2*c57*p + 2*I_xz*r + I_z*p - c15*h_w - c16*c3 - c39*v - c47*c61 - c62, c33*c63 + c33*c64, c32*c55*c59 + c32*c65 + c54, -c37, 0.0, c26, I_x*q - c11*x_h - 2*c49*c57 + c49 - c51*c58 + c52 + c59*w + c9*w, -I_xz*r - I_y*p + c16*h_w + c4*x_h + c44*c61 + c46*p - 2*c57*c66 + c62 + c66, 2*A1*c8*phi_dot*y_w - c41 - c60, c32*c63 + c32*c64, -c33*c65 - c56*c59,)
+    out[0] = 0.0
+    out[1] = c0
+    out[2] = -c1
+    out[3] = c4
+    out[4] = c11 + c5 + c6*c7
+    out[5] = c12 + c14 + c15 + c17
+    out[6] = 0.0
+    out[7] = -c20
+    out[8] = -c0
+    out[9] = 0.0
+    out[10] = c21
+    out[11] = -c23 - c5
+    out[12] = -c27
+    out[13] = -c31 + 2*h_w*m_w*q
+    out[14] = c20*c32
+    out[15] = -c33*c35
+    out[16] = c1
+    out[17] = -c21
+    out[18] = 0.0
+    out[19] = -c12 - c13*c36 - c37
+    out[20] = c31 - c36*c7
+    out[21] = -c26
+    out[22] = -c20*c33
+    out[23] = -c32*c35
+    out[24] = c24
+    out[25] = 0.0
+    out[26] = c14
+    out[27] = c28*c9*y_w + c38 + c39*w + c41
+    out[28] = I_xz*p + I_y*r - c14*x_h - c25*h_w - c42*c43 - c44*c45 - c46*r - c48
+    out[29] = -I_z*q - c3*c50 - c39*u - c42*c49 + 2*c47*m_w*q - c52
+    out[30] = c32*c54
+    out[31] = -c39*c56
+    out[32] = -c23
+    out[33] = c27
+    out[34] = c40
+    out[35] = -I_x*r - 2*I_xz*p + c13*c6*h_w + c17*x_h + c25*c3 + c43*c57 + c45*c58 + c48 + c59*v + c9*v
+    out[36] = -c38 - c60 + 2*h_w*m_w*w
+    out[37] = A2*c57*p + 2*I_xz*r + I_z*p - c15*h_w - c16*c3 - c39*v - c47*c61 - c62
+    out[38] = c33*c63 + c33*c64
+    out[39] = c32*c55*c59 + c32*c65 + c54
+    out[40] = -c37
+    out[41] = 0.0
+    out[42] = c26
+    out[43] = I_x*q - c11*x_h - 2*c49*c57 + c49 - c51*c58 + c52 + c59*w + c9*w
+    out[44] = -I_xz*r - I_y*p + c16*h_w + c4*x_h + c44*c61 + c46*p - 2*c57*c66 + c62 + c66
+    out[45] = 2*A1*c8*phi_dot*y_w - c41 - c60
+    out[46] = c32*c63 + c32*c64
+    out[47] = -c33*c65 - c56*c59
 
 
-def euler_rates_jacobian(u, v, w, p, q, r, roll, theta):
-    """d(roll_dot, theta_dot)/d(u, v, w, p, q, r, roll, theta), row-major (16 values)."""
+def mass_matrix(phi, k, out):
+    """A of A x_dot = loads + F (sixdof_derivation's), row-major into out[:36]."""
+    m, I_x, I_y, I_z, I_xz, m_w, A1, A2, x_h, y_w, h_w, g = k
+    c0 = 2*m_w
+    c1 = c0*h_w
+    c2 = -c1
+    c3 = math.sin(phi)
+    c4 = A1*c3
+    c5 = c0*x_h + c4
+    c6 = -c5
+    c7 = math.cos(phi)
+    c8 = c0*h_w**2
+    c9 = 2*A1*c7*y_w + c0*y_w**2
+    c10 = -I_xz + c1*x_h + c4*h_w
+    c11 = c0*x_h**2 + 2*c4*x_h
+    out[0] = m
+    out[1] = 0.0
+    out[2] = 0.0
+    out[3] = 0.0
+    out[4] = c2
+    out[5] = 0.0
+    out[6] = 0.0
+    out[7] = m
+    out[8] = 0.0
+    out[9] = c1
+    out[10] = 0.0
+    out[11] = c5
+    out[12] = 0.0
+    out[13] = 0.0
+    out[14] = m
+    out[15] = 0.0
+    out[16] = c6
+    out[17] = 0.0
+    out[18] = 0.0
+    out[19] = c1
+    out[20] = 0.0
+    out[21] = A2*c7**2 + I_x + c8 + c9
+    out[22] = 0.0
+    out[23] = c10
+    out[24] = c2
+    out[25] = 0.0
+    out[26] = c6
+    out[27] = 0.0
+    out[28] = A2*c3**2 + I_y + c11 + c8
+    out[29] = 0.0
+    out[30] = 0.0
+    out[31] = c5
+    out[32] = 0.0
+    out[33] = c10
+    out[34] = 0.0
+    out[35] = A2 + I_z + c11 + c9
+
+
+def euler_rates_jacobian(u, v, w, p, q, r, roll, theta, out):
+    """d(roll_dot, theta_dot)/d(u, v, w, p, q, r, roll, theta), row-major into out[:16]."""
     c0 = math.sin(roll)
     c1 = math.tan(theta)
     c2 = math.cos(roll)
     c3 = c0*q + c2*r
-    return (0.0, 0.0, 0.0, 1.0, c0*c1, c1*c2, c1*(-c0*r + c2*q), c3*(c1**2 + 1), 0.0, 0.0, 0.0, 0.0, c2, -c0, -c3, 0.0,)
+    out[0] = 0.0
+    out[1] = 0.0
+    out[2] = 0.0
+    out[3] = 1.0
+    out[4] = c0*c1
+    out[5] = c1*c2
+    out[6] = c1*(-c0*r + c2*q)
+    out[7] = c3*(c1**2 + 1)
+    out[8] = 0.0
+    out[9] = 0.0
+    out[10] = 0.0
+    out[11] = 0.0
+    out[12] = c2
+    out[13] = -c0
+    out[14] = -c3
+    out[15] = 0.0

@@ -191,9 +191,9 @@ class SixDofDynamics:
                amplitude: float) -> tuple[float, ...]:
         phi, phi_dot, _ = self._stroke(t, amplitude)
         if self._blade is None:  # eq. (29): constant loads + derivatives times (u ... r)
-            out = _lin.linear_loads(phi, phi_dot, abs(phi_dot), self.alpha_m, self._linear_k)
-            return tuple(out[i] + sum(out[6 + 6 * i + j] * x[j] for j in range(6))
-                         for i in range(6))
+            out = np.empty(len(_lin.OUTPUT_NAMES))
+            _lin.linear_loads(phi, phi_dot, abs(phi_dot), self.alpha_m, self._linear_k, out)
+            return tuple((out[:6] + out[6:].reshape(6, 6) @ np.asarray(x[:6])).tolist())
         kin = _gen.strip_kinematics(phi, phi_dot, *x, self._k)
         right = self._blade.wing_resultants(kin[0], kin[1], kin[2], kin[3], kin[4], s)
         left = self._blade.wing_resultants(kin[5], kin[6], kin[7], kin[8], kin[9], s)
@@ -223,7 +223,8 @@ class SixDofDynamics:
         amplitude = self.amplitude if amplitude is None else check_amplitude(amplitude)
         phi, phi_dot, _ = self._stroke(t, amplitude)
         k = self._linear_k if self._blade is None else linear_constants(self.insect)
-        out = np.array(_lin.linear_loads(phi, phi_dot, abs(phi_dot), self.alpha_m, k))
+        out = np.empty(len(_lin.OUTPUT_NAMES))
+        _lin.linear_loads(phi, phi_dot, abs(phi_dot), self.alpha_m, k, out)
         return out[:6], out[6:].reshape(6, 6)
 
     def loads(self, t: float, x: Sequence[float] | np.ndarray, s: float | None = None,
