@@ -318,7 +318,8 @@ def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str | None = N
         (:mod:`flapping.model.insect_file`), or an :class:`~flapping.model.morphology.Insect`.
     aerodynamics : {"linear", "small-angle", "exact"}, optional
         Loads model; default ``"linear"`` (eq. 29) with ``dof=4``, ``"small-angle"`` with
-        ``dof=6`` (the linear loads are planar only).
+        ``dof=6`` (where ``"linear"`` is eq. 29 derived in six degrees of freedom, solved on the
+        compiled six-degree-of-freedom path).
     dof : {4, 6}
         With 6, the orbit is also solved and analysed in six degrees of freedom
         (:mod:`flapping.hover.sixdof`): the report adds the keys of :data:`SIXDOF_UNITS`

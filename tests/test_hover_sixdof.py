@@ -74,7 +74,7 @@ def test_the_exact_loads_hover_in_six_dof(moth):
 
 def test_six_dof_refuses_what_it_cannot_do(moth):
     with pytest.raises(ValueError, match="aerodynamics"):
-        flapping.find_hover_orbit(moth, dof=6, aerodynamics="linear")
+        flapping.find_hover_orbit(moth, dof=6, aerodynamics="quasi-steady")
     with pytest.raises(ValueError, match="roll_inertia"):
         flapping.find_hover_orbit(moth.with_(roll_inertia=None), dof=6)
     with pytest.raises(ValueError, match="dof"):
@@ -96,3 +96,75 @@ def test_the_command_line_adds_the_lateral_multipliers():
     assert len(report["lateral_multipliers"]) == 4
     assert set(report["lateral_multipliers"][0]) == set(report["multipliers"][0]) == {"re", "im"}
     assert set(report["units"]) >= set(report) - {"units"}
+
+
+@pytest.fixture(scope="module")
+def linear(moth):
+    """The paper's linear loads (eq. 29) in six degrees of freedom, on the Python path."""
+    orbit = flapping.find_hover_orbit(moth, dof=6, aerodynamics="linear", backend="adaptive")
+    return orbit, flapping.hover_stability(orbit)
+
+
+def test_the_linear_loads_hover_in_six_dof(linear):
+    orbit, _ = linear
+    assert orbit.aerodynamics == "linear" and orbit.planar.model.aerodynamics == "linear"
+    assert orbit.residual_norm < 1e-9
+    assert np.max(np.abs(orbit.x0[list(LATERAL)])) < 1e-12
+
+
+@pytest.mark.slow
+def test_the_linear_loads_longitudinal_multipliers_are_the_planar_ones(linear):
+    orbit, stability = linear
+    planar = flapping.hover_stability(orbit.planar, backend="adaptive")
+    np.testing.assert_allclose(stability.longitudinal.multipliers, planar.multipliers,
+                               rtol=0, atol=1e-8)
+    assert stability.coupling < 1e-8
+    assert stability.liouville_error < 1e-8
+    assert stability.multiplier_error < 1e-8
+
+
+@pytest.fixture(scope="module")
+def compiled(moth):
+    """The linear loads on the compiled six-degree-of-freedom path (the default for them)."""
+    orbit = flapping.find_hover_orbit(moth, dof=6, aerodynamics="linear")
+    return orbit, flapping.hover_stability(orbit)
+
+
+def test_the_compiled_path_is_the_default_for_the_linear_loads(compiled):
+    orbit, stability = compiled
+    assert orbit.backend == "compiled" and orbit.residual_norm < 1e-9
+    assert np.max(np.abs(orbit.x0[list(LATERAL)])) < 1e-12
+    assert stability.multipliers.shape == (8,)
+    assert stability.coupling < 1e-8
+    assert stability.liouville_error < 1e-8 and stability.multiplier_error < 1e-8
+
+
+@pytest.mark.slow
+def test_the_compiled_path_agrees_with_the_python_path(compiled, linear):
+    (orbit, stability), (python_orbit, python) = compiled, linear
+    assert python_orbit.backend == "adaptive"
+    np.testing.assert_allclose(orbit.x0, python_orbit.x0, rtol=0, atol=1e-9)
+    assert abs(orbit.amplitude - python_orbit.amplitude) < 1e-10
+    np.testing.assert_allclose(np.sort_complex(stability.multipliers),
+                               np.sort_complex(python.multipliers), rtol=0, atol=1e-8)
+    # The Python analysis of the compiled orbit, and the compiled analysis of the Python one.
+    again = flapping.hover_stability(python_orbit, backend="compiled")
+    np.testing.assert_allclose(again.multipliers, stability.multipliers, rtol=0, atol=1e-8)
+
+
+def test_the_compiled_path_with_wing_mass_agrees_with_the_python_path(moth):
+    insect = moth.with_(wing_mass=4.7e-5, hinge_height=2e-3)
+    orbit = flapping.find_hover_orbit(insect, dof=6, aerodynamics="linear")
+    assert orbit.backend == "compiled"
+    python = flapping.hover_stability(orbit, backend="adaptive")
+    ours = flapping.hover_stability(orbit)
+    np.testing.assert_allclose(np.sort_complex(ours.multipliers),
+                               np.sort_complex(python.multipliers), rtol=0, atol=1e-8)
+    assert ours.liouville_error < 1e-8
+
+
+def test_the_compiled_analysis_is_refused_for_the_blade_element_loads(orbit):
+    from flapping.hover.sixdof import sixdof_stability
+
+    with pytest.raises(ValueError, match="linear loads only"):
+        sixdof_stability(orbit, backend="compiled")

@@ -519,9 +519,9 @@ def find_hover_orbit(
         ``trims`` are the problem's and must be left at their defaults).
     aerodynamics : {"linear", "small-angle", "exact"}, optional
         Loads model (:class:`~flapping.model.dynamics.LongitudinalDynamics`); ``"linear"`` is
-        eq. (29), the default with ``dof=4``. With ``dof=6`` the blade-element models only
-        (default ``"small-angle"``): the linear loads are not derived in six degrees of
-        freedom yet.
+        eq. (29), the default with ``dof=4``. With ``dof=6`` the default is ``"small-angle"``;
+        ``"linear"`` is eq. (29) in six degrees of freedom
+        (:mod:`flapping.model.sixdof_linear_derivation`).
     alpha_m : float, optional
         Mean geometric angle of attack [rad]; default the trim of eq. (40).
     amplitude_guess : float, optional

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from flapping import _validation
-from flapping.backends import AUTO, Adaptive, Backend
+from flapping.backends import AUTO, Adaptive, Backend, Compiled
 from flapping.errors import ConvergenceError
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
@@ -53,6 +53,14 @@ ANALYSIS_RTOL = 3e-11
 ANALYSIS_ATOL = 3e-11
 #: The second analysis, for the error estimate, loosens both tolerances by this factor.
 ERROR_FACTOR = 10.0
+#: The compiled path (linear loads): DOP853 steps per half-stroke of the Newton solve; the
+#: analysis runs at twice as many, its error estimate the difference from Newton's last
+#: monodromy, and doubles the steps (to at most COMPILED_MAX_STEPS) while that exceeds
+#: :attr:`flapping.backends.Compiled.multiplier_tol`. At 24/48 steps the hawkmoth's estimate is
+#: ~1e-10 and Liouville's check ~1e-9 (its fastest lateral mode decays by 1e-11 a period: at
+#: 16/32 steps Liouville's check, set by that multiplier's relative error, was 2.7e-8).
+COMPILED_STEPS = 24
+COMPILED_MAX_STEPS = 512
 
 
 def embed(x4: Any) -> np.ndarray:
@@ -71,7 +79,7 @@ class SixDofHoverOrbit:
     insect : Insect
         The insect, its mean stroke angle the orbit's (a trim of the planar solve).
     aerodynamics : str
-        ``"small-angle"`` or ``"exact"``.
+        ``"small-angle"``, ``"exact"`` or ``"linear"``.
     alpha_m : float
         Mean geometric angle of attack [rad] (the planar orbit's).
     x0 : ndarray, shape (8,)
@@ -92,6 +100,16 @@ class SixDofHoverOrbit:
     solve_status : Status
     dof : int
         6.
+    backend : str
+        ``"adaptive"`` (the Python path: adaptive DOP853) or ``"compiled"`` (the linear loads'
+        compiled path, :mod:`flapping.fast._sixdof`); :func:`sixdof_stability` analyses the
+        orbit on the same path by default.
+    n_steps : int or None
+        The compiled path's DOP853 steps per half-stroke of its Newton solve (None on the
+        adaptive path).
+    newton_monodromy : ndarray, shape (8, 8), or None
+        The compiled path's monodromy at the solution at ``n_steps`` (Newton's last
+        integration): the coarse analysis of :func:`sixdof_stability`'s error estimate.
     """
 
     insect: Insect
@@ -106,6 +124,9 @@ class SixDofHoverOrbit:
     stats: Stats = field(repr=False)
     solve_status: Status = Status.SUCCESS
     dof: int = 6
+    backend: str = "adaptive"
+    n_steps: int | None = None
+    newton_monodromy: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         freeze(self)
@@ -152,7 +173,9 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
     ----------
     insect : Insect
         With its roll and yaw inertia (:func:`~flapping.model.sixdof.body_inertia`).
-    aerodynamics : {"small-angle", "exact"}
+    aerodynamics : {"small-angle", "exact", "linear"}
+        The loads (:data:`~flapping.model.sixdof.SIXDOF_AERODYNAMIC_MODELS`); ``"linear"`` is
+        the paper's eq. (29) in six degrees of freedom.
     backend
         The planar solve's backend (:func:`~flapping.hover.orbit.find_hover_orbit`); the
         eight-state solve is adaptive shooting.
@@ -183,9 +206,10 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
     body_inertia(insect)  # refuse an insect without its lateral inertia before any work
     if aerodynamics not in SIXDOF_AERODYNAMIC_MODELS:
         raise ValueError(
-            f"`aerodynamics` must be one of {SIXDOF_AERODYNAMIC_MODELS} with dof=6 (the linear "
-            f"loads of eq. 29 are not derived in six degrees of freedom yet); got "
+            f"`aerodynamics` must be one of {SIXDOF_AERODYNAMIC_MODELS} with dof=6; got "
             f"{aerodynamics!r}")
+    compiled = aerodynamics == "linear" and (
+        isinstance(backend, Compiled) or backend in (AUTO, "compiled"))
     if tol is not None:
         planar["tol"] = tol
     if planar_orbit is None:
@@ -204,6 +228,8 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
     model = SixDofDynamics(trimmed, flat.amplitude, flat.alpha_m, aerodynamics)
     path = Adaptive()
     tol = path.tol if tol is None else tol
+    if compiled:
+        return _compiled_orbit(model, flat, tol, started)
     y0 = np.concatenate([embed(flat.x0), [0.0]])
     funs = _fields(model)
     # The plane of symmetry is invariant: the embedded planar orbit usually satisfies the
@@ -233,6 +259,33 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
                             x0=x0, amplitude=amplitude, planar=flat, shooting=result,
                             residual_norm=float(result.residual_norm),
                             amplitude_change=amplitude - flat.amplitude, stats=stats)
+
+
+def _compiled_orbit(model: SixDofDynamics, flat: Any, tol: float,
+                    started: float) -> SixDofHoverOrbit:
+    """Newton on the compiled path (:mod:`flapping.fast._sixdof`) from the embedded planar orbit.
+
+    The linear loads with massless or massive wings; the step count is
+    :data:`COMPILED_STEPS` (the stability analysis checks it against half as many).
+    """
+    from flapping.fast import _sixdof  # compiles on first use
+
+    x0, amplitude, end, residual, nit, nfev = _sixdof.newton(
+        model, embed(flat.x0), flat.amplitude, COMPILED_STEPS, tol)
+    if not residual <= tol or not 0.0 < amplitude <= 0.5 * math.pi:
+        raise ConvergenceError(
+            f"six-degree-of-freedom hover (compiled path) did not converge from the planar "
+            f"orbit: residual {residual:.3e}, amplitude {amplitude!r} rad after {nit} Newton "
+            "iterations")
+    stats = Stats(nit=nit, nfev=nfev, njev=0, time=time.perf_counter() - started)
+    if amplitude != model.amplitude:
+        model = model.with_amplitude(amplitude)
+    return SixDofHoverOrbit(insect=model.insect, aerodynamics=model.aerodynamics,
+                            alpha_m=flat.alpha_m, x0=readonly(x0), amplitude=amplitude,
+                            planar=flat, shooting=None, residual_norm=residual,
+                            amplitude_change=amplitude - flat.amplitude, stats=stats,
+                            backend="compiled", n_steps=COMPILED_STEPS,
+                            newton_monodromy=readonly(end[9:81].reshape(9, 8)[:8].copy()))
 
 
 @dataclass(frozen=True)
@@ -311,8 +364,35 @@ def _block(matrix: np.ndarray, index: tuple[int, ...], names: tuple[str, ...]) -
     return ModeSet(names=names, monodromy=block, multipliers=readonly(floquet_multipliers(block)))
 
 
+def _compiled_monodromy(orbit: SixDofHoverOrbit, n_steps: int) -> Monodromy:
+    """The monodromy of the compiled path at ``n_steps`` per half-stroke, as a Monodromy."""
+    from flapping.fast import _sixdof
+
+    model = orbit.model
+    factors, end, trace_integral = _sixdof.monodromy_factors(model, orbit.x0, orbit.amplitude,
+                                                             n_steps)
+    matrix = np.eye(8)
+    for i in range(factors.shape[2]):
+        matrix = factors[:, :, i] @ matrix
+    multipliers = floquet_multipliers(matrix)
+    # The product of the factors' determinants: det M itself loses the digits of its tiny
+    # multiplier.
+    det = float(np.prod([np.linalg.det(factors[:, :, i]) for i in range(factors.shape[2])]))
+    liouville = math.exp(trace_integral)
+    x_end = end[:8].copy()
+    closure = float(np.linalg.norm(x_end - orbit.x0))
+    return Monodromy(
+        matrix=readonly(matrix), multipliers=readonly(multipliers),
+        exponents=readonly(np.log(multipliers.astype(complex)) / model.period), det=det,
+        trace_integral=trace_integral, liouville_det=liouville,
+        liouville_error=abs(det - liouville) / abs(liouville), x_end=readonly(x_end),
+        closure_error=closure, period=model.period, factors=readonly(factors),
+        multiplier_method="eig", nfev=2 * n_steps * _sixdof.N_STAGES, njev=0,
+        relative_closure_error=closure / max(1.0, float(np.linalg.norm(orbit.x0))))
+
+
 def sixdof_stability(orbit: SixDofHoverOrbit, *, rtol: float | None = None,
-                     atol: float | None = None) -> SixDofStability:
+                     atol: float | None = None, backend: str = AUTO) -> SixDofStability:
     """The eight Floquet multipliers of a six-degree-of-freedom hover orbit.
 
     Parameters
@@ -323,10 +403,29 @@ def sixdof_stability(orbit: SixDofHoverOrbit, *, rtol: float | None = None,
         :data:`ANALYSIS_ATOL`); a second analysis at :data:`ERROR_FACTOR` times both gives
         :attr:`SixDofStability.multiplier_error`.
 
+    backend : {"auto", "compiled", "adaptive"}
+        ``"auto"``: the orbit's own path (:attr:`SixDofHoverOrbit.backend`); ``"compiled"``
+        for an orbit of the linear loads only (the analysis at :attr:`SixDofHoverOrbit.n_steps`
+        steps per half-stroke, or more: doubled until the multipliers at half the steps differ
+        by at most :attr:`flapping.backends.Compiled.multiplier_tol`; ``rtol`` and ``atol`` do
+        not apply); ``"adaptive"``: the Python path.
+
     Returns
     -------
     SixDofStability
+
+    Raises
+    ------
+    ValueError
+        If ``backend`` is ``"compiled"`` for an orbit of the blade-element loads.
     """
+    backend = _validation.choice("backend", backend, (AUTO, "compiled", "adaptive"))
+    if backend == "compiled" and orbit.aerodynamics != "linear":
+        raise ValueError("`backend='compiled'` analyses six-degree-of-freedom orbits of the "
+                         "linear loads only; this orbit's are "
+                         f"{orbit.aerodynamics!r}: use the adaptive path")
+    if backend == "compiled" or (backend == AUTO and orbit.backend == "compiled"):
+        return _compiled_stability(orbit)
     model = orbit.model
     funs = model.segment_functions()
     rtol = ANALYSIS_RTOL if rtol is None else rtol
@@ -338,13 +437,35 @@ def sixdof_stability(orbit: SixDofHoverOrbit, *, rtol: float | None = None,
 
     result, loose = analysed(1.0), analysed(ERROR_FACTOR)
     error = float(np.max(np.abs(np.asarray(result.multipliers) - np.asarray(loose.multipliers))))
+    return _stability_of(orbit, result, error)
+
+
+def _compiled_stability(orbit: SixDofHoverOrbit) -> SixDofStability:
+    """:func:`sixdof_stability` on the compiled path (see there)."""
+    n_steps = 2 * (orbit.n_steps or COMPILED_STEPS)
+    if orbit.newton_monodromy is not None:
+        coarse = floquet_multipliers(orbit.newton_monodromy)
+    else:
+        coarse = _compiled_monodromy(orbit, n_steps // 2).multipliers
+    while True:
+        result = _compiled_monodromy(orbit, n_steps)
+        error = float(np.max(np.abs(np.sort_complex(result.multipliers)
+                                    - np.sort_complex(coarse))))
+        if error <= Compiled.multiplier_tol or 2 * n_steps > COMPILED_MAX_STEPS:
+            break
+        coarse, n_steps = result.multipliers, 2 * n_steps
+    return _stability_of(orbit, result, error)
+
+
+def _stability_of(orbit: SixDofHoverOrbit, result: Monodromy, error: float) -> SixDofStability:
+    """The result object of a monodromy and its multipliers' error estimate."""
     matrix = np.asarray(result.matrix)
     lon, lat = list(LONGITUDINAL), list(LATERAL)
     off = max(np.max(np.abs(matrix[np.ix_(lon, lat)])), np.max(np.abs(matrix[np.ix_(lat, lon)])))
     return SixDofStability(
         orbit=orbit, monodromy=readonly(matrix.copy()),
         multipliers=readonly(np.asarray(result.multipliers)),
-        floquet=Floquet.of_matrix(matrix, model.period, multipliers=result.multipliers,
+        floquet=Floquet.of_matrix(matrix, orbit.period, multipliers=result.multipliers,
                                   trace_integral=float(result.trace_integral)),
         longitudinal=_block(matrix, LONGITUDINAL, ("u", "w", "q", "theta")),
         lateral=_block(matrix, LATERAL, ("v", "p", "r", "roll")),

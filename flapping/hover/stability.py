@@ -293,10 +293,15 @@ def hover_stability(
         If an option was given for a path that does not run.
     """
     if isinstance(orbit, SixDofHoverOrbit):
-        if backend not in (DEFAULT_BACKEND, "adaptive") or method not in (None, "DOP853"):
+        linear = orbit.aerodynamics == "linear"
+        allowed = (DEFAULT_BACKEND, "adaptive", "compiled") if linear else (DEFAULT_BACKEND,
+                                                                             "adaptive")
+        if backend not in allowed or method not in (None, "DOP853"):
             raise ValueError("a six-degree-of-freedom orbit is analysed on the adaptive path "
-                             "(DOP853): leave `backend` and `method` at their defaults")
-        return sixdof_stability(orbit, rtol=rtol, atol=atol)
+                             "(DOP853), or on the compiled one for the linear loads: leave "
+                             "`backend` and `method` at their defaults")
+        return sixdof_stability(orbit, rtol=rtol, atol=atol,
+                                backend="auto" if backend == DEFAULT_BACKEND else str(backend))
     orbit = _validation.instance("orbit", orbit, HoverOrbit)
     n_average = _validation.integer("n_average", n_average, low=1, high=1 << 16)
     options = Options.of(backend, method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps,

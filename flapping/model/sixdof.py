@@ -14,7 +14,9 @@ flapping alike, the motion stays in the plane of symmetry (the planar model of
 :class:`~flapping.model.dynamics.LongitudinalDynamics`).
 
 Aerodynamic models: ``"small-angle"`` and ``"exact"``, the blade-element loads of the planar model;
-the paper's linear loads (eq. 29) are not derived in six degrees of freedom yet.
+``"linear"``, the paper's linear loads (eq. 29) in six degrees of freedom: the constant loads and
+their derivatives in (u, v, w, p, q, r) at the zero state, derived by
+:mod:`flapping.model.sixdof_linear_derivation` (printed into ``_sixdof_linear_generated.py``).
 """
 
 from __future__ import annotations
@@ -26,8 +28,13 @@ from typing import Any
 import numpy as np
 
 import flapping._validation as _validation
-from flapping.model import _sixdof_generated
-from flapping.model.aerodynamics import BladeElementModel, check_nodes, trim_angle_of_attack
+from flapping.model import _sixdof_generated, _sixdof_linear_generated
+from flapping.model.aerodynamics import (
+    BladeElementModel,
+    aero_constants,
+    check_nodes,
+    trim_angle_of_attack,
+)
 from flapping.model.kinematics import (
     HALF_STROKE_BREAKPOINTS,
     check_alpha_m,
@@ -37,12 +44,12 @@ from flapping.model.kinematics import (
 from flapping.model.morphology import Insect
 
 __all__ = ["SIXDOF_STATE_NAMES", "SIXDOF_AERODYNAMIC_MODELS", "LONGITUDINAL", "LATERAL",
-           "SixDofDynamics", "body_inertia"]
+           "SixDofDynamics", "body_inertia", "linear_constants"]
 
 #: Names of the state components, in order.
 SIXDOF_STATE_NAMES: tuple[str, ...] = ("u", "v", "w", "p", "q", "r", "roll", "theta")
 #: Aerodynamic models of :class:`SixDofDynamics`.
-SIXDOF_AERODYNAMIC_MODELS: tuple[str, ...] = ("small-angle", "exact")
+SIXDOF_AERODYNAMIC_MODELS: tuple[str, ...] = ("small-angle", "exact", "linear")
 #: Indices of the longitudinal states (u, w, q, theta) in the eight-state vector.
 LONGITUDINAL: tuple[int, ...] = (0, 2, 4, 7)
 #: Indices of the lateral states (v, p, r, roll) in the eight-state vector.
@@ -50,6 +57,32 @@ LATERAL: tuple[int, ...] = (1, 3, 5, 6)
 
 # The generated functions take their arguments spread from tuples (their signatures are long).
 _gen: Any = _sixdof_generated
+_lin: Any = _sixdof_linear_generated
+
+
+def linear_constants(insect: Insect) -> np.ndarray:
+    """The constants array ``k`` of the generated linear loads (their ``CONSTANTS``, SI).
+
+    Parameters
+    ----------
+    insect : Insect
+
+    Returns
+    -------
+    numpy.ndarray
+        float64, in the order of ``_sixdof_linear_generated.CONSTANTS``.
+    """
+    c = aero_constants(insect)
+    plain = {"FREQUENCY": c.f, "H_W": c.h_w, "K_NU": c.Knu, "MU1": c.mu1, "X_H": c.x_h,
+             "X_HAT": c.x_hat}
+    values = []
+    for name in _lin.CONSTANTS:
+        if name in plain:
+            values.append(plain[name])
+        else:  # K_mn or KROT_mn
+            table = c.Krot if name.startswith("KROT_") else c.K
+            values.append(table[(int(name[-2]), int(name[-1]))])
+    return np.array(values, dtype=float)
 
 
 def body_inertia(insect: Insect) -> tuple[float, float, float, float]:
@@ -92,8 +125,9 @@ class SixDofDynamics:
     alpha_m : float, optional
         Mean geometric angle of attack [rad], in (0, pi/2); default the trim of eq. (40) at the
         insect's nominal amplitude (as the planar model).
-    aerodynamics : {"small-angle", "exact"}
-        The blade-element loads (:data:`SIXDOF_AERODYNAMIC_MODELS`).
+    aerodynamics : {"small-angle", "exact", "linear"}
+        The blade-element loads, or the paper's linear loads (eq. 29) in six degrees of freedom
+        (:data:`SIXDOF_AERODYNAMIC_MODELS`).
     n_nodes : int
         Span quadrature nodes, in [2, 4096].
 
@@ -116,8 +150,12 @@ class SixDofDynamics:
         self.aerodynamics = _validation.choice("aerodynamics", aerodynamics,
                                                SIXDOF_AERODYNAMIC_MODELS)
         self.n_nodes = check_nodes(n_nodes)
-        self._blade = BladeElementModel(insect, self.alpha_m, self.amplitude, self.aerodynamics,
-                                        self.n_nodes)
+        if self.aerodynamics == "linear":
+            self._blade: BladeElementModel | None = None
+            self._linear_k = linear_constants(insect)
+        else:
+            self._blade = BladeElementModel(insect, self.alpha_m, self.amplitude,
+                                            self.aerodynamics, self.n_nodes)
         a1, a2 = insect.wing_mass_moments
         # The constants k of the generated functions (sixdof_derivation.CONSTANT_NAMES); the
         # wing roots sit on the plane of symmetry (y_w = 0), as in the planar model.
@@ -152,11 +190,42 @@ class SixDofDynamics:
     def _loads(self, t: float, x: Sequence[float], s: float,
                amplitude: float) -> tuple[float, ...]:
         phi, phi_dot, _ = self._stroke(t, amplitude)
+        if self._blade is None:  # eq. (29): constant loads + derivatives times (u ... r)
+            out = np.empty(len(_lin.OUTPUT_NAMES))
+            _lin.linear_loads(phi, phi_dot, abs(phi_dot), self.alpha_m, self._linear_k, out)
+            return tuple((out[:6] + out[6:].reshape(6, 6) @ np.asarray(x[:6])).tolist())
         kin = _gen.strip_kinematics(phi, phi_dot, *x, self._k)
         right = self._blade.wing_resultants(kin[0], kin[1], kin[2], kin[3], kin[4], s)
         left = self._blade.wing_resultants(kin[5], kin[6], kin[7], kin[8], kin[9], s)
         return _gen.wing_loads(phi, s, self.alpha_m, self.insect.center_of_pressure, *right,
                                *left, self._k)
+
+    def linear_loads(self, t: float, amplitude: float | None = None) -> tuple[np.ndarray,
+                                                                              np.ndarray]:
+        """The paper's linear loads (eq. 29) in six degrees of freedom at time t.
+
+        Parameters
+        ----------
+        t : float
+            Time [s].
+        amplitude : float, optional
+            Stroke amplitude [rad]; default the model's.
+
+        Returns
+        -------
+        loads0 : numpy.ndarray, shape (6,)
+            (X0, Y0, Z0, L0, M0, N0) [N, N m]: the loads at the zero state.
+        derivatives : numpy.ndarray, shape (6, 6)
+            d(X, Y, Z, L, M, N)/d(u, v, w, p, q, r) (dimensional; for every aerodynamic model
+            of this instance, the derivatives of the small-angle loads at the zero state).
+        """
+        t = _validation.real("t", t)
+        amplitude = self.amplitude if amplitude is None else check_amplitude(amplitude)
+        phi, phi_dot, _ = self._stroke(t, amplitude)
+        k = self._linear_k if self._blade is None else linear_constants(self.insect)
+        out = np.empty(len(_lin.OUTPUT_NAMES))
+        _lin.linear_loads(phi, phi_dot, abs(phi_dot), self.alpha_m, k, out)
+        return out[:6], out[6:].reshape(6, 6)
 
     def loads(self, t: float, x: Sequence[float] | np.ndarray, s: float | None = None,
               amplitude: float | None = None) -> np.ndarray:

@@ -43,6 +43,7 @@ from flapping.backends import Backend, OptionWarning, backend_name
 from flapping.errors import ConvergenceError, HoverDriftWarning, caused_by_interrupt
 from flapping.hover import DEFAULT_BACKEND, HoverOrbit, HoverProblem, HoverStatus, find_hover_orbit
 from flapping.hover.orbit import Options
+from flapping.hover.sixdof import find_sixdof_hover_orbit
 from flapping.hover.stability import hover_stability
 from flapping.model.dynamics import AERODYNAMIC_MODELS
 from flapping.model.morphology import Insect
@@ -54,8 +55,8 @@ from flapping.studies._path import Guess, Step, WarmStart, follow
 if TYPE_CHECKING:  # pragma: no cover
     import pandas
 
-__all__ = ["SWEEPABLE", "COLUMNS", "MAX_GRID_POINTS", "SEGMENT", "SweepInterrupted", "sweep_hover",
-           "grid_points"]
+__all__ = ["SWEEPABLE", "COLUMNS", "LATERAL_COLUMNS", "MAX_GRID_POINTS", "SEGMENT",
+           "SweepInterrupted", "sweep_hover", "grid_points"]
 
 #: Insect fields a grid may vary (the numeric ones).
 SWEEPABLE: tuple[str, ...] = tuple(
@@ -69,6 +70,16 @@ COLUMNS: tuple[str, ...] = (
     "mu4_imag", "max_abs_mu", "stable", "converged", "status", "forward_speed", "climb_speed",
     "amplitude_error_deg", "multiplier_error", "nit", "n_steps", "backend", "message",
     "solve_status",
+)
+
+#: The columns ``dof=6`` adds after :data:`COLUMNS`: the lateral multipliers of (v, p, r, roll)
+#: by descending modulus, the largest modulus, whether all are inside the unit circle, the
+#: monodromy's coupling of the two sets, the six-dof analysis's multiplier error estimate and its
+#: path (:class:`~flapping.hover.sixdof.SixDofStability`).
+LATERAL_COLUMNS: tuple[str, ...] = (
+    "lat_mu1_real", "lat_mu1_imag", "lat_mu2_real", "lat_mu2_imag", "lat_mu3_real",
+    "lat_mu3_imag", "lat_mu4_real", "lat_mu4_imag", "lat_max_abs_mu", "lat_stable", "coupling",
+    "sixdof_multiplier_error", "sixdof_backend",
 )
 
 #: Points per chunk at least: the unit of work sent to an executor (whole segments).
@@ -96,6 +107,7 @@ class _Settings:
     kernel_options: dict[str, float]
     solver: SolverSettings | None = None
     aerodynamics: str = "linear"
+    dof: int = 4
 
 
 def grid_points(grid: Mapping[str, Sequence[float]]) -> list[dict[str, float]]:
@@ -190,6 +202,22 @@ def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
     return row
 
 
+def _lateral_row(six: Any) -> dict[str, Any]:
+    """The :data:`LATERAL_COLUMNS` of a point (NaN where there is no six-dof analysis)."""
+    row: dict[str, Any] = dict.fromkeys(LATERAL_COLUMNS, math.nan)
+    row.update(lat_stable=False, sixdof_backend="")
+    if six is None:
+        return row
+    mus = np.asarray(six.lateral.multipliers).tolist()
+    for i, m in enumerate(mus, start=1):
+        row[f"lat_mu{i}_real"], row[f"lat_mu{i}_imag"] = m.real, m.imag
+    modulus = [abs(m) for m in mus]
+    row.update(lat_max_abs_mu=max(modulus), lat_stable=all(m < 1.0 for m in modulus),
+               coupling=six.coupling, sixdof_multiplier_error=six.multiplier_error,
+               sixdof_backend=six.orbit.backend)
+    return row
+
+
 def _multipliers(orbit: HoverOrbit, solver: SolverSettings | None = None
                  ) -> tuple[np.ndarray, float]:
     """The orbit's Floquet multipliers and their error estimate: the kernel's (its last Newton
@@ -217,9 +245,11 @@ class _Point:
         return self.base.with_(**self.point)
 
 
-def _solve_point(point: _Point, guess: Guess[tuple[HoverOrbit, np.ndarray, float]] | None,
-                 settings: _Settings) -> tuple[HoverOrbit, np.ndarray, float]:
-    """One point: from the previous orbit's x0, Phi and step count, or cold without a guess."""
+def _solve_point(point: _Point, guess: Guess[tuple[Any, ...]] | None,
+                 settings: _Settings) -> tuple[Any, ...]:
+    """One point: from the previous orbit's x0, Phi and step count, or cold without a guess;
+    with ``dof=6`` also the six-degree-of-freedom orbit from the planar one, and its eight
+    multipliers (:func:`~flapping.hover.sixdof.find_sixdof_hover_orbit`, its default path)."""
     problem = HoverProblem(point.insect, settings.aerodynamics)
     kernel_options = dict(settings.kernel_options)
     if guess is None:
@@ -239,10 +269,15 @@ def _solve_point(point: _Point, guess: Guess[tuple[HoverOrbit, np.ndarray, float
                                  backend=settings.backend, kernel_options=kernel_options,
                                  fixed_step_options=fixed_step_options,
                                  settings=settings.solver)
-    return (orbit, *_multipliers(orbit, settings.solver))
+    planar = (orbit, *_multipliers(orbit, settings.solver))
+    if settings.dof == 4:
+        return planar
+    six = find_sixdof_hover_orbit(point.insect, aerodynamics=settings.aerodynamics,
+                                  planar_orbit=orbit)
+    return (*planar, hover_stability(six))
 
 
-def _unknowns(point: _Point, result: tuple[HoverOrbit, np.ndarray, float]) -> np.ndarray:
+def _unknowns(point: _Point, result: tuple[Any, ...]) -> np.ndarray:
     """The continued unknowns of a solved point: (u0, w0, q0, theta0, Phi)."""
     return np.append(result[0].x0, result[0].amplitude)
 
@@ -287,18 +322,19 @@ def _solve_segment(base: Insect | None, points: Sequence[Mapping[str, Any] | Ins
         path = ((tuple(map(float, point.values())), _Point(base, point))  # type: ignore[union-attr]
                 for point in points)
     steps = follow(path, warm, record=_POINT_FAILURES)
-    return [_row_of(step, backend_name(settings.backend)) for step in steps]
+    return [_row_of(step, backend_name(settings.backend), settings.dof) for step in steps]
 
 
-def _row_of(step: Step[Any, tuple[HoverOrbit, np.ndarray, float]], backend: str
-            ) -> dict[str, Any]:
-    """The row of a solved or failed point."""
+def _row_of(step: Step[Any, tuple[Any, ...]], backend: str, dof: int = 4) -> dict[str, Any]:
+    """The row of a solved or failed point (with ``dof=6`` its :data:`LATERAL_COLUMNS` too)."""
     if step.result is None:
         assert step.error is not None
-        return _row(None, None, f"{type(step.error).__name__}: {step.error}", backend,
-                    failure=status_of(step.error))
-    orbit, mu, mu_error = step.result
-    return _row(orbit, mu, "", backend, mu_error)
+        row = _row(None, None, f"{type(step.error).__name__}: {step.error}", backend,
+                   failure=status_of(step.error))
+        return row if dof == 4 else {**row, **_lateral_row(None)}
+    orbit, mu, mu_error = step.result[:3]
+    row = _row(orbit, mu, "", backend, mu_error)
+    return row if dof == 4 else {**row, **_lateral_row(step.result[3])}
 
 
 # =========================================================================== the sweep
@@ -384,6 +420,7 @@ def sweep_hover(
     multiplier_tol: float | None = None,
     settings: SolverSettings | None = None,
     aerodynamics: str = "linear",
+    dof: int = 4,
 ) -> pandas.DataFrame:
     """Hover orbit and Floquet multipliers (eqs. 29, 42-49) at every point of a parameter grid.
 
@@ -421,6 +458,13 @@ def sweep_hover(
     aerodynamics : {"linear", "small-angle", "exact"}
         Loads model of every point (:class:`~flapping.model.dynamics.LongitudinalDynamics`;
         ``"linear"`` is eq. 29).
+    dof : {4, 6}
+        With 6, every point is also solved and analysed in six degrees of freedom from its
+        planar orbit (:func:`~flapping.hover.sixdof.find_sixdof_hover_orbit` and
+        :func:`~flapping.hover.stability.hover_stability`: the compiled six-dof path for the
+        linear loads, the adaptive Python path for the blade-element ones, ~40 s a point), and
+        the table adds :data:`LATERAL_COLUMNS`; the insect needs its roll and yaw inertia (a
+        point without them is a failed row). The planar columns keep their meaning.
 
     Returns
     -------
@@ -454,6 +498,8 @@ def sweep_hover(
 
     chunk_size = _validation.integer("chunk_size", chunk_size, low=1)
     aerodynamics = _validation.choice("aerodynamics", aerodynamics, AERODYNAMIC_MODELS)
+    dof = _validation.choice("dof", dof, (4, 6))
+    columns = list(COLUMNS) + (list(LATERAL_COLUMNS) if dof == 6 else [])
     kernel_options = {k: v for k, v in (("amplitude_tol_deg", amplitude_tol_deg),
                                         ("multiplier_tol", multiplier_tol)) if v is not None}
     if executor is not None and not isinstance(executor, Executor):
@@ -461,7 +507,7 @@ def sweep_hover(
     base, points, params, shape = _points(insect, grid)
     requested = _checked_backend(backend, aerodynamics, points[0] if base is None else base,
                                  kernel_options, settings)
-    settings_ = _Settings(requested, kernel_options, settings, aerodynamics)
+    settings_ = _Settings(requested, kernel_options, settings, aerodynamics, dof)
     tasks = _tasks(_segments(shape), points, chunk_size)
     rows: dict[int, dict[str, Any]] = {}
     try:
@@ -472,9 +518,9 @@ def sweep_hover(
         done = sorted(rows)
         partial = pandas.concat([pandas.DataFrame(params).iloc[done].reset_index(drop=True),
                                  pandas.DataFrame([rows[i] for i in done],
-                                                  columns=list(COLUMNS))], axis=1)
+                                                  columns=columns)], axis=1)
         raise SweepInterrupted(partial, len(points)) from None
-    table = pandas.DataFrame([rows[i] for i in range(len(points))], columns=list(COLUMNS))
+    table = pandas.DataFrame([rows[i] for i in range(len(points))], columns=columns)
     return pandas.concat([pandas.DataFrame(params), table], axis=1)
 
 

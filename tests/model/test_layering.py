@@ -10,7 +10,8 @@ import flapping.model
 #: The order of the package docstring: a module may import only the ones before it.
 ORDER = ["kinematics", "morphology", "presets", "insect_file", "aerodynamics", "derivation",
          "_derivatives_generated", "derivatives", "sixdof_derivation", "inertia_derivation",
-         "_inertia_generated", "inertia", "dynamics", "_sixdof_generated", "sixdof"]
+         "_inertia_generated", "inertia", "dynamics", "_sixdof_generated",
+         "sixdof_linear_derivation", "_sixdof_linear_generated", "sixdof"]
 PACKAGE = Path(flapping.model.__file__).parent
 
 

@@ -195,9 +195,10 @@ def test_an_insect_without_lateral_inertia_is_refused_by_name():
         SixDofDynamics(flapping.hawkmoth(roll_inertia=None))
 
 
-def test_the_linear_loads_are_refused_in_six_dof():
+def test_an_unknown_aerodynamic_model_is_refused_in_six_dof():
+    # The linear loads (eq. 29) are derived in six dof now (tests/model/test_sixdof_linear.py).
     with pytest.raises(ValueError, match="aerodynamics"):
-        SixDofDynamics(moth(), aerodynamics="linear")
+        SixDofDynamics(moth(), aerodynamics="quasi-steady")
 
 
 def test_bad_states_are_refused():
