@@ -55,6 +55,8 @@ _euler_jacobian = numba.njit(_sixdof_linear_generated.euler_rates_jacobian)
 _mass_matrix = numba.njit(_sixdof_linear_generated.mass_matrix)  # floats only
 _forcing = numba.njit(_sixdof_generated.forcing)
 _euler_rates = numba.njit(_sixdof_generated.euler_rates)
+_earth_velocity = numba.njit(_sixdof_generated.earth_velocity)
+_earth_jacobian = numba.njit(_sixdof_linear_generated.earth_velocity_jacobian)
 
 RK_A = np.ascontiguousarray(_dop853.A)
 RK_B = np.ascontiguousarray(_dop853.B)
@@ -133,8 +135,7 @@ def _field(t, y, dy, variational, amplitude, p, klin, kmech, w):  # pragma: no c
     roll_dot, theta_dot = _euler_rates(u, v, w_, pr, q, r, roll, theta)
     dy[6] = roll_dot
     dy[7] = theta_dot
-    sr, cr, st, ct = math.sin(roll), math.cos(roll), math.sin(theta), math.cos(theta)
-    dy[8] = -u * st + v * sr * ct + w_ * cr * ct
+    dy[8] = _earth_velocity(u, v, w_, pr, q, r, roll, theta)[2]  # the descent
     if not variational:
         return
     _euler_jacobian(u, v, w_, pr, q, r, roll, theta, je)
@@ -142,15 +143,11 @@ def _field(t, y, dy, variational, amplitude, p, klin, kmech, w):  # pragma: no c
     for i in range(6):
         for k in range(8):
             jac[i, k] = b[i, 1 + k]
+    _earth_jacobian(u, v, w_, pr, q, r, roll, theta, jf)  # A's values are used up: reuse
     for k in range(8):
         jac[6, k] = je[k]
         jac[7, k] = je[8 + k]
-        jac[8, k] = 0.0
-    jac[8, 0] = -st
-    jac[8, 1] = sr * ct
-    jac[8, 2] = cr * ct
-    jac[8, 6] = v * cr * ct - w_ * sr * ct
-    jac[8, 7] = -u * ct - v * sr * st - w_ * cr * st
+        jac[8, k] = jf[16 + k]  # the descent's row
     for i in range(9):
         for j in range(8):
             dy[9 + 8 * i + j] = 0.0

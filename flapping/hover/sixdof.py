@@ -26,6 +26,7 @@ import numpy as np
 from flapping import _validation
 from flapping.backends import AUTO, Adaptive, Backend, Compiled
 from flapping.errors import ConvergenceError
+from flapping.model import _sixdof_generated
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
 from flapping.model.sixdof import (
@@ -155,9 +156,7 @@ def _fields(model: SixDofDynamics) -> list[Any]:
         def field_(t: float, y: np.ndarray, amplitude: Any) -> np.ndarray:
             out = np.empty(9)
             out[:8] = f(t, y[:8], float(np.asarray(amplitude).reshape(-1)[0]))
-            u, v, w, roll, theta = y[0], y[1], y[2], y[6], y[7]
-            out[8] = (-u * math.sin(theta) + v * math.sin(roll) * math.cos(theta)
-                      + w * math.cos(roll) * math.cos(theta))
+            out[8] = _sixdof_generated.earth_velocity(*y[:8])[2]  # the descent
             return out
         return field_
 

@@ -335,3 +335,41 @@ def euler_rates_jacobian(u, v, w, p, q, r, roll, theta, out):
     out[13] = -c0
     out[14] = -c3
     out[15] = 0.0
+
+
+def earth_velocity_jacobian(u, v, w, p, q, r, roll, theta, out):
+    """d(forward, right, down)/d(u, v, w, p, q, r, roll, theta), row-major into out[:24]."""
+    c0 = math.cos(theta)
+    c1 = math.sin(roll)
+    c2 = math.sin(theta)
+    c3 = c1*c2
+    c4 = math.cos(roll)
+    c5 = c2*c4
+    c6 = c1*v
+    c7 = c4*w
+    c8 = c0*c1
+    c9 = c0*c4
+    out[0] = c0
+    out[1] = c3
+    out[2] = c5
+    out[3] = 0.0
+    out[4] = 0.0
+    out[5] = 0.0
+    out[6] = -c3*w + c5*v
+    out[7] = c0*c6 + c0*c7 - c2*u
+    out[8] = 0.0
+    out[9] = c4
+    out[10] = -c1
+    out[11] = 0.0
+    out[12] = 0.0
+    out[13] = 0.0
+    out[14] = -c6 - c7
+    out[15] = 0.0
+    out[16] = -c2
+    out[17] = c8
+    out[18] = c9
+    out[19] = 0.0
+    out[20] = 0.0
+    out[21] = 0.0
+    out[22] = -c8*w + c9*v
+    out[23] = -c0*u - c3*v - c5*w

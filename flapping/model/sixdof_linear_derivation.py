@@ -238,7 +238,9 @@ def generate_source() -> str:
         the 42 values of :data:`OUTPUT_NAMES` (six constant loads, then the 6 x 6 derivatives
         row-major) written into ``out``; likewise ``forcing_jacobian`` (48 values, 6 x 8
         row-major, constants ``k`` of :data:`~flapping.model.sixdof_derivation.CONSTANT_NAMES`)
-        and ``euler_rates_jacobian`` (16 values, 2 x 8) of :func:`mechanics_jacobians`, and
+        and ``euler_rates_jacobian`` (16 values, 2 x 8) of :func:`mechanics_jacobians`,
+        ``earth_velocity_jacobian`` (24 values, 3 x 8, of
+        :func:`~flapping.model.sixdof_derivation.earth_velocity`), and
         ``mass_matrix`` (36 values, that of
         :func:`~flapping.model.sixdof_derivation.equations_of_motion`). Plain Python that numba
         can compile; the outputs are float64 arrays.
@@ -299,6 +301,11 @@ def generate_source() -> str:
         "euler_rates_jacobian", states,
         "d(roll_dot, theta_dot)/d(u, v, w, p, q, r, roll, theta), row-major into out[:16].",
         [je[i, j] for i in range(2) for j in range(8)], [])]
+    earth = sp.Matrix(list(sixdof_derivation.earth_velocity())).jacobian(list(six.states))
+    lines += ["", "", *_printed_into(
+        "earth_velocity_jacobian", states,
+        "d(forward, right, down)/d(u, v, w, p, q, r, roll, theta), row-major into out[:24].",
+        [earth[i, j] for i in range(3) for j in range(8)], [])]
     # SymPy prints a float 1 as 1.00000000000000: shorten such literals.
     return re.sub(r"\b(\d+)\.0{14}\b", r"\1.0", "\n".join(lines) + "\n")
 
