@@ -87,7 +87,7 @@ from flapping.hover.sixdof import (
     sixdof_stability,
 )
 from flapping.model import presets
-from flapping.model.sixdof import LATERAL
+from flapping.model.sixdof import LATERAL, SIXDOF_AERODYNAMIC_MODELS
 from flapping.periodic.floquet import floquet_multipliers, monodromy
 from flapping.studies.cfd import Number
 from flapping.studies.cfd import study as cfd_study
@@ -275,7 +275,7 @@ def analyse(name: str, aerodynamics: str = "small-angle") -> LateralAnalysis:
     ----------
     name : str
         A preset of :data:`LATERAL_PRESETS`.
-    aerodynamics : {"small-angle", "exact"}
+    aerodynamics : {"small-angle", "exact", "linear"}
 
     Returns
     -------
@@ -288,7 +288,7 @@ def analyse(name: str, aerodynamics: str = "small-angle") -> LateralAnalysis:
         model not derived in six degrees of freedom.
     """
     name = _check_name(name)
-    aerodynamics = check.choice("aerodynamics", aerodynamics, ("small-angle", "exact"))
+    aerodynamics = check.choice("aerodynamics", aerodynamics, SIXDOF_AERODYNAMIC_MODELS)
     return _analysed(name, aerodynamics)
 
 
@@ -308,7 +308,7 @@ def lateral_table(names: Iterable[str] | None = None,
     ----------
     names : iterable of str, optional
         Presets (default :data:`LATERAL_PRESETS`).
-    aerodynamics : {"small-angle", "exact"}
+    aerodynamics : {"small-angle", "exact", "linear"}
 
     Returns
     -------
@@ -387,7 +387,7 @@ def derivative_table(names: Iterable[str] | None = None, aerodynamics: str = "sm
     Parameters
     ----------
     names : iterable of str, optional
-    aerodynamics : {"small-angle", "exact"}
+    aerodynamics : {"small-angle", "exact", "linear"}
     nondimensional : bool
         Sun's group's form (:class:`~flapping.hover.sixdof.LateralDerivatives`) if True, SI
         otherwise.
@@ -433,7 +433,7 @@ def inertia_sensitivity(name: str, factors: Sequence[float] = (0.5, 2.0),
         A preset of :data:`LATERAL_PRESETS`.
     factors : sequence of float
         Positive scale factors.
-    aerodynamics : {"small-angle", "exact"}
+    aerodynamics : {"small-angle", "exact", "linear"}
     scaled : sequence of {"I_x", "I_z", "both"}
         Which inertia each set of rows scales.
 
@@ -632,7 +632,7 @@ def compare_published(aerodynamics: str = "small-angle",
 
     Parameters
     ----------
-    aerodynamics : {"small-angle", "exact"}
+    aerodynamics : {"small-angle", "exact", "linear"}
     records : iterable of PublishedLateral, optional
         Default :data:`PUBLISHED_LATERAL`.
 
@@ -981,7 +981,7 @@ def compare_lateral(study: str = "zhang2010",
     ----------
     study : str
         A key of ``LATERAL_STUDIES`` (``"zhang2010"``, ``"xu2013"``, ``"xu2015"``).
-    aerodynamics : {"small-angle", "exact"}
+    aerodynamics : {"small-angle", "exact", "linear"}
 
     Returns
     -------
@@ -1219,7 +1219,7 @@ def geometry_table(name: str = "hoverfly",
         A preset of :data:`LATERAL_PRESETS`.
     cases : sequence of (label, hinge height [m], body angle [rad]), optional
         Default: the preset; the dronefly's roots above the CG; its inclined body; both.
-    aerodynamics : {"small-angle", "exact"}
+    aerodynamics : {"small-angle", "exact", "linear"}
 
     Returns
     -------
@@ -1232,7 +1232,7 @@ def geometry_table(name: str = "hoverfly",
     import pandas as pd
 
     name = _check_name(name)
-    aerodynamics = check.choice("aerodynamics", aerodynamics, ("small-angle", "exact"))
+    aerodynamics = check.choice("aerodynamics", aerodynamics, SIXDOF_AERODYNAMIC_MODELS)
     if cases is None:
         ref = LATERAL_STUDIES["zhang2010"].reference
         h, chi = ref["hinge_to_cg"].value, ref["hanging_angle"].value
