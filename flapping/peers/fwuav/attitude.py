@@ -349,7 +349,7 @@ def _pitch_free(name: str, body_rate_term: str, rtol: float) -> PitchFreeFloquet
     v = model.species.velocity_guess
     guess = np.array([theta, v[0], v[2], q])
     orbit = find_periodic_orbit(fun, guess, T, autonomous=False, jac=jac, rtol=rtol,
-                                atol=rtol * 0.1, tol=1e3 * rtol)
+                                atol=rtol * 0.1, tol=min(1e3 * rtol, 1e-6))
     path = require_success(flow(fun, (0.0, T), orbit.x0, rtol=rtol, atol=rtol * 0.1,
                                 t_eval=np.linspace(0.0, T, 201)),
                            "the pitch-free orbit over one period")
@@ -376,7 +376,7 @@ def pitch_free_floquet(name: str, *, body_rate_term: str = "fwuav",
         The body-rate term of the strip velocity (FWUAV's ``Q W`` by default).
     rtol : float, optional
         Relative tolerance of every integration, in [1e-12, 1e-6] (absolute ``rtol / 10``;
-        shooting residual ``1000 rtol``).
+        shooting residual ``min(1000 rtol, 1e-6)``).
 
     Returns
     -------
