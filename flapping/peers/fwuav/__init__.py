@@ -4,6 +4,8 @@
   stored results, as literals with their provenance (repository, commit, file, variable);
 - :mod:`~flapping.peers.fwuav.model`: the prescribed-attitude translational equations of motion
   (wing and abdomen inertia, Sane & Dickinson's quasi-steady force, gravity);
+- :mod:`~flapping.peers.fwuav.attitude`: the thorax pitch free (the planar reduction of FWUAV's
+  attitude-free hover), :func:`pitch_free_floquet`;
 - :mod:`~flapping.peers.fwuav.floquet`: :func:`hover_floquet`, the periodic hover orbit by our
   shooting and its Floquet exponents from our variational equations;
 - :mod:`~flapping.peers.fwuav.cli`: the ``fwuav`` subcommand of ``python -m flapping``.
@@ -11,10 +13,19 @@
 The book's chapter "A second model" compares its exponents with FWUAV's stored ones.
 """
 
-from flapping.peers.fwuav.data import SPECIES, Kinematics, Morphology, Species, species
+from flapping.peers.fwuav.attitude import FwuavPitchFree, PitchFreeFloquet, pitch_free_floquet
+from flapping.peers.fwuav.data import (
+                                       MONARCH_DOCUMENT,
+                                       SPECIES,
+                                       Kinematics,
+                                       Morphology,
+                                       Species,
+                                       species,
+)
 from flapping.peers.fwuav.floquet import NAMES, HoverFloquet, fwuav_procedure, hover_floquet
 from flapping.peers.fwuav.model import FwuavHover, Motion, prescribed_motion, wing_angles
 
 __all__ = ["SPECIES", "NAMES", "Species", "Morphology", "Kinematics", "species", "FwuavHover",
            "Motion", "prescribed_motion", "wing_angles", "HoverFloquet", "hover_floquet",
-           "fwuav_procedure"]
+           "fwuav_procedure", "FwuavPitchFree", "PitchFreeFloquet", "pitch_free_floquet",
+           "MONARCH_DOCUMENT"]

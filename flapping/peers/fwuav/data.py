@@ -28,8 +28,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["COMMIT", "DIRECTORY", "REPOSITORY", "Morphology", "Kinematics", "Species",
-           "SPECIES", "species"]
+__all__ = ["MONARCH_DOCUMENT", "COMMIT", "DIRECTORY", "REPOSITORY", "Morphology", "Kinematics",
+           "Species", "SPECIES", "species"]
 
 #: The FWUAV commit every number was read from.
 COMMIT = "1a25d411fa8fad8d4d73c1089b2761505e280f42"
@@ -348,3 +348,28 @@ def species(name: str) -> Species:
     if not isinstance(name, str) or name not in SPECIES:
         raise ValueError(f"`name` must be one of {', '.join(SPECIES)}; got {name!r}")
     return SPECIES[name]
+
+
+#: The monarch's hover exponents in FWUAV's ``doc/QS_model.tex`` (lines 2084-2085 at the
+#: snapshot's HEAD ``04953d4``), added in commit ``fd1b156`` (2019-12-17), and what that commit's
+#: ``matlab/floquet_stability.m`` computed them from: the hover file it loads
+#: (``sim_QS_x_hover_multistart_vary_vel_and_freq_final_better_no_tol_correct_abdomen_osc_less_
+#: freq.mat``, its ``WK``), its perturbation ``epsilon`` and the number of periods it integrates.
+#: The stored exponents of :data:`SPECIES` come from ``sim_QS_x_hover_mona.mat`` at ``1a25d41``
+#: (2020-09-28), whose ``WK`` is listed beside (``f``, ``beta``, ``phi_m``, ``theta_B_m``).
+MONARCH_DOCUMENT: dict[str, object] = {
+    "commit": "fd1b156",
+    "date": "2019-12-17",
+    "exponents": (0.0, 0.0, 0.0, -6.0349, -8.7958, -11.5706),
+    "epsilon": 1.0,
+    "periods": 10,
+    "f": 11.628611693194877,
+    "beta": 0.35478949579126245,
+    "phi_m": 0.6775587460924892,
+    "theta_B_m": None,  # the 2019 file has no body-pitch oscillation in WK
+    "stored_commit": "1a25d41",
+    "stored_f": 11.721978058989183,
+    "stored_beta": 0.3056567165909269,
+    "stored_phi_m": 0.6072701152987067,
+    "stored_theta_B_m": 0.2581912665375843,
+}

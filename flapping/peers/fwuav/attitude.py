@@ -1,0 +1,396 @@
+"""FWUAV's hover with the thorax pitch free: the planar reduction of its attitude-free model.
+
+FWUAV's attitude-free hover (``floquet_stability.m``, ``eom_hover_xR`` with ``n = 12``: position,
+attitude, velocity and angular velocity of the thorax) lets the thorax rotate under the
+aerodynamic and inertial moments while the wing and abdomen angles relative to the thorax stay
+prescribed. With both wings moving as mirror images, the plane of symmetry is invariant: a
+motion that starts in it (no sideslip, roll or yaw) stays in it, and the longitudinal block of
+the twelve Floquet exponents is that of the planar system with the state::
+
+    (x_1, x_3, theta, v_1, v_3, q)
+
+(thorax position in the plane, thorax pitch with ``R = exp(theta hat e2)``, velocity, pitch rate
+``q``; inertial frame, ``e3`` down). This module solves that system; the lateral block (sideslip,
+roll, yaw) is not computed.
+
+Equations (Newton and Euler for the four bodies, with the relative motion prescribed). With
+``p_i`` the position of body ``i``'s centre of mass relative to the thorax's (thorax frame),
+``a`` the thorax acceleration and ``W = q e2``::
+
+    m a + sum_i m_i R s_i = F_aero + m g e3,
+    sum_i (R p_i) x m_i (a + R s_i) + R (J_B W' + W x J_B W)
+        + sum_i R Q_i (J_i w_i' + w_i x J_i w_i) = M_aero + sum_i (R p_i) x m_i g e3,
+
+where ``s_i = W x (W x p_i) + W' x p_i + 2 W x p_i' + p_i''``, ``w_i = Q_i^T W + Om_i`` is the
+angular velocity of body ``i`` in its own frame (``w_i' = Q_i^T W' - Om_i x Q_i^T W + Om_i'``),
+``J_i`` its inertia about its centre of mass (FWUAV stores the wings' and abdomen's about their
+joints: we shift them), and ``M_aero`` the moment about the thorax's centre of mass of the strip
+forces, each applied at its strip's point ``mu + Q (+/- r e2)`` on the span axis (as FWUAV's
+``wing_QS_aerodynamics.m`` does: its wing moment is ``sum r e2 x dF``). The equations are linear
+in ``(a, q')``; we take the ``e1``, ``e3`` force and the ``e2`` moment components. The strip
+forces are :class:`~flapping.peers.fwuav.model.FwuavHover`'s at the free attitude and rate.
+
+With ``pitch="prescribed"`` the pitch follows FWUAV's sinusoid and only the force equation is
+solved: :class:`FwuavHover`'s model, which the tests check.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+import flapping._validation as check
+from flapping._numdiff import central_jacobian
+from flapping.errors import require_success
+from flapping.peers.fwuav.data import Species, species
+from flapping.peers.fwuav.model import (
+    FwuavHover,
+    Motion,
+    _rot,
+    _sinusoid,
+    _strip_forces,
+    _wing,
+    prescribed_motion,
+    wing_angles,
+)
+from flapping.periodic.floquet import monodromy
+from flapping.periodic.integrate import flow
+from flapping.periodic.shooting import find_periodic_orbit
+
+__all__ = ["FwuavPitchFree", "PitchFreeFloquet", "pitch_free_floquet", "PITCH_MODES"]
+
+#: How the thorax pitch moves: free (a state) or FWUAV's prescribed sinusoid.
+PITCH_MODES = ("free", "prescribed")
+
+_E2, _E3 = np.eye(3)[1], np.eye(3)[2]
+#: Per body (right wing, left wing, abdomen): attitude, angular velocity, its derivative.
+_Rates = tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]
+
+
+def _shift_to_centre(J: np.ndarray, m: float, nu: np.ndarray) -> np.ndarray:
+    """Inertia about the centre of mass from the inertia about a point ``nu`` away from it."""
+    return J - m * (float(nu @ nu) * np.eye(3) - np.outer(nu, nu))
+
+
+class FwuavPitchFree:
+    """FWUAV's four-body hover in the plane of symmetry, the thorax pitch free.
+
+    Parameters
+    ----------
+    insect : str or Species
+        ``hawkmoth``, ``bumblebee``, ``fruit_fly`` (Sane & Dickinson's coefficients).
+    pitch : {"free", "prescribed"}, optional
+        The pitch a state (default) or FWUAV's prescribed sinusoid.
+    body_rate_term : {"fwuav", "rotated"}, optional
+        The body-rate term of the strip velocity: FWUAV's ``Q W`` (default) or ``Q^T W``.
+    n_strips : int, optional
+        Span points per wing, in [2, 10000] (FWUAV: 50).
+    aerodynamics, gravity : bool, optional
+        Switch the aerodynamic loads and gravity off (for the momentum check); default on.
+
+    Notes
+    -----
+    State ``(x_1, x_3, theta, v_1, v_3, q)``: m, m, rad, m/s, m/s, rad/s; ``e3`` down, ``theta``
+    the thorax pitch (FWUAV's ``theta_B``, nose up positive about ``e2``).
+    """
+
+    def __init__(self, insect: str | Species, *, pitch: str = "free",
+                 body_rate_term: str = "fwuav", n_strips: int = 50, aerodynamics: bool = True,
+                 gravity: bool = True) -> None:
+        self.species = insect if isinstance(insect, Species) else species(insect)
+        if self.species.morphology.coefficients != "sane-dickinson":
+            raise ValueError(f"`insect` must have Sane & Dickinson's coefficients (hawkmoth, "
+                             f"bumblebee, fruit_fly); got {self.species.name!r}")
+        self.pitch = check.choice("pitch", pitch, PITCH_MODES)
+        self.hover = FwuavHover(self.species, n_strips=n_strips, body_rate_term=body_rate_term)
+        self.aerodynamics, self.gravity = bool(aerodynamics), bool(gravity)
+        m = self.species.morphology
+        self.mass = m.mass
+        self.period = 1.0 / self.species.kinematics.f
+        mirror = np.array([1.0, -1.0, 1.0])
+        nu_R, nu_A = np.array(m.nu_R), np.array(m.nu_A)
+        J_R = np.array(m.J_R).reshape(3, 3)
+        J_L = J_R * np.outer(mirror, mirror)
+        # (mass, joint, centre of mass from the joint, inertia about the centre of mass)
+        self._bodies = (
+            (m.m_wing, np.array(m.mu_R), nu_R, _shift_to_centre(J_R, m.m_wing, nu_R)),
+            (m.m_wing, np.array(m.mu_R) * mirror, nu_R * mirror,
+             _shift_to_centre(J_L, m.m_wing, nu_R * mirror)),
+            (m.m_A, np.array(m.mu_A), nu_A,
+             _shift_to_centre(np.array(m.J_A).reshape(3, 3), m.m_A, nu_A)),
+        )
+        self._J_B = np.array(m.J_B).reshape(3, 3)
+
+    def _prescribed_pitch(self, t: float) -> tuple[float, float, float]:
+        k = self.species.kinematics
+        return _sinusoid(k.theta_B_m, k.theta_B_0, k.theta_B_a, 2.0 * math.pi * k.f, t)
+
+    def _aerodynamics(self, motion: Motion, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Force (inertial) and moment about the thorax's centre of mass (thorax frame)."""
+        h = self.hover
+        force, moment = np.zeros(3), np.zeros(3)
+        mu = np.array(self.species.morphology.mu_R)
+        for (RQ, _, U), Q, sign in zip(h._strip_velocities(motion, v), (motion.Q_R, motion.Q_L),
+                                       (1.0, -1.0), strict=True):
+            F = _strip_forces(self.species, U, h.weights)          # wing frame
+            rF = _strip_forces(self.species, U, h.weights * h.r)   # sum r_k dF_k (linear in w)
+            joint = mu * np.array([1.0, sign, 1.0])
+            force += RQ @ F
+            moment += np.cross(joint, Q @ F) + Q @ (sign * np.cross(_E2, rF))
+        return force, moment
+
+    def _parts(self, motion: Motion, rates: _Rates, theta_ddot: float
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Inertial force ``sum m_i R s_i`` (inertial frame, without ``a``), the inertial moment
+        (thorax frame, without the ``a`` terms) and ``sum m_i p_i`` (thorax frame), at pitch
+        acceleration ``theta_ddot``."""
+        W = motion.W
+        dW = theta_ddot * _E2
+        force, moment = np.zeros(3), self._J_B @ dW + np.cross(W, self._J_B @ W)
+        first = np.zeros(3)
+        for (mi, mu, nu, J), (Q, Om, dOm) in zip(self._bodies, rates, strict=True):
+            p = mu + Q @ nu
+            dp = Q @ np.cross(Om, nu)
+            ddp = Q @ (np.cross(Om, np.cross(Om, nu)) + np.cross(dOm, nu))
+            s = np.cross(W, np.cross(W, p)) + np.cross(dW, p) + 2.0 * np.cross(W, dp) + ddp
+            force += mi * s
+            first += mi * p
+            wi = Q.T @ W + Om
+            dwi = Q.T @ dW - np.cross(Om, Q.T @ W) + dOm
+            moment += mi * np.cross(p, s) + Q @ (J @ dwi + np.cross(wi, J @ wi))
+        return motion.R @ force, moment, first
+
+    def _rates(self, t: float, motion: Motion) -> _Rates:
+        """Per body: attitude, angular velocity and acceleration relative to the thorax."""
+        k = self.species.kinematics
+        angles = wing_angles(k, t)
+        _, dth_A, ddth_A = _sinusoid(k.theta_A_m, k.theta_A_0, k.theta_A_a,
+                                     2.0 * math.pi * k.f, t)
+        return ((motion.Q_R, motion.Om_R, _wing(k.beta, angles, 1.0)[2]),
+                (motion.Q_L, motion.Om_L, _wing(k.beta, angles, -1.0)[2]),
+                (motion.Q_A, dth_A * _E2, ddth_A * _E2))
+
+    def _motion(self, t: float, theta: float, q: float) -> Motion:
+        base = prescribed_motion(self.species, t)
+        return dataclasses.replace(base, R=_rot(1, theta), W=q * _E2)
+
+    def accelerations(self, t: float, state: np.ndarray) -> tuple[np.ndarray, float]:
+        """Thorax acceleration (inertial, m/s^2) and pitch acceleration (rad/s^2).
+
+        Parameters
+        ----------
+        t : float
+            Time (s).
+        state : ndarray, shape (6,)
+            ``(x_1, x_3, theta, v_1, v_3, q)``.
+
+        Returns
+        -------
+        a : ndarray, shape (3,)
+            Thorax acceleration; ``a_2 = 0`` by symmetry.
+        theta_ddot : float
+            Pitch acceleration (the prescribed one with ``pitch="prescribed"``).
+        """
+        t = float(t)
+        state = np.asarray(state, dtype=float)
+        if self.pitch == "prescribed":
+            theta, q, prescribed = self._prescribed_pitch(t)
+        else:
+            theta, q = float(state[2]), float(state[5])
+        motion = self._motion(t, theta, q)
+        rates = self._rates(t, motion)
+        v = np.array([state[3], 0.0, state[4]])
+        F, M = self._aerodynamics(motion, v) if self.aerodynamics else (np.zeros(3), np.zeros(3))
+        m, g = self.mass, self.species.morphology.g * self.gravity
+        R = motion.R
+
+        def residual(a: np.ndarray, dd: float) -> np.ndarray:
+            f_in, m_in, first = self._parts(motion, rates, dd)
+            force = m * a + f_in - F - m * g * _E3
+            # moment about the thorax centre of mass, thorax frame
+            moment = np.cross(first, R.T @ a - g * (R.T @ _E3)) + m_in - M
+            return np.array([force[0], force[2], moment[1]])
+
+        if self.pitch == "prescribed":
+            base = residual(np.zeros(3), prescribed)
+            A = np.array([[m, 0.0], [0.0, m]])
+            a13 = np.linalg.solve(A, -base[:2])
+            return np.array([a13[0], 0.0, a13[1]]), prescribed
+        base = residual(np.zeros(3), 0.0)
+        cols = [residual(np.array([1.0, 0.0, 0.0]), 0.0) - base,
+                residual(np.array([0.0, 0.0, 1.0]), 0.0) - base,
+                residual(np.zeros(3), 1.0) - base]
+        z = np.linalg.solve(np.column_stack(cols), -base)
+        return np.array([z[0], 0.0, z[1]]), float(z[2])
+
+    def rhs(self, t: float, state: np.ndarray) -> np.ndarray:
+        """``d/dt (x_1, x_3, theta, v_1, v_3, q)`` at time ``t`` (s)."""
+        a, dd = self.accelerations(t, state)
+        if self.pitch == "prescribed":
+            _, q, _ = self._prescribed_pitch(float(t))
+        else:
+            q = float(state[5])
+        return np.array([state[3], state[4], q, a[0], a[2], dd])
+
+    def jac(self, t: float, state: np.ndarray) -> np.ndarray:
+        """Central-difference Jacobian of :meth:`rhs` (6x6)."""
+        return central_jacobian(lambda y: self.rhs(t, y), np.asarray(state, dtype=float))
+
+    def momentum(self, t: float, state: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Linear momentum and angular momentum about the inertial origin of the four bodies.
+
+        Parameters
+        ----------
+        t : float
+            Time (s).
+        state : ndarray, shape (6,)
+            ``(x_1, x_3, theta, v_1, v_3, q)``.
+
+        Returns
+        -------
+        P : ndarray, shape (3,)
+            Linear momentum (kg m/s), inertial frame.
+        H : ndarray, shape (3,)
+            Angular momentum about the origin (kg m^2/s), inertial frame; both are constant
+            without aerodynamics and gravity.
+        """
+        t = float(t)
+        state = np.asarray(state, dtype=float)
+        if self.pitch == "prescribed":
+            theta, q, _ = self._prescribed_pitch(t)
+        else:
+            theta, q = float(state[2]), float(state[5])
+        motion = self._motion(t, theta, q)
+        R, W = motion.R, motion.W
+        x, v = np.array([state[0], 0.0, state[1]]), np.array([state[3], 0.0, state[4]])
+        m_B = self.species.morphology.m_B
+        P, H = m_B * v, np.cross(x, m_B * v) + R @ (self._J_B @ W)
+        for (mi, mu, nu, J), (Q, Om, _) in zip(self._bodies, self._rates(t, motion),
+                                                strict=True):
+            p = mu + Q @ nu
+            r = x + R @ p
+            vi = v + R @ (np.cross(W, p) + Q @ np.cross(Om, nu))
+            P = P + mi * vi
+            H = H + np.cross(r, mi * vi) + R @ Q @ (J @ (Q.T @ W + Om))
+        return P, H
+
+
+@dataclass(frozen=True)
+class PitchFreeFloquet:
+    """The periodic orbit of FWUAV's pitch-free hover and its Floquet multipliers.
+
+    Attributes
+    ----------
+    name : str
+        The insect.
+    body_rate_term : str
+        ``"fwuav"`` (``Q W``) or ``"rotated"`` (``Q^T W``).
+    y0 : ndarray, shape (4,)
+        ``(theta, v_1, v_3, q)`` at ``t = 0`` on the orbit (rad, m/s, m/s, rad/s).
+    period : float
+        ``1 / f`` (s).
+    multipliers : ndarray, shape (4,), complex
+        Floquet multipliers of ``(theta, v_1, v_3, q)``, by modulus, descending (the two of the
+        position, exactly one, are left out).
+    exponents : ndarray, shape (4,), complex
+        ``log(multipliers) / period`` (1/s), same order.
+    mean_pitch : float
+        Mean thorax pitch over the orbit (rad).
+    pitch_amplitude : float
+        Half the peak-to-peak thorax pitch on the orbit (rad).
+    mean_velocity : ndarray, shape (2,)
+        Mean ``(v_1, v_3)`` over the orbit (m/s): its drift.
+    residual_norm : float
+        Shooting residual.
+    liouville_error : float
+        Relative mismatch of ``det M`` and ``exp(int trace J)``.
+    monodromy : ndarray, shape (4, 4)
+    """
+
+    name: str
+    body_rate_term: str
+    y0: np.ndarray
+    period: float
+    multipliers: np.ndarray
+    exponents: np.ndarray
+    mean_pitch: float
+    pitch_amplitude: float
+    mean_velocity: np.ndarray
+    residual_norm: float
+    liouville_error: float
+    monodromy: np.ndarray = field(repr=False)
+
+
+def _reduced(model: FwuavPitchFree) -> tuple[Callable[[float, np.ndarray], np.ndarray],
+                                             Callable[[float, np.ndarray], np.ndarray]]:
+    """Right-hand side of ``(theta, v_1, v_3, q)`` (the position enters nothing) and its
+    central-difference Jacobian."""
+
+    def fun(t: float, y: np.ndarray) -> np.ndarray:
+        return model.rhs(t, np.concatenate([[0.0, 0.0], y]))[2:]
+
+    def jac(t: float, y: np.ndarray) -> np.ndarray:
+        return central_jacobian(lambda z: fun(t, z), np.asarray(y, dtype=float))
+
+    return fun, jac
+
+
+@lru_cache(maxsize=8)
+def _pitch_free(name: str, body_rate_term: str, rtol: float) -> PitchFreeFloquet:
+    model = FwuavPitchFree(name, body_rate_term=body_rate_term)
+    fun, jac = _reduced(model)
+    T = model.period
+    theta, q, _ = model._prescribed_pitch(0.0)
+    v = model.species.velocity_guess
+    guess = np.array([theta, v[0], v[2], q])
+    orbit = find_periodic_orbit(fun, guess, T, autonomous=False, jac=jac, rtol=rtol,
+                                atol=rtol * 0.1, tol=min(1e3 * rtol, 1e-6))
+    path = require_success(flow(fun, (0.0, T), orbit.x0, rtol=rtol, atol=rtol * 0.1,
+                                t_eval=np.linspace(0.0, T, 201)),
+                           "the pitch-free orbit over one period")
+    mono = monodromy(fun, orbit.x0, T, jac=jac, rtol=rtol, atol=rtol * 0.1)
+    order = np.argsort(-np.abs(mono.multipliers), kind="stable")
+    pitch = path.x[0, :-1]
+    return PitchFreeFloquet(
+        name=name, body_rate_term=body_rate_term, y0=orbit.x0, period=T,
+        multipliers=mono.multipliers[order], exponents=mono.exponents[order],
+        mean_pitch=float(pitch.mean()), pitch_amplitude=float(np.ptp(pitch) / 2.0),
+        mean_velocity=path.x[1:3, :-1].mean(axis=1), residual_norm=float(orbit.residual_norm),
+        liouville_error=float(mono.liouville_error), monodromy=mono.matrix)
+
+
+def pitch_free_floquet(name: str, *, body_rate_term: str = "fwuav",
+                       rtol: float = 1e-9) -> PitchFreeFloquet:
+    """FWUAV's hover with the thorax pitch free: periodic orbit and Floquet multipliers.
+
+    Parameters
+    ----------
+    name : str
+        ``hawkmoth``, ``bumblebee`` or ``fruit_fly``.
+    body_rate_term : {"fwuav", "rotated"}, optional
+        The body-rate term of the strip velocity (FWUAV's ``Q W`` by default).
+    rtol : float, optional
+        Relative tolerance of every integration, in [1e-12, 1e-6] (absolute ``rtol / 10``;
+        shooting residual ``min(1000 rtol, 1e-6)``).
+
+    Returns
+    -------
+    PitchFreeFloquet
+        Cached per argument set.
+
+    Raises
+    ------
+    ValueError
+        For an unknown name or an argument out of range.
+    ConvergenceError
+        If the shooting does not converge or an integration fails.
+    """
+    FwuavPitchFree(name, body_rate_term=body_rate_term)  # checks both
+    if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-12 <= rtol <= 1e-6:
+        raise ValueError(f"`rtol` must be a number in [1e-12, 1e-6]; got {rtol!r}")
+    return _pitch_free(name, body_rate_term, float(rtol))

@@ -1,0 +1,92 @@
+"""FWUAV's hover with the thorax pitch free (flapping.peers.fwuav.attitude)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from flapping.peers.fwuav import FwuavHover
+from flapping.peers.fwuav.attitude import FwuavPitchFree, _reduced, pitch_free_floquet
+from flapping.periodic.floquet import monodromy
+
+
+@pytest.mark.parametrize("body_rate_term", ["fwuav", "rotated"])
+@pytest.mark.parametrize("name", ["hawkmoth", "fruit_fly"])
+def test_held_pitch_is_the_prescribed_model(name: str, body_rate_term: str) -> None:
+    """With the pitch held on FWUAV's sinusoid, the four-body equations give FwuavHover's
+    translational acceleration (a different code path: Newton-Euler solved as a linear system)."""
+    held = FwuavPitchFree(name, pitch="prescribed", body_rate_term=body_rate_term)
+    reference = FwuavHover(name, body_rate_term=body_rate_term)
+    for t in np.linspace(0.0, held.period, 7):
+        v = np.array([0.13, 0.0, -0.21])
+        a, _ = held.accelerations(t, np.array([0.0, 0.0, 0.0, v[0], v[2], 0.0]))
+        expected = reference.rhs(t, np.concatenate([np.zeros(3), v]))[3:6]
+        np.testing.assert_allclose(a, expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max())
+
+
+def test_free_pitch_conserves_momentum_without_external_loads() -> None:
+    """No aerodynamics, no gravity: linear and angular momentum of the four bodies are constant
+    (fails if the moment equation, an inertia or an appendage acceleration is wrong)."""
+    model = FwuavPitchFree("hawkmoth", aerodynamics=False, gravity=False)
+    y0 = np.array([0.001, 0.002, 1.0, 0.1, -0.2, 3.0])
+    sol = solve_ivp(model.rhs, (0.0, 0.6 * model.period), y0, method="DOP853", rtol=1e-11,
+                    atol=1e-13)
+    P0, H0 = model.momentum(0.0, y0)
+    P1, H1 = model.momentum(sol.t[-1], sol.y[:, -1])
+    assert abs(sol.y[2, -1] - y0[2]) > 1e-3  # the pitch did move
+    np.testing.assert_allclose(P1, P0, atol=1e-9 * np.abs(P0).max())
+    np.testing.assert_allclose(H1, H0, atol=1e-8 * np.abs(H0).max())
+
+
+def test_pitch_free_moves_differently_from_held() -> None:
+    """Free, the pitch answers the aerodynamic moment: its acceleration differs from FWUAV's
+    prescribed one at the same instant and state."""
+    free = FwuavPitchFree("hawkmoth")
+    held = FwuavPitchFree("hawkmoth", pitch="prescribed")
+    theta, q, dd = held._prescribed_pitch(0.01)
+    state = np.array([0.0, 0.0, theta, 0.0, 0.0, q])
+    assert abs(free.accelerations(0.01, state)[1] - dd) > 1.0
+
+
+def test_slip_enters_only_through_the_strip_velocity() -> None:
+    """``Q W`` and ``Q^T W`` differ only in the strip velocity: identical loads without a body
+    rate (q = 0) or without aerodynamics, different ones with both."""
+    state = np.array([0.0, 0.0, 1.05, 0.1, -0.1, 0.0])
+    spun = state + np.array([0.0, 0.0, 0.0, 0.0, 0.0, 4.0])
+    for kwargs, y, same in (({}, state, True), ({"aerodynamics": False}, spun, True),
+                            ({}, spun, False)):
+        a = FwuavPitchFree("hawkmoth", body_rate_term="fwuav", **kwargs).rhs(0.004, y)
+        b = FwuavPitchFree("hawkmoth", body_rate_term="rotated", **kwargs).rhs(0.004, y)
+        assert np.array_equal(a, b) is same
+
+
+def test_liouville_formula_for_the_monodromy() -> None:
+    """det M = exp(int_0^T trace J dt): M from central differences of the flow (no Jacobian),
+    the trace from the model's Jacobian; a Jacobian 1 % off fails the same check."""
+    model = FwuavPitchFree("hawkmoth")
+    fun, jac = _reduced(model)
+    y0 = np.array([1.05, -0.1, 0.1, 0.3])
+
+    def end(y: np.ndarray) -> np.ndarray:
+        return solve_ivp(fun, (0.0, model.period), y, method="DOP853", rtol=1e-11,
+                         atol=1e-12).y[:, -1]
+
+    h = 1e-5
+    M = np.column_stack([(end(y0 + h * e) - end(y0 - h * e)) / (2 * h) for e in np.eye(4)])
+    good = monodromy(fun, y0, model.period, jac=jac, rtol=1e-8, atol=1e-9)
+    bad = monodromy(fun, y0, model.period, jac=lambda t, y: 1.01 * jac(t, y), rtol=1e-8,
+                    atol=1e-9)
+    det = np.linalg.det(M)
+    assert abs(det / np.exp(good.trace_integral) - 1.0) < 1e-5
+    assert abs(det / np.exp(bad.trace_integral) - 1.0) > 1e-3
+    assert good.liouville_error < 1e-6
+
+
+def test_bad_arguments_are_named() -> None:
+    with pytest.raises(ValueError, match="pitch"):
+        FwuavPitchFree("hawkmoth", pitch="loose")
+    with pytest.raises(ValueError, match="insect"):
+        FwuavPitchFree("monarch")
+    with pytest.raises(ValueError, match="rtol"):
+        pitch_free_floquet("hawkmoth", rtol=1e-2)
