@@ -99,6 +99,8 @@ from flapping.hover import HoverOrbit, find_hover_orbit
 from flapping.hover.stability import HoverStability, hover_stability
 from flapping.model.morphology import Insect
 from flapping.model.presets import ellington_r1
+from flapping.studies import _published
+from flapping.studies._published import Number, sun_xiong_2005_reference
 
 if TYPE_CHECKING:  # pandas is the optional ``sweep`` extra, imported when a table is built
     import pandas
@@ -136,39 +138,13 @@ __all__ = [
 #: (u, w, q).
 DERIVATIVES: tuple[str, ...] = ("Xu", "Xw", "Xq", "Zu", "Zw", "Zq", "Mu", "Mw", "Mq")
 
-#: Statuses of a :class:`Number`: read in the source during this work, or not.
-STATUSES: tuple[str, ...] = ("read", "estimated")
+
+#: Statuses of a :class:`Number`: read in the source during this work, or not (shared with the
+#: lateral study, :mod:`flapping.studies._published`).
+STATUSES: tuple[str, ...] = _published.STATUSES
 
 #: An eigenvalue whose imaginary part is below this fraction of its modulus is real.
 _REAL_TOL = 1e-8
-
-
-@dataclass(frozen=True)
-class Number:
-    """One published (or estimated) number with where it comes from.
-
-    Attributes
-    ----------
-    value : float
-        SI value (angles in rad), or the non-dimensional value of a derivative.
-    source : str
-        Who gives it (a {cite} key of ``book/references.bib`` first, then prose).
-    table : str
-        Where in the source ("Table 1", "abstract"), or "-" for an estimate.
-    status : str
-        One of :data:`STATUSES`.
-    note : str
-        How an estimate was made, or what to keep in mind.
-    """
-
-    value: float
-    source: str
-    table: str
-    status: str
-    note: str = ""
-
-    def __post_init__(self) -> None:
-        _validation.choice("status", self.status, STATUSES)
 
 
 @dataclass(frozen=True)
@@ -319,46 +295,11 @@ _SX = "sun2005"
 _SX_TABLE = ("J. Exp. Biol. table page cob.silverchair.com/view-large/6176870, 'Table 1. "
              "Non-dimensional aerodynamic derivatives' (the page does not name its paper; "
              "attributed by its modes, see check_transcription)")
-_SX_MEMORY = ("sun2005 after dudley1990 (bumblebee BB01): from an earlier reading note and the "
-              "bumblebee preset, not re-read here")
-
-
-_BUMBLEBEE_BODY_LENGTH = 18e-3  # [m], dudley1990 (unverified)
-
-
 def _sun_xiong_2005() -> CFDStudy:
     values = (-0.785, 0.050, -0.090, -0.031, -1.033, -0.031, 2.389, -0.190, -0.883)
-    body = _BUMBLEBEE_BODY_LENGTH
     derivs = {n: Number(v, _SX, _SX_TABLE, "read") for n, v in zip(DERIVATIVES, values,
                                                                      strict=True)}
-    ref = {
-        "mass": Number(175e-6, _SX + "; berman2007", "-", "read",
-                       "175 mg, as the bumblebee preset (verified there in FWUAV's data)"),
-        "semi_span": Number(13.2e-3, _SX_MEMORY, "-", "estimated"),
-        "mean_chord": Number(4.01e-3, _SX_MEMORY, "-", "estimated",
-                             "Berman & Wang's 4.02 mm (verified) is 0.25 % longer"),
-        "r2": Number(0.55, _SX_MEMORY, "-", "estimated"),
-        "stroke_amplitude": Number(math.radians(116.0), _SX_MEMORY, "-", "estimated",
-                                   "peak to peak"),
-        "frequency": Number(1.0 / 6.4e-3, _SX, "abstract", "read",
-                            "wingbeat period 6.4 ms"),
-        "air_density": Number(1.225, "sea-level standard air", "-", "estimated",
-                              "the density of the CFD not read"),
-        "gravity": Number(9.81, "standard gravity", "-", "estimated"),
-        "body_length": Number(body, "dudley1990 (bumblebee body length, unverified)", "-",
-                              "estimated", "sets the hinge height below; not read in sun2005"),
-        "hinge_height": Number(0.13 * body, "sun2007 (hoverfly: wing root to CG 0.13 body "
-                               "lengths, the CG hanging below it) scaled to a bumblebee body "
-                               "length of 18 mm (dudley1990, unverified)", "-", "estimated",
-                               "Sun & Xiong's own hinge-to-CG distance and body angle were "
-                               "not read: by analogy with Sun's group's hoverfly"),
-        "hinge_offset": Number(0.0, "the CG directly below the wing root (a freely hanging "
-                               "body, as Sun's group define their body angle)", "-",
-                               "estimated"),
-        "wing_mass": Number(4.6e-7, "berman2007 (verified in FWUAV's data, bumblebee preset)",
-                            "-", "read", "used only in physics_table: the CFD derivatives are "
-                            "aerodynamic"),
-    }
+    ref = sun_xiong_2005_reference()
     modes = PublishedModes(0.32, 0.1, (0.024, 0.37), 6.4e-3, _SX + ", abstract (verified)")
     notes = ("body drag: not modelled (Sun & Xiong compute the body's loads too; the body's "
              "contribution to the derivatives is not separated in the table)",

@@ -89,8 +89,7 @@ from flapping.hover.sixdof import (
 from flapping.model import presets
 from flapping.model.sixdof import LATERAL, SIXDOF_AERODYNAMIC_MODELS
 from flapping.periodic.floquet import floquet_multipliers, monodromy
-from flapping.studies.cfd import Number
-from flapping.studies.cfd import study as cfd_study
+from flapping.studies._published import Number, sun_xiong_2005_reference
 
 __all__ = [
     "LATERAL_PRESETS", "NO_LATERAL_INERTIA", "Mode", "classify_multipliers", "LateralAnalysis",
@@ -853,7 +852,7 @@ def _dronefly_reference() -> dict[str, Any]:
 def _lateral_studies() -> dict[str, LateralStudy]:
     not_read = ("not read: the stored sources hold the abstract and first page only (no "
                 "derivative table)")
-    bee = cfd_study("sun2005").reference
+    bee = sun_xiong_2005_reference()
     bee_ref = {k: bee[k] for k in ("mass", "semi_span", "mean_chord", "r2", "wing_mass",
                                    "frequency", "stroke_amplitude")}
     return {

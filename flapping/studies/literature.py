@@ -403,6 +403,13 @@ def _sun_group() -> list[PublishedResult]:
             "free", None, None, "verified", _WU,
             note="The abstract gives no verdict and no numbers: averaging fails for the hawkmoth "
                  "(low frequency, large wing mass, large body oscillation).", methods=cfd),
+    ]
+    return rows + _sun_group_later()
+
+
+def _sun_group_later() -> list[PublishedResult]:
+    """Sun's group after 2012, the lateral studies among them (second-hand where not read)."""
+    return [
         PublishedResult(
             "liang2013", "model insects", "CFD (as the citing papers describe it)", "free",
             "unstable", None, "second-hand", f"Liang & Sun (2013): {_BEATUS_LIST}",
@@ -453,11 +460,10 @@ def _sun_group() -> list[PublishedResult]:
                      motion="longitudinal"),
                 Mode("not stated", "unstable", "one lateral mode, weak", motion="lateral"))),
     ]
-    return rows
 
 
 def _others() -> list[PublishedResult]:
-    """Everyone else: Gao et al., Taha et al., FWUAV, the quasi-steady models, the paper."""
+    """Everyone else: Gao et al., Faruque & Humbert, Perl et al.; then :func:`_quasi_steady`."""
     fly = "Drosophila melanogaster"
     rows = [
         PublishedResult(
@@ -513,6 +519,13 @@ def _others() -> list[PublishedResult]:
                  "wingbeat not in the abstract, so no time in s).",
             motion="lateral", methods=("CFD", "experiment"), taxon=fly,
             modes=(Mode("oscillatory", "unstable", "doubles in 17 wingbeats"),)),
+    ]
+    return rows + _quasi_steady()
+
+
+def _quasi_steady() -> list[PublishedResult]:
+    """Taha et al., the paper, Ristroph et al., FWUAV and the other quasi-steady models."""
+    rows = [
         PublishedResult(
             "taha2020", "hawkmoth", "chronological calculus (beyond first-order averaging) + "
             "experiment", "free", "stable", None, "verified",
@@ -555,7 +568,12 @@ def _others() -> list[PublishedResult]:
                 Mode("not stated", "stable", f"exponent {lon1:.3f} 1/s", motion="longitudinal"),
                 Mode("not stated", "stable", f"exponent {lon2:.3f} 1/s", motion="longitudinal"),
                 Mode("not stated", "stable", f"exponent {lat:.3f} 1/s", motion="lateral"))))
-    rows += [
+    return rows + _other_models()
+
+
+def _other_models() -> list[PublishedResult]:
+    """The other quasi-steady and Floquet models (abstracts, or the reading list)."""
+    return [
         PublishedResult(
             "chengdeng2011", "four species", "quasi-steady damping derivatives + linear 6-DOF "
             "model", "free", None, None, "verified", _CHENG_DENG,
@@ -581,7 +599,6 @@ def _others() -> list[PublishedResult]:
             note="Predicts the body angle of five species; the abstract names neither the "
                  "species nor a stability verdict.", methods=("QS",)),
     ]
-    return rows
 
 
 #: Every published result recorded, Sun's group first.
