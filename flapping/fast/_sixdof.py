@@ -264,23 +264,25 @@ def newton(model: Any, x0: np.ndarray, amplitude: float, n_steps: int, tol: floa
     Each iteration integrates the variational state (its matrix gives the state columns of
     Newton's Jacobian) and one plain flow at Phi (1 + 1e-7) (the Phi column by a forward
     difference: a Jacobian column to ~1e-7 keeps Newton's convergence quadratic to rounding from
-    the planar orbit's start, whose residual is ~1e-9).
+    the planar orbit's start, whose residual is ~1e-9). After a step, a plain flow (9 states,
+    not 82) checks the new point; the variational state is integrated again only if it does
+    not pass.
 
     Returns
     -------
     tuple
-        x0, amplitude, the variational end state (82) at the solution (its matrix is the
-        monodromy at ``n_steps``), the residual norm, the iterations and the evaluations of the
-        right-hand side.
+        x0, amplitude, the variational end state (82) of the last point where Newton's Jacobian
+        was formed (its matrix is the monodromy at ``n_steps`` there: at the solution, or one
+        converging step from it, ~1e-9 away), the residual norm, the iterations and the
+        evaluations of the right-hand side.
     """
     x = np.array(x0, dtype=float)
     amp = float(amplitude)
-    evaluations = 0
     per_flow = 2 * int(n_steps) * N_STAGES
+    end = flow(model, x, amp, n_steps, True)
+    evaluations = per_flow
+    residual = np.append(end[:8] - x, end[8])
     for it in range(max_iter + 1):
-        end = flow(model, x, amp, n_steps, True)
-        evaluations += per_flow
-        residual = np.append(end[:8] - x, end[8])
         norm = float(np.linalg.norm(residual))
         if norm <= tol or it == max_iter or not np.isfinite(norm):
             return x, amp, end, norm, it, evaluations
@@ -294,4 +296,11 @@ def newton(model: Any, x0: np.ndarray, amplitude: float, n_steps: int, tol: floa
         delta = np.linalg.solve(jac, -residual)
         x += delta[:8]
         amp += float(delta[8])
+        check = flow(model, x, amp, n_steps, False)  # the new point, plain
+        evaluations += per_flow
+        residual = np.append(check[:8] - x, check[8])
+        if float(np.linalg.norm(residual)) > tol:  # another step: its Jacobian
+            end = flow(model, x, amp, n_steps, True)
+            evaluations += per_flow
+            residual = np.append(end[:8] - x, end[8])
     raise AssertionError("unreachable")  # pragma: no cover

@@ -109,8 +109,10 @@ class SixDofHoverOrbit:
         The compiled path's DOP853 steps per half-stroke of its Newton solve (None on the
         adaptive path).
     newton_monodromy : ndarray, shape (8, 8), or None
-        The compiled path's monodromy at the solution at ``n_steps`` (Newton's last
-        integration): the coarse analysis of :func:`sixdof_stability`'s error estimate.
+        The compiled path's monodromy at ``n_steps`` where Newton last formed its Jacobian (at
+        the solution, or one converged step from it): the coarse analysis of
+        :func:`sixdof_stability`'s error estimate, which therefore also bounds that step's
+        effect.
     """
 
     insect: Insect
