@@ -538,13 +538,16 @@ def _quasi_steady() -> list[PublishedResult]:
                  "frequency falls. No growth rates in the abstract.",
             methods=("QS", "experiment")),
         PublishedResult(
-            "elsadek", "hawkmoth", "quasi-steady + Floquet", "free", "unstable", None,
+            "elsadek", "hawkmoth", "quasi-steady + Floquet", "free", "unstable", "real",
             "verified",
             "Elsadek, El-Bayoumi & Taha (manuscript), abstract: 'Floquet theorem is used to "
             "assess the stability of the captured periodic orbit corresponding to hovering "
-            "equilibrium. The results showed that the system is indeed unstable.'",
+            "equilibrium. The results showed that the system is indeed unstable.'; eq. (67): "
+            "multipliers 0.5933, 1.0258, 0.9871 +- 0.0108i, 'the second value is greater than "
+            "one which implies that the system is unstable'",
             note="The paper this project reproduces; its multipliers are in the book's "
-                 "appendix of the paper's numbers.", methods=("QS",), taxon="Manduca sexta"),
+                 "appendix of the paper's numbers.", methods=("QS",), taxon="Manduca sexta",
+            reading="source", modes=(Mode("real", "unstable", "multiplier 1.0258, eq. (67)"),)),
         PublishedResult(
             "ristroph2013", "fruit_fly", "pitch model from flapping-wing aerodynamics + "
             "magnetic perturbation experiments", "free", "unstable", None, "verified",
