@@ -32,31 +32,22 @@ import numba
 import numpy as np
 
 from flapping.fast import _dop853
+from flapping.fast._compiled import _helper, _jit  # the kernel's numba wrappers
 from flapping.model import _sixdof_generated, _sixdof_linear_generated
 
 N_PLAIN = 9
 N_VAR = 82
 
 
-def _jit(fn: Any) -> Any:
-    """``numba.njit(cache=True)``, or without the disk cache where numba finds no writable
-    place (as :func:`flapping.fast._compiled._jit`)."""
-    try:
-        return numba.njit(cache=True)(fn)
-    except RuntimeError as error:  # pragma: no cover - read-only installation
-        if "cannot cache" not in str(error):
-            raise
-        return numba.njit(fn)
-
-
-_linear_loads = numba.njit(_sixdof_linear_generated.linear_loads)
-_forcing_jacobian = numba.njit(_sixdof_linear_generated.forcing_jacobian)
-_euler_jacobian = numba.njit(_sixdof_linear_generated.euler_rates_jacobian)
-_mass_matrix = numba.njit(_sixdof_linear_generated.mass_matrix)  # floats only
-_forcing = numba.njit(_sixdof_generated.forcing)
-_euler_rates = numba.njit(_sixdof_generated.euler_rates)
-_earth_velocity = numba.njit(_sixdof_generated.earth_velocity)
-_earth_jacobian = numba.njit(_sixdof_linear_generated.earth_velocity_jacobian)
+# The generated formulas, linked into the cached entry points (the kernel's helper wrapper).
+_linear_loads = _helper(_sixdof_linear_generated.linear_loads)
+_forcing_jacobian = _helper(_sixdof_linear_generated.forcing_jacobian)
+_euler_jacobian = _helper(_sixdof_linear_generated.euler_rates_jacobian)
+_mass_matrix = _helper(_sixdof_linear_generated.mass_matrix)  # floats only
+_forcing = _helper(_sixdof_generated.forcing)
+_euler_rates = _helper(_sixdof_generated.euler_rates)
+_earth_velocity = _helper(_sixdof_generated.earth_velocity)
+_earth_jacobian = _helper(_sixdof_linear_generated.earth_velocity_jacobian)
 
 RK_A = np.ascontiguousarray(_dop853.A)
 RK_B = np.ascontiguousarray(_dop853.B)
