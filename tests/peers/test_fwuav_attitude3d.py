@@ -26,13 +26,14 @@ LON, LAT = list(LONGITUDINAL), list(LATERAL)
 
 
 @lru_cache(maxsize=2)
-def _stretch(body_rate_term: str) -> tuple[FwuavAttitudeFree, float, np.ndarray, float]:
+def _stretch(body_rate_term: str
+             ) -> tuple[FwuavAttitudeFree, float, np.ndarray, float, np.ndarray]:
     """The 3-D transition matrix of ``(xi, v, W)`` over ``T / 8`` from ``PLANAR`` (rtol 1e-10),
-    and ``int trace A dt``."""
+    ``int trace A dt`` and the final ``(R, v, W)``."""
     model = FwuavAttitudeFree("hawkmoth", body_rate_term=body_rate_term)
     span = model.period / 8
-    _, M, trace, _ = _variational(model, model.from_planar(PLANAR), span, 1e-10)
-    return model, span, M, trace
+    end, M, trace, _ = _variational(model, model.from_planar(PLANAR), span, 1e-10)
+    return model, span, M, trace, end
 
 
 @pytest.mark.parametrize("body_rate_term", ["fwuav", "rotated"])
@@ -91,7 +92,7 @@ def test_transition_matrix_blocks(body_rate_term: str) -> None:
     """Over T/8 from a planar state: the longitudinal block of the 3-D transition matrix is
     the pitch-free model's (its own variational equations, 4 states) and the coupling blocks
     vanish. Tolerance: both integrated at rtol 1e-10 with central-difference Jacobians."""
-    model, span, M, _ = _stretch(body_rate_term)
+    model, span, M, _, _ = _stretch(body_rate_term)
     fun, jac = _reduced(FwuavPitchFree("hawkmoth", body_rate_term=body_rate_term))
 
     def variational(t: float, y: np.ndarray) -> np.ndarray:
@@ -114,7 +115,7 @@ def test_transition_matrix_is_the_flows_derivative_and_liouville() -> None:
     the derivative of the nonlinear 3-D flow (central differences of 18 integrations, no
     Jacobian), and det M = exp(int trace A) (Liouville). Dropping ``-W x xi`` would change M by
     about ``|W| T / 8`` (~1e-2 here), four orders above the tolerance."""
-    model, span, M, trace = _stretch("fwuav")
+    model, span, M, trace, _ = _stretch("fwuav")
     state0 = model.from_planar(PLANAR)
 
     def end(z: np.ndarray) -> np.ndarray:
@@ -138,6 +139,23 @@ def test_transition_matrix_is_the_flows_derivative_and_liouville() -> None:
     np.testing.assert_allclose(M, M_fd, atol=1e-6 * np.abs(M).max())
     assert abs(np.linalg.det(M) / np.exp(trace) - 1.0) < 1e-8
     assert abs(np.linalg.det(M_fd) / np.exp(trace) - 1.0) < 1e-6
+
+
+@pytest.mark.parametrize("body_rate_term", ["fwuav", "rotated"])
+def test_yaw_about_gravity_is_carried_along(body_rate_term: str) -> None:
+    """Nothing depends on the heading: a yaw ``eps`` about ``e3`` of the whole motion is the
+    perturbation ``(xi, v, W) = eps (R^T e3, e3 x v, 0)``, and the transition matrix carries it
+    from the start's to the end's (a lateral check of the aerodynamic and gravity terms; on the
+    periodic orbit it is the neutral multiplier one)."""
+    model, _, M, _, end = _stretch(body_rate_term)
+    start = model.from_planar(PLANAR)
+
+    def yaw(y: np.ndarray) -> np.ndarray:
+        R, v = y[0:9].reshape(3, 3), y[9:12]
+        return np.concatenate([R[2], np.cross([0.0, 0.0, 1.0], v), np.zeros(3)])
+
+    np.testing.assert_allclose(M @ yaw(start[3:]), yaw(end), atol=1e-7)
+    assert np.abs(yaw(end) - yaw(start[3:])).max() > 1e-4  # the motion did change them
 
 
 def test_bad_arguments_are_named() -> None:
