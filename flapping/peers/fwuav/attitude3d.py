@@ -231,8 +231,9 @@ class FwuavAttitudeFree:
         Parameters
         ----------
         y : array_like, shape (6,) or (4,)
-            ``(x_1, x_3, theta, v_1, v_3, q)`` of :class:`FwuavPitchFree`, or ``(theta, v_1, v_3,
-            q)`` (position zero).
+            ``(x_1, x_3, theta, v_1, v_3, q)`` of
+            :class:`~flapping.peers.fwuav.attitude.FwuavPitchFree`, or ``(theta, v_1, v_3, q)``
+            (position zero).
 
         Returns
         -------
@@ -385,7 +386,8 @@ def attitude_free_floquet(model: str | FwuavPitchFree, y0: Any = None, period: A
         With a name: the body-rate term of the strip velocity. Ignored with a model.
     rtol : float, optional
         Relative tolerance of the integration, in [1e-12, 1e-6] (absolute ``rtol / 10``; the
-        orbit from :func:`pitch_free_floquet` at its default tolerance).
+        orbit from :func:`~flapping.peers.fwuav.attitude.pitch_free_floquet` at its default
+        tolerance).
 
     Returns
     -------
