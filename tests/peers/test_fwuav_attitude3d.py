@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from functools import lru_cache
 
 import numpy as np
@@ -18,6 +19,7 @@ from flapping.peers.fwuav.attitude3d import (
     _variational,
     attitude_free_floquet,
 )
+from flapping.peers.fwuav.model import _strip_forces
 
 # A planar state near the hawkmoth's pitch-free orbit, (theta, v_1, v_3, q), and a stretch of
 # an eighth of a wingbeat: the properties below hold on any planar motion, periodic or not.
@@ -52,6 +54,34 @@ def test_planar_restriction_is_the_pitch_free_model(name: str, body_rate_term: s
         got = np.array([f[0], f[2], state[16], f[12], f[14], f[16]])
         np.testing.assert_allclose(got, expected, rtol=1e-10, atol=1e-10 * np.abs(expected).max())
         assert np.abs(f[[1, 13, 15, 17]]).max() <= 1e-12 * np.abs(f).max()
+
+
+def test_aerodynamic_loads_are_the_strip_points_kinematics() -> None:
+    """Off the plane (roll, yaw, sideslip), with ``Q^T W`` (the exact rotation of the body rate
+    into the wing frame), the force and moment are the sums over strip points ``p = mu +
+    Q (+/- r e2)`` of the force at each point's own velocity ``Q^T (R^T v + W x p) + Om x
+    (p - mu)`` and of ``p x Q dF``: a per-point computation against the vectorised one."""
+    model = FwuavAttitudeFree("hawkmoth", body_rate_term="rotated")
+    R = _expm_hat(np.array([0.2, 1.0, -0.3]))
+    v, W = np.array([0.3, -0.4, 0.2]), np.array([4.0, -2.0, 3.0])
+    t = 0.3 * model.period
+    motion, _ = model._prescribed(t)
+    frame = dataclasses.replace(motion, R=R, W=W)
+    F, M = model._aerodynamics(frame, v)
+    hover, sp = model.planar.hover, model.species
+    F_ref, M_ref = np.zeros(3), np.zeros(3)
+    project = np.diag([1.0, 0.0, 1.0])
+    for Q, Om, sign in ((motion.Q_R, motion.Om_R, 1.0), (motion.Q_L, motion.Om_L, -1.0)):
+        mu = np.array(sp.morphology.mu_R) * np.array([1.0, sign, 1.0])
+        for r, w in zip(hover.r, hover.weights, strict=True):
+            arm = sign * r * np.array([0.0, 1.0, 0.0])
+            p = mu + Q @ arm
+            U = project @ (Q.T @ (R.T @ v + np.cross(W, p)) + np.cross(Om, arm))
+            dF = _strip_forces(sp, U[:, None], np.array([w]))
+            F_ref += R @ Q @ dF
+            M_ref += np.cross(p, Q @ dF)
+    np.testing.assert_allclose(F, F_ref, rtol=1e-12, atol=1e-12 * np.abs(F_ref).max())
+    np.testing.assert_allclose(M, M_ref, rtol=1e-12, atol=1e-12 * np.abs(M_ref).max())
 
 
 def test_conserves_momentum_in_3d_without_external_loads() -> None:
