@@ -6,6 +6,8 @@
   (wing and abdomen inertia, Sane & Dickinson's quasi-steady force, gravity);
 - :mod:`~flapping.peers.fwuav.attitude`: the thorax pitch free (the planar reduction of FWUAV's
   attitude-free hover), :func:`pitch_free_floquet`;
+- :mod:`~flapping.peers.fwuav.attitude3d`: the thorax attitude free in 3-D (FWUAV's
+  ``eom_hover_xR``), :func:`attitude_free_floquet`: the lateral multipliers too;
 - :mod:`~flapping.peers.fwuav.floquet`: :func:`hover_floquet`, the periodic hover orbit by our
   shooting and its Floquet exponents from our variational equations;
 - :mod:`~flapping.peers.fwuav.cli`: the ``fwuav`` subcommand of ``python -m flapping``.
@@ -14,6 +16,11 @@ The book's chapter "A second model" compares its exponents with FWUAV's stored o
 """
 
 from flapping.peers.fwuav.attitude import FwuavPitchFree, PitchFreeFloquet, pitch_free_floquet
+from flapping.peers.fwuav.attitude3d import (
+    AttitudeFreeFloquet,
+    FwuavAttitudeFree,
+    attitude_free_floquet,
+)
 from flapping.peers.fwuav.data import (
                                        MONARCH_DOCUMENT,
                                        SPECIES,
@@ -28,4 +35,5 @@ from flapping.peers.fwuav.model import FwuavHover, Motion, prescribed_motion, wi
 __all__ = ["SPECIES", "NAMES", "Species", "Morphology", "Kinematics", "species", "FwuavHover",
            "Motion", "prescribed_motion", "wing_angles", "HoverFloquet", "hover_floquet",
            "fwuav_procedure", "FwuavPitchFree", "PitchFreeFloquet", "pitch_free_floquet",
-           "MONARCH_DOCUMENT"]
+           "MONARCH_DOCUMENT", "FwuavAttitudeFree", "AttitudeFreeFloquet",
+           "attitude_free_floquet"]
