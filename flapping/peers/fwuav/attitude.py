@@ -52,6 +52,7 @@ from flapping.peers.fwuav.data import Species, species
 from flapping.peers.fwuav.model import (
     FwuavHover,
     Motion,
+    _cross,
     _rot,
     _sinusoid,
     _strip_forces,
@@ -152,7 +153,7 @@ class FwuavPitchFree:
             rF = _strip_forces(self.species, U, h.weights * h.r)   # sum r_k dF_k (linear in w)
             joint = mu * np.array([1.0, sign, 1.0])
             force += RQ @ F
-            moment += np.cross(joint, Q @ F) + Q @ (sign * np.cross(_E2, rF))
+            moment += _cross(joint, Q @ F) + Q @ (sign * _cross(_E2, rF))
         return force, moment
 
     def _parts(self, motion: Motion, rates: _Rates, theta_ddot: float
@@ -162,18 +163,18 @@ class FwuavPitchFree:
         acceleration ``theta_ddot``."""
         W = motion.W
         dW = theta_ddot * _E2
-        force, moment = np.zeros(3), self._J_B @ dW + np.cross(W, self._J_B @ W)
+        force, moment = np.zeros(3), self._J_B @ dW + _cross(W, self._J_B @ W)
         first = np.zeros(3)
         for (mi, mu, nu, J), (Q, Om, dOm) in zip(self._bodies, rates, strict=True):
             p = mu + Q @ nu
-            dp = Q @ np.cross(Om, nu)
-            ddp = Q @ (np.cross(Om, np.cross(Om, nu)) + np.cross(dOm, nu))
-            s = np.cross(W, np.cross(W, p)) + np.cross(dW, p) + 2.0 * np.cross(W, dp) + ddp
+            dp = Q @ _cross(Om, nu)
+            ddp = Q @ (_cross(Om, _cross(Om, nu)) + _cross(dOm, nu))
+            s = _cross(W, _cross(W, p)) + _cross(dW, p) + 2.0 * _cross(W, dp) + ddp
             force += mi * s
             first += mi * p
             wi = Q.T @ W + Om
-            dwi = Q.T @ dW - np.cross(Om, Q.T @ W) + dOm
-            moment += mi * np.cross(p, s) + Q @ (J @ dwi + np.cross(wi, J @ wi))
+            dwi = Q.T @ dW - _cross(Om, Q.T @ W) + dOm
+            moment += mi * _cross(p, s) + Q @ (J @ dwi + _cross(wi, J @ wi))
         return motion.R @ force, moment, first
 
     def _rates(self, t: float, motion: Motion) -> _Rates:
@@ -224,7 +225,7 @@ class FwuavPitchFree:
             f_in, m_in, first = self._parts(motion, rates, dd)
             force = m * a + f_in - F - m * g * _E3
             # moment about the thorax centre of mass, thorax frame
-            moment = np.cross(first, R.T @ a - g * (R.T @ _E3)) + m_in - M
+            moment = _cross(first, R.T @ a - g * (R.T @ _E3)) + m_in - M
             return np.array([force[0], force[2], moment[1]])
 
         if self.pitch == "prescribed":
@@ -280,14 +281,14 @@ class FwuavPitchFree:
         R, W = motion.R, motion.W
         x, v = np.array([state[0], 0.0, state[1]]), np.array([state[3], 0.0, state[4]])
         m_B = self.species.morphology.m_B
-        P, H = m_B * v, np.cross(x, m_B * v) + R @ (self._J_B @ W)
+        P, H = m_B * v, _cross(x, m_B * v) + R @ (self._J_B @ W)
         for (mi, mu, nu, J), (Q, Om, _) in zip(self._bodies, self._rates(t, motion),
                                                 strict=True):
             p = mu + Q @ nu
             r = x + R @ p
-            vi = v + R @ (np.cross(W, p) + Q @ np.cross(Om, nu))
+            vi = v + R @ (_cross(W, p) + Q @ _cross(Om, nu))
             P = P + mi * vi
-            H = H + np.cross(r, mi * vi) + R @ Q @ (J @ (Q.T @ W + Om))
+            H = H + _cross(r, mi * vi) + R @ Q @ (J @ (Q.T @ W + Om))
         return P, H
 
 
