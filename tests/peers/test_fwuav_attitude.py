@@ -153,3 +153,19 @@ def test_untrimmed_result_has_no_trim_fields() -> None:
     fields = {f.name for f in dataclasses.fields(PitchFreeFloquet) if f.default is
               dataclasses.MISSING}
     assert "trim_parameters" not in fields and "trim_values" not in fields
+
+
+def test_a_failed_trim_says_what_failed(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A trim that does not converge raises ConvergenceError naming the insect and the trimmed
+    parameters, with the shooting's residual and iteration count (the solver is replaced by
+    one that fails, so the test is fast)."""
+    from flapping.errors import ConvergenceError
+    from flapping.peers.fwuav import attitude
+
+    def fail(*args: object, **kwargs: object) -> None:
+        raise ConvergenceError("stalled", x=np.zeros(6), residual=0.25, iterations=7)
+
+    monkeypatch.setattr(attitude, "find_periodic_orbit", fail)
+    with pytest.raises(ConvergenceError, match="hawkmoth by adjusting beta, phi_0") as info:
+        pitch_free_floquet("hawkmoth", rtol=1e-6, trim=("beta", "phi_0"))
+    assert info.value.residual == 0.25 and info.value.iterations == 7

@@ -362,7 +362,8 @@ def _reduced(model: FwuavPitchFree) -> tuple[Callable[[float, np.ndarray], np.nd
 
 
 def _floquet(model: FwuavPitchFree, name: str, body_rate_term: str, y0: np.ndarray,
-             residual_norm: float, rtol: float, **trim: object) -> PitchFreeFloquet:
+             residual_norm: float, rtol: float, trim_parameters: tuple[str, ...] = (),
+             trim_values: tuple[float, ...] = (), trim_nfev: int = 0) -> PitchFreeFloquet:
     """Orbit statistics and Floquet multipliers of the closed orbit through ``y0``."""
     fun, jac = _reduced(model)
     T = model.period
@@ -378,7 +379,7 @@ def _floquet(model: FwuavPitchFree, name: str, body_rate_term: str, y0: np.ndarr
         mean_pitch=float(pitch.mean()), pitch_amplitude=float(np.ptp(pitch) / 2.0),
         mean_velocity=path.x[1:3, :-1].mean(axis=1), residual_norm=float(residual_norm),
         liouville_error=float(mono.liouville_error), monodromy=mono.matrix,
-        **trim)  # type: ignore[arg-type]
+        trim_parameters=trim_parameters, trim_values=trim_values, trim_nfev=trim_nfev)
 
 
 def _start(model: FwuavPitchFree) -> np.ndarray:
@@ -477,8 +478,9 @@ def pitch_free_floquet(name: str, *, body_rate_term: str = "fwuav", rtol: float 
     With ``trim``, two of FWUAV's kinematic parameters are adjusted together with the orbit's
     initial state so that the orbit is periodic and its mean velocity zero in both components:
     six conditions (four of periodicity, two of a closed position) on six unknowns (the state
-    and the two parameters), solved by our shooting (:func:`~flapping.periodic.shooting.
-    find_periodic_orbit` with the position as a state held at zero and the parameters free).
+    and the two parameters), solved by our shooting
+    (:func:`~flapping.periodic.shooting.find_periodic_orbit`, the position a state held at zero
+    at the start, the two parameters free).
     The default pair is the stroke amplitude ``phi_m``, which sets the wing speed and hence the
     vertical force, and the mean stroke angle ``phi_0``, which moves the wings' centre of
     pressure fore and aft of the centre of mass, hence the pitch moment, the pitch the thorax
