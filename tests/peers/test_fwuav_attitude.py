@@ -2,12 +2,21 @@
 
 from __future__ import annotations
 
+import dataclasses
+from typing import Any
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
 from flapping.peers.fwuav import FwuavHover
-from flapping.peers.fwuav.attitude import FwuavPitchFree, _reduced, pitch_free_floquet
+from flapping.peers.fwuav.attitude import (
+    FwuavPitchFree,
+    PitchFreeFloquet,
+    _reduced,
+    pitch_free_floquet,
+)
+from flapping.peers.fwuav.data import species
 from flapping.periodic.floquet import monodromy
 
 
@@ -90,3 +99,80 @@ def test_bad_arguments_are_named() -> None:
         FwuavPitchFree("monarch")
     with pytest.raises(ValueError, match="rtol"):
         pitch_free_floquet("hawkmoth", rtol=1e-2)
+
+
+def _retrimmed_model(result: PitchFreeFloquet) -> FwuavPitchFree:
+    base = species(result.name)
+    changes: dict[str, Any] = dict(zip(result.trim_parameters, result.trim_values, strict=True))
+    sp = dataclasses.replace(base, kinematics=dataclasses.replace(base.kinematics, **changes))
+    return FwuavPitchFree(sp, body_rate_term=result.body_rate_term)
+
+
+# at rtol 1e-6 the monodromy's own integration closes the orbit to ~2e-6, just above its
+# CLOSURE_TOL of 1e-6 (the integration error, not the orbit: at the book's 1e-8 it closes to 3e-9)
+_LOOSE = pytest.mark.filterwarnings("ignore::flapping.errors.ClosureWarning")
+
+
+@pytest.mark.slow
+@_LOOSE
+def test_trimmed_pitch_free_orbit_hovers() -> None:
+    """Re-trimmed (phi_m, phi_0), FWUAV's pitch-free hawkmoth flies a closed orbit with zero mean
+    velocity: checked by an independent integration of the six states (position included) with
+    the trimmed kinematics. Untrimmed it sinks at ~0.15 m/s; the trim's residual is 1e-6 m of
+    position per period (3e-5 m/s), the integrations' error ~1e-6 relative."""
+    result = pitch_free_floquet("hawkmoth", rtol=1e-6, trim=True)
+    assert result.trim_parameters == ("phi_m", "phi_0")
+    model = _retrimmed_model(result)
+    y0 = np.concatenate([[0.0, 0.0], result.y0])
+    end = solve_ivp(model.rhs, (0.0, model.period), y0, method="DOP853", rtol=1e-10,
+                    atol=1e-12).y[:, -1]
+    mean_velocity = end[:2] / model.period
+    assert np.abs(mean_velocity).max() < 1e-4  # m/s
+    np.testing.assert_allclose(end[2:], result.y0, atol=1e-5)
+    assert np.abs(result.mean_velocity).max() < 1e-4
+    assert result.residual_norm <= 1e-6
+
+
+@pytest.mark.slow
+@_LOOSE
+def test_trim_moves_the_kinematics_a_little() -> None:
+    """The trim is a correction of FWUAV's kinematics, not another insect: the stroke amplitude
+    and the mean stroke angle move, each by less than 5 degrees, and the amplitude grows (the
+    untrimmed orbit sinks: it needs more lift)."""
+    result = pitch_free_floquet("hawkmoth", rtol=1e-6, trim=True)
+    k = species("hawkmoth").kinematics
+    d_amplitude = result.trim_values[0] - k.phi_m
+    d_mean = result.trim_values[1] - k.phi_0
+    assert 0.0 < d_amplitude < np.radians(5.0)
+    assert 1e-4 < abs(d_mean) < np.radians(5.0)
+    assert result.trim_nfev > 0
+
+
+@pytest.mark.parametrize("trim", [("phi_m",), ("phi_m", "phi_m"), ("f", "phi_0"), "phi_m",
+                                  ("phi_m", "phi_0", "beta"), 1])
+def test_bad_trim_is_refused(trim: object) -> None:
+    with pytest.raises(ValueError, match="`trim` must be True, False or two different names"):
+        pitch_free_floquet("hawkmoth", trim=trim)  # type: ignore[arg-type]
+
+
+def test_untrimmed_result_has_no_trim_fields() -> None:
+    """Old construction of the result still works: the trim fields default to 'no trim'."""
+    fields = {f.name for f in dataclasses.fields(PitchFreeFloquet) if f.default is
+              dataclasses.MISSING}
+    assert "trim_parameters" not in fields and "trim_values" not in fields
+
+
+def test_a_failed_trim_says_what_failed(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A trim that does not converge raises ConvergenceError naming the insect and the trimmed
+    parameters, with the shooting's residual and iteration count (the solver is replaced by
+    one that fails, so the test is fast)."""
+    from flapping.errors import ConvergenceError
+    from flapping.peers.fwuav import attitude
+
+    def fail(*args: object, **kwargs: object) -> None:
+        raise ConvergenceError("stalled", x=np.zeros(6), residual=0.25, iterations=7)
+
+    monkeypatch.setattr(attitude, "find_periodic_orbit", fail)
+    with pytest.raises(ConvergenceError, match="hawkmoth by adjusting beta, phi_0") as info:
+        pitch_free_floquet("hawkmoth", rtol=1e-6, trim=("beta", "phi_0"))
+    assert info.value.residual == 0.25 and info.value.iterations == 7

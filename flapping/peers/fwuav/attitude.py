@@ -41,16 +41,18 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
 import flapping._validation as check
 from flapping._numdiff import central_jacobian
-from flapping.errors import require_success
+from flapping.errors import ConvergenceError, require_success
 from flapping.peers.fwuav.data import Species, species
 from flapping.peers.fwuav.model import (
     FwuavHover,
     Motion,
+    _cross,
     _rot,
     _sinusoid,
     _strip_forces,
@@ -62,10 +64,20 @@ from flapping.periodic.floquet import monodromy
 from flapping.periodic.integrate import flow
 from flapping.periodic.shooting import find_periodic_orbit
 
-__all__ = ["FwuavPitchFree", "PitchFreeFloquet", "pitch_free_floquet", "PITCH_MODES"]
+__all__ = ["FwuavPitchFree", "PitchFreeFloquet", "pitch_free_floquet", "PITCH_MODES",
+           "TRIM_PARAMETERS", "DEFAULT_TRIM"]
 
 #: How the thorax pitch moves: free (a state) or FWUAV's prescribed sinusoid.
 PITCH_MODES = ("free", "prescribed")
+#: FWUAV's kinematic parameters a pitch-free trim may adjust (rad; all are among the 21 that
+#: FWUAV's ``sim_QS_x_hover.m`` optimises): stroke-plane angle, stroke amplitude, mean stroke
+#: angle.
+TRIM_PARAMETERS = ("beta", "phi_m", "phi_0")
+#: The pair ``trim=True`` adjusts: the stroke amplitude ``phi_m`` (the wing speed, hence the
+#: vertical force, grows with it) and the mean stroke angle ``phi_0`` (it moves the wings' centre
+#: of pressure fore and aft of the centre of mass: the pitch moment, hence the pitch the thorax
+#: settles at, hence the tilt of the mean force and the horizontal drift).
+DEFAULT_TRIM = ("phi_m", "phi_0")
 
 _E2, _E3 = np.eye(3)[1], np.eye(3)[2]
 #: Per body (right wing, left wing, abdomen): attitude, angular velocity, its derivative.
@@ -141,7 +153,7 @@ class FwuavPitchFree:
             rF = _strip_forces(self.species, U, h.weights * h.r)   # sum r_k dF_k (linear in w)
             joint = mu * np.array([1.0, sign, 1.0])
             force += RQ @ F
-            moment += np.cross(joint, Q @ F) + Q @ (sign * np.cross(_E2, rF))
+            moment += _cross(joint, Q @ F) + Q @ (sign * _cross(_E2, rF))
         return force, moment
 
     def _parts(self, motion: Motion, rates: _Rates, theta_ddot: float
@@ -151,18 +163,18 @@ class FwuavPitchFree:
         acceleration ``theta_ddot``."""
         W = motion.W
         dW = theta_ddot * _E2
-        force, moment = np.zeros(3), self._J_B @ dW + np.cross(W, self._J_B @ W)
+        force, moment = np.zeros(3), self._J_B @ dW + _cross(W, self._J_B @ W)
         first = np.zeros(3)
         for (mi, mu, nu, J), (Q, Om, dOm) in zip(self._bodies, rates, strict=True):
             p = mu + Q @ nu
-            dp = Q @ np.cross(Om, nu)
-            ddp = Q @ (np.cross(Om, np.cross(Om, nu)) + np.cross(dOm, nu))
-            s = np.cross(W, np.cross(W, p)) + np.cross(dW, p) + 2.0 * np.cross(W, dp) + ddp
+            dp = Q @ _cross(Om, nu)
+            ddp = Q @ (_cross(Om, _cross(Om, nu)) + _cross(dOm, nu))
+            s = _cross(W, _cross(W, p)) + _cross(dW, p) + 2.0 * _cross(W, dp) + ddp
             force += mi * s
             first += mi * p
             wi = Q.T @ W + Om
-            dwi = Q.T @ dW - np.cross(Om, Q.T @ W) + dOm
-            moment += mi * np.cross(p, s) + Q @ (J @ dwi + np.cross(wi, J @ wi))
+            dwi = Q.T @ dW - _cross(Om, Q.T @ W) + dOm
+            moment += mi * _cross(p, s) + Q @ (J @ dwi + _cross(wi, J @ wi))
         return motion.R @ force, moment, first
 
     def _rates(self, t: float, motion: Motion) -> _Rates:
@@ -213,7 +225,7 @@ class FwuavPitchFree:
             f_in, m_in, first = self._parts(motion, rates, dd)
             force = m * a + f_in - F - m * g * _E3
             # moment about the thorax centre of mass, thorax frame
-            moment = np.cross(first, R.T @ a - g * (R.T @ _E3)) + m_in - M
+            moment = _cross(first, R.T @ a - g * (R.T @ _E3)) + m_in - M
             return np.array([force[0], force[2], moment[1]])
 
         if self.pitch == "prescribed":
@@ -269,14 +281,14 @@ class FwuavPitchFree:
         R, W = motion.R, motion.W
         x, v = np.array([state[0], 0.0, state[1]]), np.array([state[3], 0.0, state[4]])
         m_B = self.species.morphology.m_B
-        P, H = m_B * v, np.cross(x, m_B * v) + R @ (self._J_B @ W)
+        P, H = m_B * v, _cross(x, m_B * v) + R @ (self._J_B @ W)
         for (mi, mu, nu, J), (Q, Om, _) in zip(self._bodies, self._rates(t, motion),
                                                 strict=True):
             p = mu + Q @ nu
             r = x + R @ p
-            vi = v + R @ (np.cross(W, p) + Q @ np.cross(Om, nu))
+            vi = v + R @ (_cross(W, p) + Q @ _cross(Om, nu))
             P = P + mi * vi
-            H = H + np.cross(r, mi * vi) + R @ Q @ (J @ (Q.T @ W + Om))
+            H = H + _cross(r, mi * vi) + R @ Q @ (J @ (Q.T @ W + Om))
         return P, H
 
 
@@ -310,6 +322,12 @@ class PitchFreeFloquet:
     liouville_error : float
         Relative mismatch of ``det M`` and ``exp(int trace J)``.
     monodromy : ndarray, shape (4, 4)
+    trim_parameters : tuple of str
+        The kinematic parameters adjusted for a pitch-free hover (empty: FWUAV's kinematics).
+    trim_values : tuple of float
+        Their trimmed values (rad), same order.
+    trim_nfev : int
+        Residual evaluations of the trim (0 without one).
     """
 
     name: str
@@ -324,6 +342,9 @@ class PitchFreeFloquet:
     residual_norm: float
     liouville_error: float
     monodromy: np.ndarray = field(repr=False)
+    trim_parameters: tuple[str, ...] = ()
+    trim_values: tuple[float, ...] = ()
+    trim_nfev: int = 0
 
 
 def _reduced(model: FwuavPitchFree) -> tuple[Callable[[float, np.ndarray], np.ndarray],
@@ -340,33 +361,131 @@ def _reduced(model: FwuavPitchFree) -> tuple[Callable[[float, np.ndarray], np.nd
     return fun, jac
 
 
+def _floquet(model: FwuavPitchFree, name: str, body_rate_term: str, y0: np.ndarray,
+             residual_norm: float, rtol: float, trim_parameters: tuple[str, ...] = (),
+             trim_values: tuple[float, ...] = (), trim_nfev: int = 0) -> PitchFreeFloquet:
+    """Orbit statistics and Floquet multipliers of the closed orbit through ``y0``."""
+    fun, jac = _reduced(model)
+    T = model.period
+    path = require_success(flow(fun, (0.0, T), y0, rtol=rtol, atol=rtol * 0.1,
+                                t_eval=np.linspace(0.0, T, 201)),
+                           "the pitch-free orbit over one period")
+    mono = monodromy(fun, y0, T, jac=jac, rtol=rtol, atol=rtol * 0.1)
+    order = np.argsort(-np.abs(mono.multipliers), kind="stable")
+    pitch = path.x[0, :-1]
+    return PitchFreeFloquet(
+        name=name, body_rate_term=body_rate_term, y0=y0, period=T,
+        multipliers=mono.multipliers[order], exponents=mono.exponents[order],
+        mean_pitch=float(pitch.mean()), pitch_amplitude=float(np.ptp(pitch) / 2.0),
+        mean_velocity=path.x[1:3, :-1].mean(axis=1), residual_norm=float(residual_norm),
+        liouville_error=float(mono.liouville_error), monodromy=mono.matrix,
+        trim_parameters=trim_parameters, trim_values=trim_values, trim_nfev=trim_nfev)
+
+
+def _start(model: FwuavPitchFree) -> np.ndarray:
+    """FWUAV's pitch, velocity and pitch rate at the start of its wingbeat."""
+    theta, q, _ = model._prescribed_pitch(0.0)
+    v = model.species.velocity_guess
+    return np.array([theta, v[0], v[2], q])
+
+
 @lru_cache(maxsize=8)
 def _pitch_free(name: str, body_rate_term: str, rtol: float) -> PitchFreeFloquet:
     model = FwuavPitchFree(name, body_rate_term=body_rate_term)
     fun, jac = _reduced(model)
-    T = model.period
-    theta, q, _ = model._prescribed_pitch(0.0)
-    v = model.species.velocity_guess
-    guess = np.array([theta, v[0], v[2], q])
-    orbit = find_periodic_orbit(fun, guess, T, autonomous=False, jac=jac, rtol=rtol,
-                                atol=rtol * 0.1, tol=min(1e3 * rtol, 1e-6))
-    path = require_success(flow(fun, (0.0, T), orbit.x0, rtol=rtol, atol=rtol * 0.1,
-                                t_eval=np.linspace(0.0, T, 201)),
-                           "the pitch-free orbit over one period")
-    mono = monodromy(fun, orbit.x0, T, jac=jac, rtol=rtol, atol=rtol * 0.1)
-    order = np.argsort(-np.abs(mono.multipliers), kind="stable")
-    pitch = path.x[0, :-1]
-    return PitchFreeFloquet(
-        name=name, body_rate_term=body_rate_term, y0=orbit.x0, period=T,
-        multipliers=mono.multipliers[order], exponents=mono.exponents[order],
-        mean_pitch=float(pitch.mean()), pitch_amplitude=float(np.ptp(pitch) / 2.0),
-        mean_velocity=path.x[1:3, :-1].mean(axis=1), residual_norm=float(orbit.residual_norm),
-        liouville_error=float(mono.liouville_error), monodromy=mono.matrix)
+    orbit = find_periodic_orbit(fun, _start(model), model.period, autonomous=False, jac=jac,
+                                rtol=rtol, atol=rtol * 0.1, tol=min(1e3 * rtol, 1e-6))
+    return _floquet(model, name, body_rate_term, orbit.x0, orbit.residual_norm, rtol)
 
 
-def pitch_free_floquet(name: str, *, body_rate_term: str = "fwuav",
-                       rtol: float = 1e-9) -> PitchFreeFloquet:
+class _Retrimmed:
+    """The six-state right-hand side ``(x_1, x_3, theta, v_1, v_3, q)`` as a function of the
+    trimmed kinematic parameters (the last argument), one model per parameter set."""
+
+    def __init__(self, name: str, body_rate_term: str, parameters: tuple[str, ...]) -> None:
+        self.base = species(name)
+        self.body_rate_term, self.parameters = body_rate_term, parameters
+        self._models: dict[tuple[float, ...], FwuavPitchFree] = {}
+
+    def model(self, values: np.ndarray) -> FwuavPitchFree:
+        key = tuple(float(v) for v in values)
+        if key not in self._models:
+            if len(self._models) > 16:  # the shooting asks for a few sets at a time
+                self._models.clear()
+            changes: dict[str, Any] = dict(zip(self.parameters, key, strict=True))
+            k = dataclasses.replace(self.base.kinematics, **changes)
+            self._models[key] = FwuavPitchFree(dataclasses.replace(self.base, kinematics=k),
+                                               body_rate_term=self.body_rate_term)
+        return self._models[key]
+
+    def fun(self, t: float, x: np.ndarray, values: np.ndarray) -> np.ndarray:
+        return self.model(values).rhs(t, x)
+
+    def jac(self, t: float, x: np.ndarray, values: np.ndarray) -> np.ndarray:
+        model = self.model(values)
+        return central_jacobian(lambda z: model.rhs(t, z), np.asarray(x, dtype=float))
+
+
+def _check_trim(trim: object) -> tuple[str, ...]:
+    """``()`` for no trim, else the two parameter names."""
+    if trim is False:
+        return ()
+    if trim is True:
+        return DEFAULT_TRIM
+    if (isinstance(trim, (tuple, list)) and len(trim) == 2 and len(set(trim)) == 2
+            and all(isinstance(p, str) and p in TRIM_PARAMETERS for p in trim)):
+        return tuple(trim)
+    raise ValueError(f"`trim` must be True, False or two different names among "
+                     f"{', '.join(TRIM_PARAMETERS)}; got {trim!r}")
+
+
+@lru_cache(maxsize=8)
+def _trimmed(name: str, body_rate_term: str, rtol: float, parameters: tuple[str, ...]
+             ) -> PitchFreeFloquet:
+    system = _Retrimmed(name, body_rate_term, parameters)
+    k = system.base.kinematics
+    start = np.concatenate([[0.0, 0.0], _start(system.model(np.array(
+        [getattr(k, p) for p in parameters])))])
+    guess = np.array([getattr(k, p) for p in parameters])
+    tol = min(1e3 * rtol, 1e-6)
+    try:
+        orbit = find_periodic_orbit(system.fun, start, 1.0 / k.f, autonomous=False,
+                                    jac=system.jac, free_params=guess, fixed=(0, 1), rtol=rtol,
+                                    atol=rtol * 0.1, tol=tol, max_nfev=60)
+    except ConvergenceError as error:
+        raise ConvergenceError(
+            f"no pitch-free hover of the {name} by adjusting {', '.join(parameters)}: "
+            f"{error}", x=error.x, residual=error.residual, iterations=error.iterations,
+            result=error.result) from error
+    assert orbit.params is not None
+    values = orbit.params
+    trimmed = dict(zip(parameters, values.tolist(), strict=True))
+    if not 0.0 < trimmed.get("phi_m", k.phi_m) < math.pi / 2:
+        raise ConvergenceError(f"the trimmed stroke amplitude phi_m = {trimmed['phi_m']:.4g} rad "
+                               f"is outside (0, pi/2)", x=orbit.unknowns,
+                               residual=orbit.residual_norm, iterations=orbit.nit, result=orbit)
+    return _floquet(system.model(values), name, body_rate_term, orbit.x0[2:],
+                    orbit.residual_norm, rtol, trim_parameters=parameters,
+                    trim_values=tuple(float(v) for v in values), trim_nfev=int(orbit.nfev))
+
+
+def pitch_free_floquet(name: str, *, body_rate_term: str = "fwuav", rtol: float = 1e-9,
+                       trim: bool | tuple[str, str] = False) -> PitchFreeFloquet:
     """FWUAV's hover with the thorax pitch free: periodic orbit and Floquet multipliers.
+
+    Without ``trim``, the orbit flown by FWUAV's kinematics (optimised by FWUAV with the pitch
+    prescribed): with the pitch free it is no hover, it sinks and drifts (``mean_velocity``).
+    With ``trim``, two of FWUAV's kinematic parameters are adjusted together with the orbit's
+    initial state so that the orbit is periodic and its mean velocity zero in both components:
+    six conditions (four of periodicity, two of a closed position) on six unknowns (the state
+    and the two parameters), solved by our shooting
+    (:func:`~flapping.periodic.shooting.find_periodic_orbit`, the position a state held at zero
+    at the start, the two parameters free).
+    The default pair is the stroke amplitude ``phi_m``, which sets the wing speed and hence the
+    vertical force, and the mean stroke angle ``phi_0``, which moves the wings' centre of
+    pressure fore and aft of the centre of mass, hence the pitch moment, the pitch the thorax
+    settles at and the tilt of the mean force (the horizontal drift). Animals trim pitch the
+    same way, by shifting the mean stroke position.
 
     Parameters
     ----------
@@ -376,21 +495,31 @@ def pitch_free_floquet(name: str, *, body_rate_term: str = "fwuav",
         The body-rate term of the strip velocity (FWUAV's ``Q W`` by default).
     rtol : float, optional
         Relative tolerance of every integration, in [1e-12, 1e-6] (absolute ``rtol / 10``;
-        shooting residual ``min(1000 rtol, 1e-6)``).
+        shooting residual ``min(1000 rtol, 1e-6)``, in rad, m/s, rad/s and, with ``trim``, m
+        of position after one period).
+    trim : bool or tuple of two str, optional
+        ``False`` (default): FWUAV's kinematics. ``True``: re-trimmed for a pitch-free hover
+        by adjusting :data:`DEFAULT_TRIM`; or two different names among
+        :data:`TRIM_PARAMETERS`.
 
     Returns
     -------
     PitchFreeFloquet
-        Cached per argument set.
+        Cached per argument set; with ``trim``, ``trim_parameters`` and ``trim_values`` say
+        what was adjusted, and ``residual_norm`` is that of the six conditions.
 
     Raises
     ------
     ValueError
         For an unknown name or an argument out of range.
     ConvergenceError
-        If the shooting does not converge or an integration fails.
+        If the shooting (or the trim) does not converge or an integration fails; it carries
+        the last iterate, its residual norm and the iteration count.
     """
     FwuavPitchFree(name, body_rate_term=body_rate_term)  # checks both
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-12 <= rtol <= 1e-6:
         raise ValueError(f"`rtol` must be a number in [1e-12, 1e-6]; got {rtol!r}")
+    parameters = _check_trim(trim)
+    if parameters:
+        return _trimmed(name, body_rate_term, float(rtol), parameters)
     return _pitch_free(name, body_rate_term, float(rtol))
