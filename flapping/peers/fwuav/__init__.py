@@ -15,7 +15,14 @@
 The book's chapter "A second model" compares its exponents with FWUAV's stored ones.
 """
 
-from flapping.peers.fwuav.attitude import FwuavPitchFree, PitchFreeFloquet, pitch_free_floquet
+from flapping.peers.fwuav.attitude import (
+    DEFAULT_TRIM,
+    TRIM_PARAMETERS,
+    FwuavPitchFree,
+    PitchFreeFloquet,
+    pitch_free_floquet,
+    pitch_free_model,
+)
 from flapping.peers.fwuav.attitude3d import (
     AttitudeFreeFloquet,
     FwuavAttitudeFree,
@@ -36,4 +43,4 @@ __all__ = ["SPECIES", "NAMES", "Species", "Morphology", "Kinematics", "species",
            "Motion", "prescribed_motion", "wing_angles", "HoverFloquet", "hover_floquet",
            "fwuav_procedure", "FwuavPitchFree", "PitchFreeFloquet", "pitch_free_floquet",
            "MONARCH_DOCUMENT", "FwuavAttitudeFree", "AttitudeFreeFloquet",
-           "attitude_free_floquet"]
+           "attitude_free_floquet", "pitch_free_model", "TRIM_PARAMETERS", "DEFAULT_TRIM"]

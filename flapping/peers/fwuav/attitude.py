@@ -64,8 +64,8 @@ from flapping.periodic.floquet import monodromy
 from flapping.periodic.integrate import flow
 from flapping.periodic.shooting import find_periodic_orbit
 
-__all__ = ["FwuavPitchFree", "PitchFreeFloquet", "pitch_free_floquet", "PITCH_MODES",
-           "TRIM_PARAMETERS", "DEFAULT_TRIM"]
+__all__ = ["FwuavPitchFree", "PitchFreeFloquet", "pitch_free_floquet", "pitch_free_model",
+           "PITCH_MODES", "TRIM_PARAMETERS", "DEFAULT_TRIM"]
 
 #: How the thorax pitch moves: free (a state) or FWUAV's prescribed sinusoid.
 PITCH_MODES = ("free", "prescribed")
@@ -523,3 +523,27 @@ def pitch_free_floquet(name: str, *, body_rate_term: str = "fwuav", rtol: float 
     if parameters:
         return _trimmed(name, body_rate_term, float(rtol), parameters)
     return _pitch_free(name, body_rate_term, float(rtol))
+
+
+def pitch_free_model(result: PitchFreeFloquet) -> FwuavPitchFree:
+    """The pitch-free model whose orbit ``result`` is: FWUAV's kinematics, or the re-trimmed ones.
+
+    Parameters
+    ----------
+    result : PitchFreeFloquet
+        From :func:`pitch_free_floquet` (with or without ``trim``).
+
+    Returns
+    -------
+    FwuavPitchFree
+        The model with ``result.trim_values`` in place of FWUAV's values of
+        ``result.trim_parameters``; ``result.y0`` lies on its periodic orbit (e.g. for
+        :func:`~flapping.peers.fwuav.attitude3d.attitude_free_floquet`).
+    """
+    if not isinstance(result, PitchFreeFloquet):
+        raise TypeError(f"`result` must be a PitchFreeFloquet; got {type(result).__name__}")
+    base = species(result.name)
+    changes: dict[str, Any] = dict(zip(result.trim_parameters, result.trim_values, strict=True))
+    kinematics = dataclasses.replace(base.kinematics, **changes)
+    return FwuavPitchFree(dataclasses.replace(base, kinematics=kinematics),
+                          body_rate_term=result.body_rate_term)
