@@ -485,6 +485,9 @@ class FwuavComparison:
     reference : Reference
     our_matrix, fwuav_matrix : ndarray, shape (4, 4)
         A+ of each.
+    base_matrix : ndarray, shape (4, 4)
+        A+ of ours at FWUAV's morphology with the hinge at the centre of mass, massless wings
+        and eq. (40)'s angle of attack (the base of :func:`fwuav_physics_table`: a real mode).
     table : pandas.DataFrame
         Index :data:`~flapping.studies.cfd.DERIVATIVES`; columns ``ours``, ``fwuav``,
         ``ratio``.
@@ -505,6 +508,7 @@ class FwuavComparison:
     reference: Reference
     our_matrix: np.ndarray
     fwuav_matrix: np.ndarray
+    base_matrix: np.ndarray
     table: pandas.DataFrame
     modes: pandas.DataFrame
     trim: Mapping[str, float] = field(default_factory=dict)
@@ -512,16 +516,16 @@ class FwuavComparison:
 
 def _solve(insect: Insect, alpha_m: float | None, guess: HoverOrbit | None = None,
            **hover_options: Any) -> tuple[HoverOrbit, HoverStability]:
-    """Our hover orbit trimmed as :func:`flapping.studies.cfd.compare` trims (``alpha_m`` None:
+    """Our hover orbit trimmed in stroke amplitude and mean stroke angle (``alpha_m`` None:
     eq. 40's)."""
-    off = insect.hinge_offset != 0.0 or insect.hinge_height != 0.0
-    options: dict[str, Any] = {"trims": ("amplitude", "stroke_mean") if off else ("amplitude",),
-                               "alpha_m": alpha_m, **hover_options}
+    # Both trims always: FWUAV's mean stroke angle is not zero, so even with the hinge at the
+    # centre of mass the amplitude alone would leave an orbit that drifts.
+    options: dict[str, Any] = {"trims": ("amplitude", "stroke_mean"), "alpha_m": alpha_m,
+                               **hover_options}
     if guess is not None:
         options.setdefault("x0_guess", np.asarray(guess.x0).tolist())
         options.setdefault("amplitude_guess", guess.amplitude)
-        if "stroke_mean" in options["trims"]:
-            insect = insect.with_(stroke_mean=guess.stroke_mean)
+        insect = insect.with_(stroke_mean=guess.stroke_mean)
     orbit = find_hover_orbit(insect, **options)
     return orbit, hover_stability(orbit)
 
@@ -573,6 +577,8 @@ def compare_fwuav(name: str = "hawkmoth", wings: str = "inertia", *,
     fj, _ = fwuav_averaged_jacobian(model, floquet.y0, n_average)
     ref = Reference.of(tr)
     ours_a, fw_a = ref.nondimensional(stab.averaged_jacobian), ref.nondimensional(fj)
+    _, base = _solve(_physics_base(tr), None, orbit, **hover_options)
+    base_a = ref.nondimensional(base.averaged_jacobian)
     ours, theirs = ref.derivatives(ours_a), ref.derivatives(fw_a)
     table = pandas.DataFrame({"ours": ours, "fwuav": theirs, "ratio": ours / theirs},
                              index=pandas.Index(DERIVATIVES, name="derivative"))
@@ -588,8 +594,8 @@ def compare_fwuav(name: str = "hawkmoth", wings: str = "inertia", *,
             "fwuav_stroke_amplitude_deg": math.degrees(k.phi_m),
             "our_stroke_mean_deg": math.degrees(orbit.stroke_mean),
             "fwuav_stroke_mean_deg": math.degrees(k.phi_0)}
-    return FwuavComparison(tr, orbit, stab, floquet, fj, ref, ours_a, fw_a, table, modes,
-                           MappingProxyType(trim))
+    return FwuavComparison(tr, orbit, stab, floquet, fj, ref, ours_a, fw_a, base_a, table,
+                           modes, MappingProxyType(trim))
 
 
 # =========================================================================== which term
@@ -603,7 +609,9 @@ def fwuav_swap_table(comparison: FwuavComparison) -> pandas.DataFrame:
     reverse.
 
     Rows "none" give each side's own averaged modes; "all" swaps the nine derivatives; "all +
-    theta column" swaps the whole matrix (the other side's modes).
+    theta column" swaps the whole matrix (the other side's modes). A third direction starts
+    from ours with the hinge at the centre of mass (:attr:`FwuavComparison.base_matrix`, a real
+    mode): which of FWUAV's terms turns it oscillatory.
 
     Parameters
     ----------
@@ -612,7 +620,8 @@ def fwuav_swap_table(comparison: FwuavComparison) -> pandas.DataFrame:
     Returns
     -------
     pandas.DataFrame
-        ``direction`` ("ours <- FWUAV" or "FWUAV <- ours"), ``swapped``, ``Mu`` (the M_u+ in the
+        ``direction`` ("ours <- FWUAV", "FWUAV <- ours", "ours at the CG <- FWUAV"),
+        ``swapped``, ``Mu`` (the M_u+ in the
         system), and :func:`~flapping.studies.cfd.mode_summary`'s ``type``, ``rate`` [1/s],
         ``period`` [s], ``doubling_time`` [s].
     """
@@ -626,7 +635,9 @@ def fwuav_swap_table(comparison: FwuavComparison) -> pandas.DataFrame:
     for direction, base, other in (("ours <- FWUAV", comparison.our_matrix,
                                     comparison.fwuav_matrix),
                                    ("FWUAV <- ours", comparison.fwuav_matrix,
-                                    comparison.our_matrix)):
+                                    comparison.our_matrix),
+                                   ("ours at the CG <- FWUAV", comparison.base_matrix,
+                                    comparison.fwuav_matrix)):
         for group in groups:
             a = np.array(base, dtype=float)
             for n in group:
@@ -660,7 +671,8 @@ def _physics_steps(tr: FwuavTranslation) -> list[tuple[str, dict[str, Any]]]:
     ]
 
 
-def fwuav_physics_table(comparison: FwuavComparison, **hover_options: Any) -> pandas.DataFrame:
+def fwuav_physics_table(comparison: FwuavComparison | FwuavTranslation, **hover_options: Any
+                        ) -> pandas.DataFrame:
     """One physics at a time moved from ours toward FWUAV's: its effect on M_u+ and the type.
 
     The base is the translated insect (``wings="inertia"``) with the hinge at its centre of
@@ -672,27 +684,29 @@ def fwuav_physics_table(comparison: FwuavComparison, **hover_options: Any) -> pa
 
     Parameters
     ----------
-    comparison : FwuavComparison
-        With ``wings="inertia"``.
+    comparison : FwuavComparison or FwuavTranslation
+        With ``wings="inertia"`` (only its translation is used).
     **hover_options
         Passed to :func:`~flapping.hover.find_hover_orbit`.
 
     Returns
     -------
     pandas.DataFrame
-        ``how``, ``step``, ``Mu``, ``Xu``, ``Mq`` (non-dimensional, the comparison's reference),
+        ``how``, ``step``, ``alpha_m_deg`` (the angle of attack flown), ``Mu``, ``Xu``, ``Mq``
+        (non-dimensional, :class:`Reference` of the translation),
         ``averaged_type``, ``floquet_type``, ``leading_multiplier`` (complex),
         ``floquet_rate`` [1/s], ``stroke_amplitude_deg``, ``stroke_mean_deg``, ``message``
         (empty, or why no orbit was found).
     """
     import pandas
 
-    _validation.instance("comparison", comparison, FwuavComparison)
-    tr = comparison.translation
+    if not isinstance(comparison, (FwuavComparison, FwuavTranslation)):
+        raise ValueError("`comparison` must be a FwuavComparison or a FwuavTranslation; got "
+                         f"{type(comparison).__name__}")
+    tr = comparison if isinstance(comparison, FwuavTranslation) else comparison.translation
     if tr.wings != "inertia":
         raise ValueError("`comparison` must be made with wings='inertia'")
-    base = tr.insect.with_(hinge_offset=0.0, hinge_height=0.0, wing_mass=0.0,
-                           wing_mass_r1=None, wing_mass_r2=None)
+    base = _physics_base(tr)
     steps = _physics_steps(tr)
     cases: list[tuple[str, str, dict[str, Any]]] = [("base", "FWUAV's body, ours otherwise", {})]
     cases += [("alone", label, changes) for label, changes in steps]
@@ -700,7 +714,7 @@ def fwuav_physics_table(comparison: FwuavComparison, **hover_options: Any) -> pa
     for label, changes in steps:
         acc = {**acc, **changes}
         cases.append(("accumulated", "+ " + label, dict(acc)))
-    ref = comparison.reference
+    ref = Reference.of(tr)
     rows = []
     guess: HoverOrbit | None = None
     for how, label, changes in cases:
@@ -717,8 +731,8 @@ def fwuav_physics_table(comparison: FwuavComparison, **hover_options: Any) -> pa
             guess = orbit
         d = ref.derivatives(ref.nondimensional(stab.averaged_jacobian))
         lead = int(np.argmax(np.asarray(stab.exponents).real))
-        row.update(Mu=d[DERIVATIVES.index("Mu")], Xu=d[DERIVATIVES.index("Xu")],
-                   Mq=d[DERIVATIVES.index("Mq")],
+        row.update(alpha_m_deg=math.degrees(orbit.alpha_m), Mu=d[DERIVATIVES.index("Mu")],
+                   Xu=d[DERIVATIVES.index("Xu")], Mq=d[DERIVATIVES.index("Mq")],
                    averaged_type=mode_summary(stab.averaged_eigenvalues)["type"],
                    floquet_type=mode_summary(stab.exponents)["type"],
                    leading_multiplier=complex(stab.multipliers[lead]),
@@ -728,3 +742,9 @@ def fwuav_physics_table(comparison: FwuavComparison, **hover_options: Any) -> pa
         rows.append(row)
     return pandas.DataFrame(rows)
 
+
+
+def _physics_base(tr: FwuavTranslation) -> Insect:
+    """FWUAV's body with the hinge at the centre of mass and massless wings."""
+    return tr.insect.with_(hinge_offset=0.0, hinge_height=0.0, wing_mass=0.0,
+                           wing_mass_r1=None, wing_mass_r2=None)
