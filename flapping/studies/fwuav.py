@@ -59,12 +59,14 @@ from flapping.model.morphology import Insect, lev_lift_slope
 from flapping.peers.fwuav import FwuavPitchFree, PitchFreeFloquet, pitch_free_floquet
 from flapping.peers.fwuav.data import Species, species
 from flapping.peers.fwuav.model import prescribed_motion
-from flapping.studies.cfd import DERIVATIVES, SWAP_GROUPS, mode_summary
 
 if TYPE_CHECKING:  # pandas is the optional ``sweep`` extra, imported when a table is built
     import pandas
 
 __all__ = [
+    "DERIVATIVES",
+    "SWAP_GROUPS",
+    "mode_summary",
     "FWUAV_NAMES",
     "WINGS",
     "STATUSES",
@@ -87,7 +89,37 @@ WINGS: tuple[str, ...] = ("inertia", "lumped")
 #: Statuses of a translated field.
 STATUSES: tuple[str, ...] = ("taken", "derived", "approximated", "ours")
 
-_E1, _E3 = np.eye(3)[0], np.eye(3)[2]
+#: The nine longitudinal derivatives, rows (X, Z, M) by columns (u, w, q): the names and order
+#: of :data:`flapping.studies.cfd.DERIVATIVES` (repeated here: a study imports no other study).
+DERIVATIVES: tuple[str, ...] = ("Xu", "Xw", "Xq", "Zu", "Zw", "Zq", "Mu", "Mw", "Mq")
+#: The groups :func:`fwuav_swap_table` swaps beyond the single terms, those of
+#: :data:`flapping.studies.cfd.SWAP_GROUPS`.
+SWAP_GROUPS: tuple[tuple[str, ...], ...] = (
+    ("Xu", "Mu"), ("Mu", "Mq"), ("Xu", "Mu", "Mq"), ("Xu", "Xq", "Mu", "Mq"),
+    ("Xu", "Xw", "Xq"), ("Zu", "Zw", "Zq"), ("Mu", "Mw", "Mq"), DERIVATIVES)
+_REAL_TOL = 1e-8  # an eigenvalue whose imaginary part is below this fraction of |value| is real
+
+
+def mode_summary(eigenvalues: Any) -> dict[str, Any]:
+    """The leading mode of eigenvalues or exponents [1/s], as
+    :func:`flapping.studies.cfd.mode_summary` gives it.
+
+    Parameters
+    ----------
+    eigenvalues : array_like of complex
+
+    Returns
+    -------
+    dict
+        ``type`` ("oscillatory" or "real", of the eigenvalue of largest real part), ``rate``
+        [1/s], ``period`` [s] (inf if real), ``doubling_time`` [s] (inf if not growing).
+    """
+    ev = np.asarray(eigenvalues, dtype=complex)
+    lead = ev[np.argmax(ev.real)]
+    oscillatory = abs(lead.imag) > _REAL_TOL * abs(lead)
+    return {"type": "oscillatory" if oscillatory else "real", "rate": float(lead.real),
+            "period": 2.0 * math.pi / abs(lead.imag) if oscillatory else math.inf,
+            "doubling_time": math.log(2.0) / lead.real if lead.real > 0.0 else math.inf}
 _N_POSTURE = 256  # samples of a wingbeat for the wings' mean posture (smooth periodic: spectral)
 
 
@@ -243,6 +275,31 @@ def fwuav_translation(name: str = "hawkmoth", wings: str = "inertia") -> FwuavTr
     sp = species(name)
     m, k = sp.morphology, sp.kinematics
     area, r1, r2 = _area_radii(sp)
+    cg, inertia = _body(sp, wings)
+    d = _ry(0.5 * math.pi - k.beta) @ (np.array(m.mu_R) * np.array([1.0, 0.0, 1.0]) - cg)
+    alpha_m = _mid_stroke_alpha(sp)
+    wing_mass = m.m_wing if wings == "inertia" else 0.0
+    J_R = np.array(m.J_R).reshape(3, 3)
+    mass_r1 = float(m.nu_R[1]) / m.span
+    mass_r2 = math.sqrt(J_R[0, 0] / m.m_wing) / m.span
+    extra: dict[str, Any] = ({"wing_mass": wing_mass, "wing_mass_r1": mass_r1,
+                              "wing_mass_r2": mass_r2} if wings == "inertia" else {})
+    insect = Insect(
+        name=f"{name} (FWUAV morphology, wings {wings})", semi_span=m.span, wing_area=area,
+        r1=r1, r2=r2, frequency=k.f, stroke_amplitude=k.phi_m, mass=m.mass,
+        pitch_inertia=inertia, air_density=m.rho, gravity=m.g, hinge_offset=float(d[0]),
+        hinge_height=float(-d[2]), stroke_mean=k.phi_0, **extra)
+    rows = _rows(sp, insect, wings, alpha_m)
+    gamma = k.theta_B_0 + k.beta - 0.5 * math.pi
+    return FwuavTranslation(name, wings, insect, alpha_m, k.phi_0, 0.5 * math.pi - k.beta, gamma,
+                            cg, tuple(MappingProxyType(r) for r in rows),
+                            tuple(MappingProxyType(g) for g in _gaps(sp, insect, alpha_m)))
+
+
+def _body(sp: Species, wings: str) -> tuple[np.ndarray, float]:
+    """Centre of mass (thorax frame) and pitch inertia about it of thorax and abdomen, and of
+    the wings' wingbeat mean if ``wings == "lumped"``."""
+    m, k = sp.morphology, sp.kinematics
     nu_A = np.array(m.nu_A)
     p_A = np.array(m.mu_A) + _ry(k.theta_A_0) @ nu_A
     iyy_A = float(_centred(np.array(m.J_A).reshape(3, 3), m.m_A, nu_A)[1, 1])
@@ -260,20 +317,17 @@ def fwuav_translation(name: str = "hawkmoth", wings: str = "inertia") -> FwuavTr
         _, _, p = _wing_mean(sp)
         spread = float(np.mean((p[0] - wing_p[0]) ** 2 + (p[2] - wing_p[2]) ** 2))
         inertia += 2.0 * m.m_wing * spread
-    d = _ry(0.5 * math.pi - k.beta) @ (np.array(m.mu_R) * np.array([1.0, 0.0, 1.0]) - cg)
-    alpha_m = _mid_stroke_alpha(sp)
-    wing_mass = m.m_wing if wings == "inertia" else 0.0
-    J_R = np.array(m.J_R).reshape(3, 3)
-    mass_r1 = float(m.nu_R[1]) / m.span
-    mass_r2 = math.sqrt(J_R[0, 0] / m.m_wing) / m.span
-    extra: dict[str, Any] = ({"wing_mass": wing_mass, "wing_mass_r1": mass_r1,
-                              "wing_mass_r2": mass_r2} if wings == "inertia" else {})
-    insect = Insect(
-        name=f"{name} (FWUAV morphology, wings {wings})", semi_span=m.span, wing_area=area,
-        r1=r1, r2=r2, frequency=k.f, stroke_amplitude=k.phi_m, mass=m.mass,
-        pitch_inertia=inertia, air_density=m.rho, gravity=m.g, hinge_offset=float(d[0]),
-        hinge_height=float(-d[2]), stroke_mean=k.phi_0, **extra)
-    rows: list[dict[str, Any]] = [
+    return cg, float(inertia)
+
+
+def _rows(sp: Species, insect: Insect, wings: str, alpha_m: float) -> list[dict[str, Any]]:
+    """The translation's table (:attr:`FwuavTranslation.rows`)."""
+    m, k = sp.morphology, sp.kinematics
+    area, r1, r2 = insect.wing_area, insect.r1, insect.r2
+    inertia, d0, height = insect.pitch_inertia, insect.hinge_offset, insect.hinge_height
+    wing_mass = insect.wing_mass
+    mass_r1, mass_r2 = insect.wing_mass_r1, insect.wing_mass_r2
+    return [
         _row("semi_span", m.span, "m", "taken", "INSECT.l"),
         _row("wing_area", area, "m^2", "derived",
              f"integral of FWUAV's chord polynomial (INSECT.S = {m.area:.6g})"),
@@ -291,15 +345,15 @@ def fwuav_translation(name: str = "hawkmoth", wings: str = "inertia") -> FwuavTr
              "J_B + J_A (about its centre of mass) + parallel axes, abdomen at theta_A0"
              + (", wings' mean over a wingbeat lumped in" if wings == "lumped"
                 else " (without the wings: our wing-inertia model carries them)")),
-        _row("hinge_offset", float(d[0]), "m", "derived",
+        _row("hinge_offset", d0, "m", "derived",
              "wing root ahead of the centre of mass along the stroke plane"),
-        _row("hinge_height", float(-d[2]), "m", "derived",
+        _row("hinge_height", height, "m", "derived",
              "wing root above the centre of mass, normal to the stroke plane"),
         _row("wing_mass", wing_mass, "kg", "taken" if wings == "inertia" else "approximated",
              "INSECT.m_R" if wings == "inertia" else "0: lumped into the body"),
-        _row("wing_mass_r1", mass_r1 if wings == "inertia" else math.nan, "", "derived",
+        _row("wing_mass_r1", math.nan if mass_r1 is None else mass_r1, "", "derived",
              "nu_R (span component) / l"),
-        _row("wing_mass_r2", mass_r2 if wings == "inertia" else math.nan, "", "derived",
+        _row("wing_mass_r2", math.nan if mass_r2 is None else mass_r2, "", "derived",
              "sqrt(J_R[x, x] / m_R) / l (about the root)"),
         _row("alpha_m", alpha_m, "rad", "approximated",
              "pi/2 - |wing pitch| at mid-stroke, mean of the half-strokes (a hover option)"),
@@ -313,13 +367,19 @@ def fwuav_translation(name: str = "hawkmoth", wings: str = "inertia") -> FwuavTr
         _row("mu1, mu2, pitch_axis", insect.mu1, "", "ours",
              "rotational damping and rotational lift: FWUAV has neither"),
     ]
+
+
+def _gaps(sp: Species, insect: Insect, alpha_m: float) -> tuple[dict[str, Any], ...]:
+    """What our model cannot represent (:attr:`FwuavTranslation.not_represented`)."""
+    m, k = sp.morphology, sp.kinematics
+    nu_A = np.array(m.nu_A)
     gamma = k.theta_B_0 + k.beta - 0.5 * math.pi
     cl_ours = insect.lift_slope * math.sin(2 * alpha_m)
     cl_fw = float(m.C_T) * math.sin(2 * alpha_m)  # type: ignore[arg-type]
     cd_ours = 2 * insect.lift_slope * math.sin(alpha_m) ** 2
     cd_fw = (float(m.C_D_0) * math.cos(alpha_m) ** 2  # type: ignore[arg-type]
              + float(m.C_D_pi2) * math.sin(alpha_m) ** 2)  # type: ignore[arg-type]
-    gaps = (
+    return (
         _gap("stroke-plane inclination at hover", math.degrees(gamma), "deg",
              "ours horizontal at hover"),
         _gap("wing deviation amplitude psi_m", math.degrees(k.psi_m), "deg", "ours none"),
@@ -337,9 +397,6 @@ def fwuav_translation(name: str = "hawkmoth", wings: str = "inertia") -> FwuavTr
         _gap("drag coefficient at alpha_m, ours / FWUAV's", cd_ours / cd_fw, "",
              "2 A sin^2 a against C_D_0 cos^2 a + C_D_pi2 sin^2 a"),
     )
-    return FwuavTranslation(name, wings, insect, alpha_m, k.phi_0, 0.5 * math.pi - k.beta, gamma,
-                            cg, tuple(MappingProxyType(r) for r in rows),
-                            tuple(MappingProxyType(g) for g in gaps))
 
 
 def _row(name: str, value: float, unit: str, status: str, how: str) -> dict[str, Any]:
