@@ -204,7 +204,8 @@ def test_swap_reproduces_both_averaged_systems_and_averaging_converges():
     theirs_none = swaps[(swaps.direction == "FWUAV <- ours") & (swaps.swapped == "none")].iloc[0]
     assert theirs_none["period"] == pytest.approx(comp.modes.loc["FWUAV averaged", "period"],
                                                   rel=1e-9)
-    # FWUAV's averaging: the rectangle rule on a smooth periodic integrand converges fast
-    coarse, _ = F.fwuav_averaged_jacobian(FwuavPitchFree("hawkmoth"), comp.floquet.y0, 32)
-    np.testing.assert_allclose(coarse, comp.fwuav_jacobian,
-                               atol=1e-6 * np.max(np.abs(comp.fwuav_jacobian)))
+    # FWUAV's averaging converges: the rectangle rule on an integrand with kinks (the strip
+    # loads' signs) converges algebraically; measured, 64 -> 128 instants changes the largest
+    # entry by 2e-6 of itself (32 -> 64: 6e-5), so 1e-5 bounds the default's error
+    fine, _ = F.fwuav_averaged_jacobian(FwuavPitchFree("hawkmoth"), comp.floquet.y0, 128)
+    np.testing.assert_allclose(comp.fwuav_jacobian, fine, atol=1e-5 * np.max(np.abs(fine)))

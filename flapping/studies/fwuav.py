@@ -477,8 +477,10 @@ def fwuav_averaged_jacobian(model: FwuavPitchFree, y0: Sequence[float] | np.ndar
     """FWUAV's pitch-free model's Jacobian averaged over a wingbeat along its orbit.
 
     Central differences of its right-hand side of ``(theta, v_1, v_3, q)`` at ``n_average``
-    equally spaced instants of the orbit from ``y0`` (the rectangle rule: spectrally accurate for
-    FWUAV's smooth periodic kinematics), rotated into axes along and normal to the orbit's mean
+    equally spaced instants of the orbit from ``y0`` (the rectangle rule; the strip loads have
+    kinks where a strip's velocity components change sign, so it converges algebraically: on the
+    hawkmoth the change from 32 to 64 instants is 6e-5 of the largest entry, from 64 to 128
+    2e-6), rotated into axes along and normal to the orbit's mean
     stroke plane and ordered ``(u, w, q, theta)`` (module docstring).
 
     Parameters
