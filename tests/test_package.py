@@ -56,8 +56,10 @@ ALLOWED = {
              "flapping._validation", "flapping._numdiff"),
     "hover": ("flapping.hover", "flapping.fast", "flapping.model", "flapping.periodic",
               "flapping.errors", "flapping._validation", "flapping._numdiff"),
+    # flapping.peers: a study that joins two models (ours and FWUAV's, flapping.studies.fwuav)
+    # sits above both.
     "studies": ("flapping.studies", "flapping.hover", "flapping.fast", "flapping.model",
-                "flapping.periodic", "flapping.errors", "flapping._validation",
+                "flapping.peers", "flapping.periodic", "flapping.errors", "flapping._validation",
                 "flapping._numdiff"),
     "peers": ("flapping.peers", "flapping.periodic", "flapping.errors", "flapping._validation",
               "flapping._numdiff"),
