@@ -15,6 +15,7 @@ from flapping.peers.fwuav.attitude import (
     PitchFreeFloquet,
     _reduced,
     pitch_free_floquet,
+    pitch_free_model,
 )
 from flapping.peers.fwuav.data import species
 from flapping.periodic.floquet import monodromy
@@ -176,3 +177,21 @@ def test_a_failed_trim_says_what_failed(monkeypatch: pytest.MonkeyPatch) -> None
     with pytest.raises(ConvergenceError, match="hawkmoth by adjusting beta, phi_0") as info:
         pitch_free_floquet("hawkmoth", rtol=1e-6, trim=("beta", "phi_0"))
     assert info.value.residual == 0.25 and info.value.iterations == 7
+
+
+def test_pitch_free_model_carries_the_trimmed_kinematics() -> None:
+    # a result as the trim returns it (the orbit's numbers do not enter the model)
+    zero = np.zeros(4)
+    result = PitchFreeFloquet(
+        name="hawkmoth", body_rate_term="rotated", y0=zero, period=0.03, multipliers=zero,
+        exponents=zero, mean_pitch=0.0, pitch_amplitude=0.0, mean_velocity=np.zeros(2),
+        residual_norm=0.0, liouville_error=0.0, monodromy=np.eye(4),
+        trim_parameters=("phi_m", "phi_0"), trim_values=(0.9, -0.07))
+    model = pitch_free_model(result)
+    k, base = model.species.kinematics, species("hawkmoth").kinematics
+    assert (k.phi_m, k.phi_0) == (0.9, -0.07) and k.beta == base.beta and k.f == base.f
+    assert model.hover.body_rate_term == "rotated"
+    untrimmed = pitch_free_model(dataclasses.replace(result, trim_parameters=(), trim_values=()))
+    assert untrimmed.species.kinematics == base
+    with pytest.raises(TypeError, match="result"):
+        pitch_free_model("hawkmoth")  # type: ignore[arg-type]
