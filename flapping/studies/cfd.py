@@ -1111,7 +1111,7 @@ class TypeChangeAngle:
 
     Attributes
     ----------
-    averaged : float
+    mu_zero : float
         alpha_m [rad] at which our averaged M_u+ crosses zero (Brent's method): with our other
         terms the averaged system's leading mode turns oscillatory there (within the small
         positive threshold of :func:`mode_type_threshold`).
@@ -1127,7 +1127,7 @@ class TypeChangeAngle:
         Number of hover solves (comparisons) made by the two searches.
     """
 
-    averaged: float
+    mu_zero: float
     floquet: float
     xtol: float
     averaged_bracket: tuple[float, float]
@@ -1135,9 +1135,9 @@ class TypeChangeAngle:
     nfev: int
 
     @property
-    def averaged_deg(self) -> float:
-        """:attr:`averaged` in degrees."""
-        return math.degrees(self.averaged)
+    def mu_zero_deg(self) -> float:
+        """:attr:`mu_zero` in degrees."""
+        return math.degrees(self.mu_zero)
 
     @property
     def floquet_deg(self) -> float:
@@ -1146,9 +1146,9 @@ class TypeChangeAngle:
 
     @property
     def gap_deg(self) -> float:
-        """floquet - averaged [deg] (what first-order averaging misses, plus the search's
-        tolerance)."""
-        return self.floquet_deg - self.averaged_deg
+        """floquet - mu_zero [deg] (what first-order averaging misses, plus the searches'
+        tolerances)."""
+        return self.floquet_deg - self.mu_zero_deg
 
 
 def _bracket_from(table: pandas.DataFrame, column: str) -> tuple[float, float]:
@@ -1217,9 +1217,9 @@ def type_change_angle(study: str | CFDStudy = "sun2005",
     def mu(alpha: float) -> float:
         return float(at(alpha).table.loc["Mu", "ours"])
 
-    averaged = float(brentq(mu, *avg_bracket, xtol=0.01 * tol))
+    mu_zero = float(brentq(mu, *avg_bracket, xtol=0.01 * tol))
     floquet = _bisect_type(at, *flo_bracket, tol)
-    return TypeChangeAngle(averaged, floquet, tol, avg_bracket, flo_bracket, calls[0])
+    return TypeChangeAngle(mu_zero, floquet, tol, avg_bracket, flo_bracket, calls[0])
 
 
 def _bisect_type(at: Any, lo: float, hi: float, tol: float) -> float:
