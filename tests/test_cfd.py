@@ -361,3 +361,104 @@ def test_the_centre_of_pressure_law_needs_three_cases_and_an_insect_field(physic
         cfd.mu_law(physics, comparison, "wing_mass")
     with pytest.raises(ValueError, match="Insect field"):
         cfd.mu_law(physics, comparison, "wingspan")
+
+
+# ------------------------------------------------------------------ the trim's angle of attack
+@pytest.fixture(scope="module")
+def angle_table():
+    return cfd.angle_of_attack_table("sun2005")
+
+
+@pytest.fixture(scope="module")
+def type_change(angle_table):
+    return cfd.type_change_angle("sun2005", table=angle_table)
+
+
+def test_the_table_at_the_eq40_angle_is_the_comparison(comparison):
+    """Holding alpha_m at eq. (40)'s own value is compare()'s default solve: the same orbit, so
+    the same numbers to the hover solve's tolerance (the angle goes through degrees and back,
+    a change of a few ulp)."""
+    alpha_deg = math.degrees(comparison.orbit.alpha_m)
+    row = cfd.angle_of_attack_table("sun2005", [alpha_deg]).iloc[0]
+    assert row["alpha_m_deg"] == pytest.approx(alpha_deg, rel=1e-14)
+    assert row["stroke_amplitude_deg"] == pytest.approx(
+        comparison.trim["our_stroke_amplitude_deg"], rel=1e-8)
+    for name in ("Xu", "Zw", "Mu", "Mq"):
+        assert row[name] == pytest.approx(comparison.table.loc[name, "ours"], rel=1e-6), name
+    assert row["leading_multiplier"] == pytest.approx(comparison.our_multipliers[0], rel=1e-8)
+    assert row["averaged_eigenvalue"] == pytest.approx(comparison.our_eigenvalues[0], rel=1e-6)
+    assert (row["averaged_type"], row["floquet_type"]) == ("real", "real")
+
+
+def test_the_angles_are_held_and_the_amplitude_trims_instead(angle_table):
+    np.testing.assert_allclose(angle_table["alpha_m_deg"], cfd.ANGLES_DEG, rtol=1e-12)
+    # a larger angle of attack carries the weight with a smaller stroke, up to 40 deg
+    upto40 = angle_table[angle_table.alpha_m_deg <= 40.0]
+    assert np.all(np.diff(upto40["stroke_amplitude_deg"]) < 0.0)
+
+
+def test_mu_and_the_wing_drag_grow_with_the_angle_of_attack(angle_table):
+    """M_u+ rises monotonically with alpha_m, and so does the drag derivative -X_u+ that the
+    hinge above the CG turns into it."""
+    assert np.all(np.diff(angle_table["Mu"]) > 0.0)
+    assert np.all(np.diff(angle_table["Xu"]) < 0.0)
+    assert angle_table["Mu"].iloc[0] < 0.0 < angle_table["Mu"].iloc[-1]
+
+
+def test_the_averaged_type_flips_where_mu_changes_sign(angle_table):
+    """Row by row: our averaged leading mode oscillates exactly where M_u+ > 0 (the threshold of
+    mode_type_threshold, ~1e-3, lies below every |M_u+| of the table)."""
+    oscillatory = angle_table["averaged_type"] == "oscillatory"
+    assert (oscillatory == (angle_table["Mu"] > 0.0)).all()
+    assert oscillatory.any() and not oscillatory.all()
+
+
+def test_at_the_mu_zero_angle_mu_vanishes_and_the_types_straddle_it(type_change):
+    """Route 1's root is a root, and the averaged type changes within 0.1 deg of it (0.1 deg of
+    alpha_m moves M_u+ by ~2e-3, above mode_type_threshold's ~1e-3)."""
+    lo, hi = type_change.averaged_bracket
+    assert lo < type_change.mu_zero < hi
+    below, at, above = (cfd.compare("sun2005", alpha_m=type_change.mu_zero + d)
+                        for d in (-math.radians(0.1), 0.0, math.radians(0.1)))
+    assert abs(at.table.loc["Mu", "ours"]) < 1e-3
+    assert below.our_mode["type"] == "real" and above.our_mode["type"] == "oscillatory"
+
+
+def test_the_floquet_type_changes_inside_its_final_bracket(type_change):
+    half = 0.5 * type_change.xtol
+    below, above = (cfd.compare("sun2005", alpha_m=type_change.floquet + d) for d in (-half, half))
+    assert below.our_floquet_mode["type"] == "real"
+    assert above.our_floquet_mode["type"] == "oscillatory"
+
+
+def test_the_two_routes_to_the_type_change_agree_within_a_degree(type_change, angle_table):
+    """Averaging drops the periodic terms, first order in the wingbeat over the modes' time
+    scale (T |lambda| ~ 0.035 for the fastest averaged mode here), so the Floquet flip need not
+    sit at M_u+ = 0 exactly. Agreement is asked on the scale of the question, CFD's M_u+: a
+    degree of alpha_m moves our M_u+ by ~0.02 (the table's slope near the root), under 1 % of
+    CFD's 2.389. The bisection's own width (0.1 deg) is inside that."""
+    assert abs(type_change.gap_deg) < 1.0
+    ends = angle_table[np.isin(np.radians(angle_table.alpha_m_deg).round(12),
+                               np.round(type_change.averaged_bracket, 12))]
+    assert len(ends) == 2
+    slope = np.diff(ends.Mu).item() / np.diff(ends.alpha_m_deg).item()   # M_u+ per degree
+    assert abs(slope * type_change.gap_deg) < 0.01 * cfd.study("sun2005").derivatives["Mu"].value
+    assert type_change.nfev > 0
+
+
+@pytest.mark.parametrize("bad", [0.0, 90.0, -5.0, 120.0, float("nan"), "20", True])
+def test_the_angle_table_refuses_an_angle_outside_0_90_deg(bad):
+    with pytest.raises(ValueError, match=r"alphas_deg.*\(0, 90\) deg"):
+        cfd.angle_of_attack_table("sun2005", [20.0, bad])
+
+
+def test_the_angle_functions_refuse_bad_options(angle_table):
+    with pytest.raises(ValueError, match="alphas_deg"):
+        cfd.angle_of_attack_table("sun2005", [])
+    with pytest.raises(ValueError, match="alpha_m"):
+        cfd.angle_of_attack_table("sun2005", [20.0], alpha_m=0.3)
+    with pytest.raises(ValueError, match="xtol_deg"):
+        cfd.type_change_angle("sun2005", table=angle_table, xtol_deg=0.0)
+    real_only = angle_table[angle_table.Mu < 0.0]
+    with pytest.raises(ValueError, match="no bracket"):
+        cfd.type_change_angle("sun2005", table=real_only)

@@ -78,6 +78,12 @@ w_eff/U (w_eff does not contain u), so on the hover orbit, where w_eff is small,
 M_u+ only through its mean position, which :func:`physics_table` varies. Testing it needs an
 induced flow (a downwash or wake model) in the aerodynamic model first.
 
+The trim's angle of attack (:func:`angle_of_attack_table`, :func:`type_change_angle`): our hover
+solve keeps the paper's eq. (40) mean angle of attack and trims the amplitude; on this bumblebee
+eq. (40) gives a small angle. Held higher (``alpha_m``), with the amplitude trimmed instead, the
+wings' drag grows (X_u+), the hinge above the CG turns it into a nose-up M_u+, and the mode turns
+oscillatory where M_u+ changes sign; CFD's magnitude of M_u+ is not reached.
+
 Conventions: SI inside; the derivative names are ``"Xu", "Xw", "Xq", "Zu", ..., "Mq"`` and
 stand for the non-dimensional X_u+ ... M_q+.
 """
@@ -92,7 +98,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.optimize import least_squares
+from scipy.optimize import brentq, least_squares
 
 from flapping import _validation
 from flapping.hover import HoverOrbit, find_hover_orbit
@@ -132,6 +138,10 @@ __all__ = [
     "mode_type_threshold",
     "MuLaw",
     "mu_law",
+    "ANGLES_DEG",
+    "angle_of_attack_table",
+    "TypeChangeAngle",
+    "type_change_angle",
 ]
 
 #: The nine longitudinal derivatives, in the order of the matrix rows (X, Z, M) and columns
@@ -1018,3 +1028,210 @@ def mu_law(physics: pandas.DataFrame, comparison: CFDComparison, field: str) -> 
     slope, intercept = np.polyfit(x, y, 1)
     resid = float(np.max(np.abs(y - (intercept + slope * x))))
     return MuLaw(field, x, y, float(slope), float(intercept), resid)
+
+
+# =========================================================================== angle of attack
+#: The mean angles of attack [deg] :func:`angle_of_attack_table` holds by default.
+ANGLES_DEG: tuple[float, ...] = (15.0, 20.0, 25.0, 27.5, 30.0, 35.0, 40.0, 45.0, 50.0)
+
+
+def _angles_rad(alphas_deg: ArrayLike) -> np.ndarray:
+    """Validated angles [deg] in (0, 90), converted to radians (edge of the API: degrees)."""
+    values = np.atleast_1d(np.asarray(alphas_deg, dtype=object)).ravel()
+    if values.size == 0:
+        raise ValueError("`alphas_deg` must hold at least one angle in (0, 90) deg; got none")
+    return np.radians([_validation.real("alphas_deg", a, low=0.0, high=90.0, low_open=True,
+                                        high_open=True, unit="deg") for a in values])
+
+
+def _angle_row(comp: CFDComparison) -> dict[str, Any]:
+    """One row of :func:`angle_of_attack_table` from a comparison."""
+    ours = comp.table["ours"]
+    lead = complex(comp.our_eigenvalues[0])
+    return {"alpha_m_deg": math.degrees(comp.orbit.alpha_m),
+            "stroke_amplitude_deg": comp.trim["our_stroke_amplitude_deg"],
+            **{n: float(ours[n]) for n in ("Xu", "Zw", "Mu", "Mq")},
+            "averaged_eigenvalue": lead, "averaged_type": comp.our_mode["type"],
+            "leading_multiplier": complex(comp.our_multipliers[0]),
+            "floquet_type": comp.our_floquet_mode["type"]}
+
+
+def angle_of_attack_table(study: str | CFDStudy = "sun2005",
+                          alphas_deg: ArrayLike = ANGLES_DEG,
+                          **hover_options: Any) -> pandas.DataFrame:
+    """Our model on a CFD study's insect with the mean angle of attack held, the amplitude trimmed.
+
+    :func:`compare` keeps the paper's eq. (40) angle of attack alpha_m; here alpha_m is held at
+    each given value and the hover solve trims the stroke amplitude (and the mean stroke angle
+    when the hinge is off the CG) to carry the weight.
+
+    Parameters
+    ----------
+    study : str or CFDStudy
+        A key of :data:`STUDIES` or a study.
+    alphas_deg : array_like of float
+        Mean (mid-stroke) angles of attack alpha_m [deg], each in (0, 90).
+    **hover_options
+        Passed to :func:`~flapping.hover.find_hover_orbit` (not ``alpha_m``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per angle, in the order given: ``alpha_m_deg``, ``stroke_amplitude_deg`` (peak
+        to peak, trimmed), our non-dimensional ``Xu``, ``Zw``, ``Mu``, ``Mq`` (X_u+, Z_w+,
+        M_u+, M_q+), ``averaged_eigenvalue`` (the leading eigenvalue of our averaged system
+        [1/s], complex), ``averaged_type``, ``leading_multiplier`` (our Floquet multiplier of
+        largest modulus, complex) and ``floquet_type`` ("real" or "oscillatory").
+
+    Raises
+    ------
+    ValueError
+        For an angle outside (0, 90) deg, an unknown study, or ``alpha_m`` in the options.
+    ConvergenceError
+        If a hover orbit cannot be found.
+    """
+    import pandas
+
+    _no_alpha_option(hover_options)
+    s = study if isinstance(study, CFDStudy) else _lookup(study)
+    rows = [_angle_row(compare(s, alpha_m=float(a), **hover_options))
+            for a in _angles_rad(alphas_deg)]
+    return pandas.DataFrame(rows)
+
+
+def _no_alpha_option(hover_options: Mapping[str, Any]) -> None:
+    if "alpha_m" in hover_options:
+        raise ValueError("`alpha_m` is what these functions vary: give the angles as "
+                         "`alphas_deg` (or `bracket_deg`), not as a hover option")
+
+
+@dataclass(frozen=True)
+class TypeChangeAngle:
+    """The mean angle of attack at which our mode type changes, by two routes.
+
+    Attributes
+    ----------
+    mu_zero : float
+        alpha_m [rad] at which our averaged M_u+ crosses zero (Brent's method): with our other
+        terms the averaged system's leading mode turns oscillatory there (within the small
+        positive threshold of :func:`mode_type_threshold`).
+    floquet : float
+        alpha_m [rad] at which our leading Floquet multiplier turns complex (bisection on the
+        type, to ``xtol``).
+    xtol : float
+        The width [rad] of the Floquet bracket at the end.
+    averaged_bracket, floquet_bracket : tuple of float
+        The alpha_m [rad] brackets the two searches started from (neighbouring angles of the
+        table).
+    nfev : int
+        Number of hover solves (comparisons) made by the two searches.
+    """
+
+    mu_zero: float
+    floquet: float
+    xtol: float
+    averaged_bracket: tuple[float, float]
+    floquet_bracket: tuple[float, float]
+    nfev: int
+
+    @property
+    def mu_zero_deg(self) -> float:
+        """:attr:`mu_zero` in degrees."""
+        return math.degrees(self.mu_zero)
+
+    @property
+    def floquet_deg(self) -> float:
+        """:attr:`floquet` in degrees."""
+        return math.degrees(self.floquet)
+
+    @property
+    def gap_deg(self) -> float:
+        """floquet - mu_zero [deg] (what first-order averaging misses, plus the searches'
+        tolerances)."""
+        return self.floquet_deg - self.mu_zero_deg
+
+
+def _bracket_from(table: pandas.DataFrame, column: str) -> tuple[float, float]:
+    """The first neighbouring angles [rad] of a table (sorted by angle) between which
+    ``column`` changes: the sign of ``"Mu"``, or the value of ``"floquet_type"``."""
+    t = table.sort_values("alpha_m_deg")
+    a, v = t["alpha_m_deg"].to_numpy(), t[column].to_numpy()
+    if column == "Mu":
+        v = np.sign(v.astype(float))
+    change = np.flatnonzero(v[:-1] != v[1:])
+    if change.size == 0:
+        raise ValueError(f"our {column} does not change over the table's angles ({a.min():.4g} "
+                         f"to {a.max():.4g} deg): no bracket for the type change")
+    k = int(change[0])
+    return math.radians(a[k]), math.radians(a[k + 1])
+
+
+def type_change_angle(study: str | CFDStudy = "sun2005",
+                      table: pandas.DataFrame | None = None, xtol_deg: float = 0.1,
+                      **hover_options: Any) -> TypeChangeAngle:
+    """The alpha_m at which our mode type changes: by averaging (M_u+ = 0) and by Floquet.
+
+    Route 1: Brent's method on our averaged M_u+ as a function of alpha_m (:func:`compare` at
+    each angle), the sign change bracketed by ``table``. Route 2: bisection on the type of our
+    leading Floquet multiplier (one type at each end of its bracket, checked), from the
+    neighbouring angles of ``table`` where ``floquet_type`` changes, to ``xtol_deg``. The two
+    need not coincide: averaging is a first-order approximation of the periodic system, and
+    the averaged type changes just above M_u+ = 0, not at it (:func:`mode_type_threshold`).
+
+    Parameters
+    ----------
+    study : str or CFDStudy
+        A key of :data:`STUDIES` or a study.
+    table : pandas.DataFrame, optional
+        From :func:`angle_of_attack_table` of the same study; default that of
+        :data:`ANGLES_DEG`.
+    xtol_deg : float
+        Width of the final brackets [deg], in (0, 5].
+    **hover_options
+        Passed to :func:`~flapping.hover.find_hover_orbit` (not ``alpha_m``).
+
+    Returns
+    -------
+    TypeChangeAngle
+
+    Raises
+    ------
+    ValueError
+        If M_u+ keeps its sign or the Floquet type does not change over the table, or for a
+        bad ``xtol_deg``.
+    """
+    _no_alpha_option(hover_options)
+    tol = math.radians(_validation.real("xtol_deg", xtol_deg, low=0.0, high=5.0,
+                                        low_open=True, unit="deg"))
+    s = study if isinstance(study, CFDStudy) else _lookup(study)
+    if table is None:
+        table = angle_of_attack_table(s, **hover_options)
+    avg_bracket = _bracket_from(table, "Mu")
+    flo_bracket = _bracket_from(table, "floquet_type")
+    calls = [0]
+
+    def at(alpha: float) -> CFDComparison:
+        calls[0] += 1
+        return compare(s, alpha_m=alpha, **hover_options)
+
+    def mu(alpha: float) -> float:
+        return float(at(alpha).table.loc["Mu", "ours"])
+
+    mu_zero = float(brentq(mu, *avg_bracket, xtol=0.01 * tol))
+    floquet = _bisect_type(at, *flo_bracket, tol)
+    return TypeChangeAngle(mu_zero, floquet, tol, avg_bracket, flo_bracket, calls[0])
+
+
+def _bisect_type(at: Any, lo: float, hi: float, tol: float) -> float:
+    """Bisection on the Floquet type between ``lo`` (one type) and ``hi`` (the other)."""
+    kind_lo = at(lo).our_floquet_mode["type"]
+    if at(hi).our_floquet_mode["type"] == kind_lo:
+        raise ValueError(f"our leading Floquet multiplier is {kind_lo} at both ends of the "
+                         f"bracket ({math.degrees(lo):.4g}, {math.degrees(hi):.4g}) deg")
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        if at(mid).our_floquet_mode["type"] == kind_lo:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
