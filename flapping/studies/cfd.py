@@ -106,6 +106,7 @@ from flapping.hover.stability import HoverStability, hover_stability
 from flapping.model.morphology import Insect
 from flapping.model.presets import ellington_r1
 from flapping.studies import _published
+from flapping.studies._modes import DERIVATIVES, REAL_TOL, SWAP_GROUPS, mode_summary
 from flapping.studies._published import Number, sun_xiong_2005_reference
 
 if TYPE_CHECKING:  # pandas is the optional ``sweep`` extra, imported when a table is built
@@ -144,17 +145,12 @@ __all__ = [
     "type_change_angle",
 ]
 
-#: The nine longitudinal derivatives, in the order of the matrix rows (X, Z, M) and columns
-#: (u, w, q).
-DERIVATIVES: tuple[str, ...] = ("Xu", "Xw", "Xq", "Zu", "Zw", "Zq", "Mu", "Mw", "Mq")
 
 
 #: Statuses of a :class:`Number`: read in the source during this work, or not (shared with the
 #: lateral study, :mod:`flapping.studies._published`).
 STATUSES: tuple[str, ...] = _published.STATUSES
 
-#: An eigenvalue whose imaginary part is below this fraction of its modulus is real.
-_REAL_TOL = 1e-8
 
 
 @dataclass(frozen=True)
@@ -414,34 +410,11 @@ _lookup = study  # compare's argument is named ``study``
 
 
 # =========================================================================== modes
-def mode_summary(eigenvalues: ArrayLike) -> dict[str, Any]:
-    """The leading mode of a set of eigenvalues [1/s]: its type, rate, period and doubling time.
-
-    Parameters
-    ----------
-    eigenvalues : array_like of complex
-        Eigenvalues of a (dimensional) system matrix, or Floquet exponents [1/s].
-
-    Returns
-    -------
-    dict
-        ``type`` (``"oscillatory"`` if the eigenvalue of largest real part is complex, else
-        ``"real"``), ``rate`` (its real part [1/s]), ``period`` [s] (inf if real) and
-        ``doubling_time`` [s] (ln 2 / rate; inf if the rate is not positive).
-    """
-    ev = np.asarray(eigenvalues, dtype=complex)
-    lead = ev[np.argmax(ev.real)]
-    oscillatory = abs(lead.imag) > _REAL_TOL * abs(lead)
-    return {"type": "oscillatory" if oscillatory else "real", "rate": float(lead.real),
-            "period": 2.0 * math.pi / abs(lead.imag) if oscillatory else math.inf,
-            "doubling_time": math.log(2.0) / lead.real if lead.real > 0.0 else math.inf}
-
-
 def _mode_numbers(eigenvalues: np.ndarray) -> np.ndarray | None:
     """(growth rate, angular frequency, real rates ascending) of one complex pair and two real
     eigenvalues [1/s]; None for another pattern."""
-    cpx = eigenvalues[np.abs(eigenvalues.imag) > _REAL_TOL * np.abs(eigenvalues)]
-    real = np.sort(eigenvalues[np.abs(eigenvalues.imag) <= _REAL_TOL
+    cpx = eigenvalues[np.abs(eigenvalues.imag) > REAL_TOL * np.abs(eigenvalues)]
+    real = np.sort(eigenvalues[np.abs(eigenvalues.imag) <= REAL_TOL
                                * np.abs(eigenvalues)].real)
     if cpx.size != 2 or real.size != 2:
         return None
@@ -716,11 +689,6 @@ def compare(study: str | CFDStudy = "sun2005", **hover_options: Any) -> CFDCompa
 
 
 # =========================================================================== which term
-#: The groups of :func:`swap_table` beyond the single terms: the speed-pitch coupling and its
-#: damping (the u-q-theta block that carries the oscillation), and whole rows.
-SWAP_GROUPS: tuple[tuple[str, ...], ...] = (
-    ("Xu", "Mu"), ("Mu", "Mq"), ("Xu", "Mu", "Mq"), ("Xu", "Xq", "Mu", "Mq"),
-    ("Xu", "Xw", "Xq"), ("Zu", "Zw", "Zq"), ("Mu", "Mw", "Mq"), DERIVATIVES)
 
 
 def swap_table(study: str | CFDComparison = "sun2005", **hover_options: Any

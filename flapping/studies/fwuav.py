@@ -59,6 +59,7 @@ from flapping.model.morphology import Insect, lev_lift_slope
 from flapping.peers.fwuav import FwuavPitchFree, PitchFreeFloquet, pitch_free_floquet
 from flapping.peers.fwuav.data import Species, species
 from flapping.peers.fwuav.model import prescribed_motion
+from flapping.studies._modes import DERIVATIVES, SWAP_GROUPS, mode_summary
 
 if TYPE_CHECKING:  # pandas is the optional ``sweep`` extra, imported when a table is built
     import pandas
@@ -89,37 +90,6 @@ WINGS: tuple[str, ...] = ("inertia", "lumped")
 #: Statuses of a translated field.
 STATUSES: tuple[str, ...] = ("taken", "derived", "approximated", "ours")
 
-#: The nine longitudinal derivatives, rows (X, Z, M) by columns (u, w, q): the names and order
-#: of :data:`flapping.studies.cfd.DERIVATIVES` (repeated here: a study imports no other study).
-DERIVATIVES: tuple[str, ...] = ("Xu", "Xw", "Xq", "Zu", "Zw", "Zq", "Mu", "Mw", "Mq")
-#: The groups :func:`fwuav_swap_table` swaps beyond the single terms, those of
-#: :data:`flapping.studies.cfd.SWAP_GROUPS`.
-SWAP_GROUPS: tuple[tuple[str, ...], ...] = (
-    ("Xu", "Mu"), ("Mu", "Mq"), ("Xu", "Mu", "Mq"), ("Xu", "Xq", "Mu", "Mq"),
-    ("Xu", "Xw", "Xq"), ("Zu", "Zw", "Zq"), ("Mu", "Mw", "Mq"), DERIVATIVES)
-_REAL_TOL = 1e-8  # an eigenvalue whose imaginary part is below this fraction of |value| is real
-
-
-def mode_summary(eigenvalues: Any) -> dict[str, Any]:
-    """The leading mode of eigenvalues or exponents [1/s], as
-    :func:`flapping.studies.cfd.mode_summary` gives it.
-
-    Parameters
-    ----------
-    eigenvalues : array_like of complex
-
-    Returns
-    -------
-    dict
-        ``type`` ("oscillatory" or "real", of the eigenvalue of largest real part), ``rate``
-        [1/s], ``period`` [s] (inf if real), ``doubling_time`` [s] (inf if not growing).
-    """
-    ev = np.asarray(eigenvalues, dtype=complex)
-    lead = ev[np.argmax(ev.real)]
-    oscillatory = abs(lead.imag) > _REAL_TOL * abs(lead)
-    return {"type": "oscillatory" if oscillatory else "real", "rate": float(lead.real),
-            "period": 2.0 * math.pi / abs(lead.imag) if oscillatory else math.inf,
-            "doubling_time": math.log(2.0) / lead.real if lead.real > 0.0 else math.inf}
 _N_POSTURE = 256  # samples of a wingbeat for the wings' mean posture (smooth periodic: spectral)
 
 
