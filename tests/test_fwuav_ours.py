@@ -3,6 +3,7 @@ the swap."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -76,6 +77,26 @@ def test_hinge_is_the_wing_root_from_the_centre_of_mass_in_stroke_plane_axes(win
     assert tr.insect.hinge_offset == pytest.approx(float(d @ forward), rel=1e-12)
     assert tr.insect.hinge_height == pytest.approx(float(d @ up), rel=1e-12)
     assert tr.insect.hinge_height > 0  # the wing root above the centre of mass
+
+
+def test_a_root_off_the_thorax_axis_moves_the_hinge_by_its_offset(monkeypatch):
+    # FWUAV's three insects have the root on the thorax's axis (mu_R x = z = 0), so the root's
+    # own term is checked here: moved by (dx, dz) in the thorax frame, through the inertial
+    # frame as above; with wings="inertia" the centre of mass does not depend on the root.
+    dx, dz = 1.3e-3, -0.7e-3
+    m = dataclasses.replace(SP.morphology, mu_R=(SP.morphology.mu_R[0] + dx,
+                                                 SP.morphology.mu_R[1],
+                                                 SP.morphology.mu_R[2] + dz))
+    moved = dataclasses.replace(SP, morphology=m)
+    monkeypatch.setattr(F, "species", lambda name: moved)
+    tr = F.fwuav_translation("hawkmoth", "inertia")
+    k = SP.kinematics
+    R = _rot(1, k.theta_B_0)
+    d = R @ (np.array([m.mu_R[0], 0.0, m.mu_R[2]]) - tr.centre_of_mass)
+    forward = R @ _rot(1, k.beta) @ np.array([0.0, 0.0, 1.0])
+    up = R @ _rot(1, k.beta) @ np.array([1.0, 0.0, 0.0])
+    assert tr.insect.hinge_offset == pytest.approx(float(d @ forward), rel=1e-12)
+    assert tr.insect.hinge_height == pytest.approx(float(d @ up), rel=1e-12)
 
 
 def test_wing_shape_radii_from_the_chord_polynomial_by_the_trapezoid_rule():

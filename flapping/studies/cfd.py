@@ -145,12 +145,9 @@ __all__ = [
     "type_change_angle",
 ]
 
-
-
 #: Statuses of a :class:`Number`: read in the source during this work, or not (shared with the
 #: lateral study, :mod:`flapping.studies._published`).
 STATUSES: tuple[str, ...] = _published.STATUSES
-
 
 
 @dataclass(frozen=True)

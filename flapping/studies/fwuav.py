@@ -30,9 +30,10 @@ thorax frame is ``Ry(pi/2 - beta) d`` in ours, whatever the thorax pitch. The th
 FWUAV's state is ``(theta, v_1, v_3, q)`` with inertial velocities. Its averaged Jacobian is
 taken in those coordinates and rotated (a constant change of coordinates: the modes do not
 change) into axes along and normal to the mean stroke plane of its pitch-free orbit, ordered
-``(u, w, q, theta)`` as ours. Along an orbit that drifts (the pitch-free orbit does) body-axis
-and inertial-axis linearisations differ by terms of the drift speed times the pitch
-perturbation; that difference is not removed.
+``(u, w, q, theta)`` as ours. Body-axis and inertial-axis linearisations differ by terms of
+the orbit's velocity (its drift, if it drifts, and its swing within the wingbeat) and of its
+pitch swing about the mean, times the pitch perturbation; that difference is not removed (on a
+re-trimmed hover there is no drift, and the swings are small).
 
 Both sets of derivatives are non-dimensionalised with one reference: FWUAV's kinematics
 (U = 2 Phi n r2 R with Phi = 2 phi_m peak to peak, T = 1/n, c = S/R, S = 2 R c) and the
@@ -53,12 +54,19 @@ from scipy.optimize import brentq
 
 from flapping import _validation
 from flapping._numdiff import central_jacobian
+from flapping.errors import require_success
 from flapping.hover import HoverOrbit, find_hover_orbit
 from flapping.hover.stability import HoverStability, hover_stability
 from flapping.model.morphology import Insect, lev_lift_slope
-from flapping.peers.fwuav import FwuavPitchFree, PitchFreeFloquet, pitch_free_floquet
+from flapping.peers.fwuav import (
+    FwuavPitchFree,
+    PitchFreeFloquet,
+    pitch_free_floquet,
+    pitch_free_model,
+)
+from flapping.peers.fwuav.attitude import _shift_to_centre
 from flapping.peers.fwuav.data import Species, species
-from flapping.peers.fwuav.model import prescribed_motion
+from flapping.peers.fwuav.model import _rot, prescribed_motion, wing_angles
 from flapping.studies._modes import DERIVATIVES, SWAP_GROUPS, mode_summary
 
 if TYPE_CHECKING:  # pandas is the optional ``sweep`` extra, imported when a table is built
@@ -91,17 +99,6 @@ WINGS: tuple[str, ...] = ("inertia", "lumped")
 STATUSES: tuple[str, ...] = ("taken", "derived", "approximated", "ours")
 
 _N_POSTURE = 256  # samples of a wingbeat for the wings' mean posture (smooth periodic: spectral)
-
-
-def _ry(angle: float) -> np.ndarray:
-    """Rotation about y by ``angle`` (FWUAV's ``Ry``; nose up in x forward, z down)."""
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
-
-
-def _centred(J: np.ndarray, m: float, nu: np.ndarray) -> np.ndarray:
-    """Inertia about the centre of mass of a body whose inertia ``J`` is about a point ``-nu``."""
-    return J - m * (float(nu @ nu) * np.eye(3) - np.outer(nu, nu))
 
 
 # =========================================================================== translation
@@ -181,7 +178,7 @@ def _wing_mean(sp: Species) -> tuple[np.ndarray, float, np.ndarray]:
     its own centre of mass, and the centre of mass at each sample (3, N)."""
     m = sp.morphology
     nu = np.array(m.nu_R)
-    Jc = _centred(np.array(m.J_R).reshape(3, 3), m.m_wing, nu)
+    Jc = _shift_to_centre(np.array(m.J_R).reshape(3, 3), m.m_wing, nu)
     T = 1.0 / sp.kinematics.f
     pos, iyy = [], []
     for t in np.arange(_N_POSTURE) * T / _N_POSTURE:
@@ -195,17 +192,13 @@ def _wing_mean(sp: Species) -> tuple[np.ndarray, float, np.ndarray]:
 def _mid_stroke_alpha(sp: Species) -> float:
     """Mean over the two half-strokes of the geometric angle of attack at mid-stroke [rad].
 
-    The flapping angle passes its mean at ``w t = pi/2, 3 pi/2``; there the wing pitch is
-    ``theta_0 +- theta_m tanh(C cos theta_a) / tanh C`` and the chord, normal to the stroke plane
-    at ``theta = 0``, meets the stroke plane at ``pi/2 - |theta|``.
+    The flapping angle passes its mean at ``w t = pi/2, 3 pi/2``; there the chord, normal to the
+    stroke plane at wing pitch ``theta = 0``, meets the stroke plane at ``pi/2 - |theta|``.
     """
     k = sp.kinematics
-    alphas = []
-    for wt in (0.5 * math.pi, 1.5 * math.pi):
-        theta = (k.theta_m * math.tanh(k.theta_C * math.sin(wt + k.theta_a))
-                 / math.tanh(k.theta_C) + k.theta_0)
-        alphas.append(0.5 * math.pi - abs(theta))
-    return float(np.mean(alphas))
+    period = 1.0 / k.f
+    thetas = [wing_angles(k, t)[0, 1] for t in (0.25 * period, 0.75 * period)]
+    return float(np.mean([0.5 * math.pi - abs(theta) for theta in thetas]))
 
 
 def fwuav_translation(name: str = "hawkmoth", wings: str = "inertia") -> FwuavTranslation:
@@ -246,7 +239,7 @@ def fwuav_translation(name: str = "hawkmoth", wings: str = "inertia") -> FwuavTr
     m, k = sp.morphology, sp.kinematics
     area, r1, r2 = _area_radii(sp)
     cg, inertia = _body(sp, wings)
-    d = _ry(0.5 * math.pi - k.beta) @ (np.array(m.mu_R) * np.array([1.0, 0.0, 1.0]) - cg)
+    d = _rot(1, 0.5 * math.pi - k.beta) @ (np.array(m.mu_R) * np.array([1.0, 0.0, 1.0]) - cg)
     alpha_m = _mid_stroke_alpha(sp)
     wing_mass = m.m_wing if wings == "inertia" else 0.0
     J_R = np.array(m.J_R).reshape(3, 3)
@@ -271,8 +264,8 @@ def _body(sp: Species, wings: str) -> tuple[np.ndarray, float]:
     the wings' wingbeat mean if ``wings == "lumped"``."""
     m, k = sp.morphology, sp.kinematics
     nu_A = np.array(m.nu_A)
-    p_A = np.array(m.mu_A) + _ry(k.theta_A_0) @ nu_A
-    iyy_A = float(_centred(np.array(m.J_A).reshape(3, 3), m.m_A, nu_A)[1, 1])
+    p_A = np.array(m.mu_A) + _rot(1, k.theta_A_0) @ nu_A
+    iyy_A = float(_shift_to_centre(np.array(m.J_A).reshape(3, 3), m.m_A, nu_A)[1, 1])
     bodies = [(m.m_B, np.zeros(3), float(np.array(m.J_B).reshape(3, 3)[1, 1])),
               (m.m_A, p_A, iyy_A)]
     wing_p, wing_iyy, _ = _wing_mean(sp)
@@ -484,8 +477,8 @@ def fwuav_averaged_jacobian(model: FwuavPitchFree, y0: Sequence[float] | np.ndar
     T = model.period
     ts = np.arange(n) * T / n
     sol = solve_ivp(fun, (0.0, T), y0, t_eval=ts, rtol=rtol, atol=0.1 * rtol, method="DOP853")
-    if not sol.success:
-        raise RuntimeError(f"integration along FWUAV's orbit failed: {sol.message}")
+    require_success(sol, "the integration along FWUAV's pitch-free orbit")
+
     def at(t: float, y: np.ndarray) -> np.ndarray:
         return central_jacobian(lambda z: fun(t, z), y)
 
@@ -575,8 +568,9 @@ def compare_fwuav(name: str = "hawkmoth", wings: str = "inertia", *,
     wings : {"inertia", "lumped"}
         :func:`fwuav_translation`.
     floquet : PitchFreeFloquet, optional
-        FWUAV's pitch-free result for ``name`` (default :func:`~flapping.peers.fwuav.
-        pitch_free_floquet` at ``rtol=1e-8``, as the book runs it; minutes on first call).
+        FWUAV's pitch-free result for ``name``, on FWUAV's kinematics or re-trimmed (its own
+        kinematics are used: :func:`~flapping.peers.fwuav.attitude.pitch_free_model`); default
+        :func:`~flapping.peers.fwuav.pitch_free_floquet` at ``rtol=1e-8``.
     n_average : int
         Instants of FWUAV's averaging, in [8, 4096].
     **hover_options
@@ -602,7 +596,7 @@ def compare_fwuav(name: str = "hawkmoth", wings: str = "inertia", *,
     if floquet.name != name:
         raise ValueError(f"`floquet` must be of {name!r}; got one of {floquet.name!r}")
     orbit, stab = _solve(tr.insect, tr.alpha_m, **hover_options)
-    model = FwuavPitchFree(name, body_rate_term=floquet.body_rate_term)
+    model = pitch_free_model(floquet)  # FWUAV's kinematics, or the re-trimmed ones
     fj, _ = fwuav_averaged_jacobian(model, floquet.y0, n_average)
     ref = Reference.of(tr)
     ours_a, fw_a = ref.nondimensional(stab.averaged_jacobian), ref.nondimensional(fj)
@@ -618,7 +612,7 @@ def compare_fwuav(name: str = "hawkmoth", wings: str = "inertia", *,
                           ("FWUAV averaged", np.linalg.eigvals(fj))):
         rows.append({"model": label, **mode_summary(values), "leading": _lead(values)})
     modes = pandas.DataFrame(rows).set_index("model")
-    k = species(name).kinematics
+    k = model.species.kinematics
     trim = {"our_stroke_amplitude_deg": math.degrees(orbit.amplitude),
             "fwuav_stroke_amplitude_deg": math.degrees(k.phi_m),
             "our_stroke_mean_deg": math.degrees(orbit.stroke_mean),

@@ -193,5 +193,5 @@ def test_pitch_free_model_carries_the_trimmed_kinematics() -> None:
     assert model.hover.body_rate_term == "rotated"
     untrimmed = pitch_free_model(dataclasses.replace(result, trim_parameters=(), trim_values=()))
     assert untrimmed.species.kinematics == base
-    with pytest.raises(TypeError, match="result"):
+    with pytest.raises(ValueError, match="result"):
         pitch_free_model("hawkmoth")  # type: ignore[arg-type]

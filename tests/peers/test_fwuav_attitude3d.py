@@ -208,6 +208,8 @@ def test_bad_arguments_are_named() -> None:
         attitude_free_floquet(3.0)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="pitch"):
         FwuavAttitudeFree(FwuavPitchFree("hawkmoth", pitch="prescribed"))
+    with pytest.raises(ValueError, match="body_rate_term"):  # a model's own term applies
+        FwuavAttitudeFree(FwuavPitchFree("hawkmoth"), body_rate_term="rotated")
     with pytest.raises(ValueError, match="y"):
         FwuavAttitudeFree.from_planar(np.zeros(5))
 

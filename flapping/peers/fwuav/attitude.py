@@ -78,6 +78,11 @@ TRIM_PARAMETERS = ("beta", "phi_m", "phi_0")
 #: of pressure fore and aft of the centre of mass: the pitch moment, hence the pitch the thorax
 #: settles at, hence the tilt of the mean force and the horizontal drift).
 DEFAULT_TRIM = ("phi_m", "phi_0")
+#: Where a trimmed parameter still describes a wingbeat (rad): a stroke plane within a right
+#: angle of the thorax's, an amplitude below a quarter turn, a mean stroke angle that keeps the
+#: stroke within +-90 deg.
+_TRIM_BOUNDS = {"beta": (-math.pi / 2, math.pi / 2), "phi_m": (0.0, math.pi / 2),
+                "phi_0": (-math.pi / 2, math.pi / 2)}
 
 _E2, _E3 = np.eye(3)[1], np.eye(3)[2]
 #: Per body (right wing, left wing, abdomen): attitude, angular velocity, its derivative.
@@ -459,11 +464,12 @@ def _trimmed(name: str, body_rate_term: str, rtol: float, parameters: tuple[str,
             result=error.result) from error
     assert orbit.params is not None
     values = orbit.params
-    trimmed = dict(zip(parameters, values.tolist(), strict=True))
-    if not 0.0 < trimmed.get("phi_m", k.phi_m) < math.pi / 2:
-        raise ConvergenceError(f"the trimmed stroke amplitude phi_m = {trimmed['phi_m']:.4g} rad "
-                               f"is outside (0, pi/2)", x=orbit.unknowns,
-                               residual=orbit.residual_norm, iterations=orbit.nit, result=orbit)
+    for p, value in zip(parameters, values.tolist(), strict=True):
+        low, high = _TRIM_BOUNDS[p]
+        if not low < value < high:
+            raise ConvergenceError(f"the trimmed {p} = {value:.4g} rad is outside ({low:.4g}, "
+                                   f"{high:.4g})", x=orbit.unknowns, residual=orbit.residual_norm,
+                                   iterations=orbit.nit, result=orbit)
     return _floquet(system.model(values), name, body_rate_term, orbit.x0[2:],
                     orbit.residual_norm, rtol, trim_parameters=parameters,
                     trim_values=tuple(float(v) for v in values), trim_nfev=int(orbit.nfev))
@@ -484,8 +490,7 @@ def pitch_free_floquet(name: str, *, body_rate_term: str = "fwuav", rtol: float 
     The default pair is the stroke amplitude ``phi_m``, which sets the wing speed and hence the
     vertical force, and the mean stroke angle ``phi_0``, which moves the wings' centre of
     pressure fore and aft of the centre of mass, hence the pitch moment, the pitch the thorax
-    settles at and the tilt of the mean force (the horizontal drift). Animals trim pitch the
-    same way, by shifting the mean stroke position.
+    settles at and the tilt of the mean force (the horizontal drift).
 
     Parameters
     ----------
@@ -539,9 +544,13 @@ def pitch_free_model(result: PitchFreeFloquet) -> FwuavPitchFree:
         The model with ``result.trim_values`` in place of FWUAV's values of
         ``result.trim_parameters``; ``result.y0`` lies on its periodic orbit (e.g. for
         :func:`~flapping.peers.fwuav.attitude3d.attitude_free_floquet`).
+
+    Raises
+    ------
+    ValueError
+        If ``result`` is not a :class:`PitchFreeFloquet`.
     """
-    if not isinstance(result, PitchFreeFloquet):
-        raise TypeError(f"`result` must be a PitchFreeFloquet; got {type(result).__name__}")
+    check.instance("result", result, PitchFreeFloquet)
     base = species(result.name)
     changes: dict[str, Any] = dict(zip(result.trim_parameters, result.trim_values, strict=True))
     kinematics = dataclasses.replace(base.kinematics, **changes)

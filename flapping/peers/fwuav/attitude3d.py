@@ -56,7 +56,7 @@ from flapping._numdiff import central_jacobian
 from flapping.errors import ConvergenceError
 from flapping.peers.fwuav.attitude import FwuavPitchFree, pitch_free_floquet
 from flapping.peers.fwuav.data import Species
-from flapping.peers.fwuav.model import Motion, _cross, _rot, _strip_forces, prescribed_motion
+from flapping.peers.fwuav.model import Motion, _cross, _rot, prescribed_motion
 
 __all__ = ["FwuavAttitudeFree", "AttitudeFreeFloquet", "attitude_free_floquet",
            "LONGITUDINAL", "LATERAL"]
@@ -66,7 +66,7 @@ __all__ = ["FwuavAttitudeFree", "AttitudeFreeFloquet", "attitude_free_floquet",
 LONGITUDINAL = (1, 3, 5, 7)
 LATERAL = (0, 2, 4, 6, 8)
 
-_E2, _E3 = np.eye(3)[1], np.eye(3)[2]
+_E3 = np.eye(3)[2]
 
 
 def _hat(w: np.ndarray) -> np.ndarray:
@@ -94,12 +94,12 @@ class FwuavAttitudeFree:
         built with other options, e.g. a trim, is extended to 3-D as it is).
     body_rate_term : {"fwuav", "rotated"}, optional
         The body-rate term of the strip velocity: FWUAV's ``Q W`` (default) or ``Q^T W``.
-        Ignored when ``insect`` is a model.
     n_strips : int, optional
-        Span points per wing, in [2, 10000] (FWUAV: 50). Ignored when ``insect`` is a model.
+        Span points per wing, in [2, 10000] (FWUAV: 50).
     aerodynamics, gravity : bool, optional
         Switch the aerodynamic loads and gravity off (for the momentum check); default on.
-        Ignored when ``insect`` is a model.
+        With a model for ``insect``, these four must stay at their defaults (the model's own
+        apply).
 
     Notes
     -----
@@ -110,6 +110,12 @@ class FwuavAttitudeFree:
     def __init__(self, insect: str | Species | FwuavPitchFree, *, body_rate_term: str = "fwuav",
                  n_strips: int = 50, aerodynamics: bool = True, gravity: bool = True) -> None:
         if isinstance(insect, FwuavPitchFree):
+            given = {"body_rate_term": (body_rate_term, "fwuav"), "n_strips": (n_strips, 50),
+                     "aerodynamics": (aerodynamics, True), "gravity": (gravity, True)}
+            changed = [k for k, (value, default) in given.items() if value != default]
+            if changed:
+                raise ValueError(f"{', '.join(f'`{k}`' for k in changed)} must be left at the "
+                                 "default when `insect` is a model (the model's own are used)")
             if insect.pitch != "free":
                 raise ValueError("`insect` must be a pitch-free model (pitch='free'); got "
                                  f"pitch={insect.pitch!r}")
@@ -132,18 +138,9 @@ class FwuavAttitudeFree:
         return self._kinematics[1], self._kinematics[2]
 
     def _aerodynamics(self, motion: Motion, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Force (inertial) and moment about the thorax's centre of mass (thorax frame)."""
-        h = self.planar.hover
-        force, moment = np.zeros(3), np.zeros(3)
-        mu = np.array(self.species.morphology.mu_R)
-        for (RQ, _, U), Q, sign in zip(h._strip_velocities(motion, v), (motion.Q_R, motion.Q_L),
-                                       (1.0, -1.0), strict=True):
-            F = _strip_forces(self.species, U, h.weights)
-            rF = _strip_forces(self.species, U, h.weights * h.r)
-            joint = mu * np.array([1.0, sign, 1.0])
-            force += RQ @ F
-            moment += _cross(joint, Q @ F) + Q @ (sign * _cross(_E2, rF))
-        return force, moment
+        """Force (inertial) and moment about the thorax's centre of mass (thorax frame): the
+        planar model's strip sums, which hold at any attitude (the motion carries it)."""
+        return self.planar._aerodynamics(motion, v)
 
     def accelerations(self, t: float, R: np.ndarray, v: np.ndarray, W: np.ndarray
                       ) -> tuple[np.ndarray, np.ndarray]:
