@@ -283,17 +283,21 @@ class FwuavPitchFree:
         else:
             theta, q = float(state[2]), float(state[5])
         motion = self._motion(t, theta, q)
-        R, W = motion.R, motion.W
         x, v = np.array([state[0], 0.0, state[1]]), np.array([state[3], 0.0, state[4]])
+        return self._momentum(x, v, motion.R, motion.W, self._rates(t, motion))
+
+    def _momentum(self, x: np.ndarray, v: np.ndarray, R: np.ndarray, W: np.ndarray,
+                  rates: _Rates) -> tuple[np.ndarray, np.ndarray]:
+        """Linear and angular momentum (about the origin) of the four bodies at any thorax
+        position ``x``, velocity ``v``, attitude ``R`` and angular velocity ``W`` (3-D: the
+        attitude-free model shares it)."""
         m_B = self.species.morphology.m_B
         P, H = m_B * v, _cross(x, m_B * v) + R @ (self._J_B @ W)
-        for (mi, mu, nu, J), (Q, Om, _) in zip(self._bodies, self._rates(t, motion),
-                                                strict=True):
+        for (mi, mu, nu, J), (Q, Om, _) in zip(self._bodies, rates, strict=True):
             p = mu + Q @ nu
-            r = x + R @ p
             vi = v + R @ (_cross(W, p) + Q @ _cross(Om, nu))
             P = P + mi * vi
-            H = H + _cross(r, mi * vi) + R @ Q @ (J @ (Q.T @ W + Om))
+            H = H + _cross(x + R @ p, mi * vi) + R @ Q @ (J @ (Q.T @ W + Om))
         return P, H
 
 

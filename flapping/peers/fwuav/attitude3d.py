@@ -265,15 +265,7 @@ class FwuavAttitudeFree:
         state = np.asarray(state, dtype=float)
         _, rates = self._prescribed(float(t))
         x, R = state[0:3], state[3:12].reshape(3, 3)
-        v, W = state[12:15], state[15:18]
-        m_B = self.species.morphology.m_B
-        P, H = m_B * v, np.cross(x, m_B * v) + R @ (self.planar._J_B @ W)
-        for (mi, mu, nu, J), (Q, Om, _) in zip(self.planar._bodies, rates, strict=True):
-            p = mu + Q @ nu
-            vi = v + R @ (np.cross(W, p) + Q @ np.cross(Om, nu))
-            P = P + mi * vi
-            H = H + np.cross(x + R @ p, mi * vi) + R @ Q @ (J @ (Q.T @ W + Om))
-        return P, H
+        return self.planar._momentum(x, state[12:15], R, state[15:18], rates)
 
 
 @dataclass(frozen=True)
