@@ -26,6 +26,7 @@ import numpy as np
 from flapping import _validation
 from flapping.backends import AUTO, Adaptive, Backend, Compiled
 from flapping.errors import ConvergenceError
+from flapping.fast.kernel import numba_available
 from flapping.model import _sixdof_generated
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
@@ -62,6 +63,19 @@ ERROR_FACTOR = 10.0
 #: 16/32 steps Liouville's check, set by that multiplier's relative error, was 2.7e-8).
 COMPILED_STEPS = 24
 COMPILED_MAX_STEPS = 512
+#: The compiled path of the blade-element loads (:mod:`flapping.fast._sixdof_loads`, graded
+#: time as the planar blade-element path): DOP853 steps per half-stroke of the Newton solve
+#: (the hawkmoth's orbit within 1e-10 of the adaptive path's from 32 steps on). The analysis
+#: runs at :data:`BLADE_ANALYSIS_STEPS`, its error estimate the difference from half as many
+#: steps, doubling (to at most COMPILED_MAX_STEPS) while that exceeds
+#: :data:`BLADE_MULTIPLIER_TOL`. The field's Jacobian has kinks where a wing's pitch rate or
+#: its root or tip speed changes sign (``|Omega|``, ``|U|``), which the fixed steps straddle:
+#: the multipliers converge at about first order there (the hawkmoth's: 8e-8 at 128 steps,
+#: 2e-8 at 256, 3e-9 to 9e-9 at 384 to 512, against the adaptive path's), so the estimate is
+#: a tolerance of 1e-7, below every digit the book shows.
+BLADE_STEPS = 48
+BLADE_ANALYSIS_STEPS = 256
+BLADE_MULTIPLIER_TOL = 1e-7
 
 
 def embed(x4: Any) -> np.ndarray:
@@ -209,8 +223,9 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
         raise ValueError(
             f"`aerodynamics` must be one of {SIXDOF_AERODYNAMIC_MODELS} with dof=6; got "
             f"{aerodynamics!r}")
-    compiled = aerodynamics == "linear" and (
-        isinstance(backend, Compiled) or backend in (AUTO, "compiled"))
+    compiled = isinstance(backend, Compiled) or backend in (AUTO, "compiled")
+    if compiled and aerodynamics != "linear" and not numba_available():
+        compiled = False  # the blade-element loads' compiled path needs numba
     if tol is not None:
         planar["tol"] = tol
     if planar_orbit is None:
@@ -229,8 +244,10 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
     model = SixDofDynamics(trimmed, flat.amplitude, flat.alpha_m, aerodynamics)
     path = Adaptive()
     tol = path.tol if tol is None else tol
-    if compiled:
+    if compiled and aerodynamics == "linear":
         return _compiled_orbit(model, flat, tol, started)
+    if compiled:
+        return _compiled_blade_orbit(model, flat, tol, started)
     y0 = np.concatenate([embed(flat.x0), [0.0]])
     funs = _fields(model)
     # The plane of symmetry is invariant: the embedded planar orbit usually satisfies the
@@ -286,6 +303,35 @@ def _compiled_orbit(model: SixDofDynamics, flat: Any, tol: float,
                             planar=flat, shooting=None, residual_norm=residual,
                             amplitude_change=amplitude - flat.amplitude, stats=stats,
                             backend="compiled", n_steps=COMPILED_STEPS,
+                            newton_monodromy=readonly(end[9:81].reshape(9, 8)[:8].copy()))
+
+
+def _compiled_blade_orbit(model: SixDofDynamics, flat: Any, tol: float,
+                          started: float) -> SixDofHoverOrbit:
+    """Newton on the compiled path of the blade-element loads (:mod:`flapping.fast.
+    _sixdof_loads`) from the embedded planar orbit, at :data:`BLADE_STEPS` per half-stroke.
+
+    The residual is that of the fixed-step period map, which Newton drives to rounding; the
+    integration's own error (the map's difference from the flow) is what the analysis's step
+    doubling measures.
+    """
+    from flapping.fast import _sixdof_loads  # compiles on first use
+
+    x0, amplitude, end, residual, nit, nfev = _sixdof_loads.newton(
+        _sixdof_loads.Flow(model), embed(flat.x0), flat.amplitude, BLADE_STEPS, tol)
+    if not residual <= tol or not 0.0 < amplitude <= 0.5 * math.pi:
+        raise ConvergenceError(
+            f"six-degree-of-freedom hover (compiled path, {model.aerodynamics} loads) did not "
+            f"converge from the planar orbit: residual {residual:.3e}, amplitude {amplitude!r} "
+            f"rad after {nit} Newton iterations")
+    stats = Stats(nit=nit, nfev=nfev, njev=0, time=time.perf_counter() - started)
+    if amplitude != model.amplitude:
+        model = model.with_amplitude(amplitude)
+    return SixDofHoverOrbit(insect=model.insect, aerodynamics=model.aerodynamics,
+                            alpha_m=flat.alpha_m, x0=readonly(x0), amplitude=amplitude,
+                            planar=flat, shooting=None, residual_norm=residual,
+                            amplitude_change=amplitude - flat.amplitude, stats=stats,
+                            backend="compiled", n_steps=BLADE_STEPS,
                             newton_monodromy=readonly(end[9:81].reshape(9, 8)[:8].copy()))
 
 
@@ -369,9 +415,15 @@ def _compiled_monodromy(orbit: SixDofHoverOrbit, n_steps: int) -> Monodromy:
     """The monodromy of the compiled path at ``n_steps`` per half-stroke, as a Monodromy."""
     from flapping.fast import _sixdof
 
-    model = orbit.model
-    factors, end, trace_integral = _sixdof.monodromy_factors(model, orbit.x0, orbit.amplitude,
-                                                             n_steps)
+    factors, end, trace_integral = _sixdof.monodromy_factors(orbit.model, orbit.x0,
+                                                             orbit.amplitude, n_steps)
+    return _monodromy_of(orbit, factors, end, trace_integral, 2 * n_steps * _sixdof.N_STAGES)
+
+
+def _monodromy_of(orbit: SixDofHoverOrbit, factors: np.ndarray, end: np.ndarray,
+                  trace_integral: float, nfev: int) -> Monodromy:
+    """The Monodromy of a compiled path's factors (M their product, the last leftmost)."""
+    period = orbit.period
     matrix = np.eye(8)
     for i in range(factors.shape[2]):
         matrix = factors[:, :, i] @ matrix
@@ -384,11 +436,11 @@ def _compiled_monodromy(orbit: SixDofHoverOrbit, n_steps: int) -> Monodromy:
     closure = float(np.linalg.norm(x_end - orbit.x0))
     return Monodromy(
         matrix=readonly(matrix), multipliers=readonly(multipliers),
-        exponents=readonly(np.log(multipliers.astype(complex)) / model.period), det=det,
+        exponents=readonly(np.log(multipliers.astype(complex)) / period), det=det,
         trace_integral=trace_integral, liouville_det=liouville,
         liouville_error=abs(det - liouville) / abs(liouville), x_end=readonly(x_end),
-        closure_error=closure, period=model.period, factors=readonly(factors),
-        multiplier_method="eig", nfev=2 * n_steps * _sixdof.N_STAGES, njev=0,
+        closure_error=closure, period=period, factors=readonly(factors),
+        multiplier_method="eig", nfev=nfev, njev=0,
         relative_closure_error=closure / max(1.0, float(np.linalg.norm(orbit.x0))))
 
 
@@ -421,12 +473,13 @@ def sixdof_stability(orbit: SixDofHoverOrbit, *, rtol: float | None = None,
         If ``backend`` is ``"compiled"`` for an orbit of the blade-element loads.
     """
     backend = _validation.choice("backend", backend, (AUTO, "compiled", "adaptive"))
-    if backend == "compiled" and orbit.aerodynamics != "linear":
+    linear = orbit.aerodynamics == "linear"
+    if backend == "compiled" and not linear and not numba_available():
         raise ValueError("`backend='compiled'` analyses six-degree-of-freedom orbits of the "
-                         "linear loads only; this orbit's are "
-                         f"{orbit.aerodynamics!r}: use the adaptive path")
+                         f"{orbit.aerodynamics!r} loads with numba, which is not installed: "
+                         "use the adaptive path")
     if backend == "compiled" or (backend == AUTO and orbit.backend == "compiled"):
-        return _compiled_stability(orbit)
+        return _compiled_stability(orbit) if linear else _compiled_blade_stability(orbit)
     model = orbit.model
     funs = model.segment_functions()
     rtol = ANALYSIS_RTOL if rtol is None else rtol
@@ -453,6 +506,36 @@ def _compiled_stability(orbit: SixDofHoverOrbit) -> SixDofStability:
         error = float(np.max(np.abs(np.sort_complex(result.multipliers)
                                     - np.sort_complex(coarse))))
         if error <= Compiled.multiplier_tol or 2 * n_steps > COMPILED_MAX_STEPS:
+            break
+        coarse, n_steps = result.multipliers, 2 * n_steps
+    return _stability_of(orbit, result, error)
+
+
+def _blade_monodromy(flow: Any, orbit: SixDofHoverOrbit, n_steps: int) -> Monodromy:
+    """The monodromy of the blade-element loads' compiled path at ``n_steps`` per half-stroke."""
+    from flapping.fast import _sixdof_loads
+
+    factors, end, trace_integral = _sixdof_loads.monodromy_factors(flow, orbit.x0,
+                                                                   orbit.amplitude, n_steps)
+    return _monodromy_of(orbit, factors, end, trace_integral,
+                         2 * n_steps * _sixdof_loads.N_STAGES)
+
+
+def _compiled_blade_stability(orbit: SixDofHoverOrbit) -> SixDofStability:
+    """:func:`sixdof_stability` on the blade-element loads' compiled path: the monodromy at
+    :data:`BLADE_ANALYSIS_STEPS` per half-stroke, its error estimate the largest change of a
+    multiplier from half as many steps, the steps doubled while that exceeds
+    :data:`BLADE_MULTIPLIER_TOL` (to at most :data:`COMPILED_MAX_STEPS`)."""
+    from flapping.fast import _sixdof_loads
+
+    flow = _sixdof_loads.Flow(orbit.model)
+    n_steps = BLADE_ANALYSIS_STEPS
+    coarse = _blade_monodromy(flow, orbit, n_steps // 2).multipliers
+    while True:
+        result = _blade_monodromy(flow, orbit, n_steps)
+        error = float(np.max(np.abs(np.sort_complex(result.multipliers)
+                                    - np.sort_complex(coarse))))
+        if error <= BLADE_MULTIPLIER_TOL or 2 * n_steps > COMPILED_MAX_STEPS:
             break
         coarse, n_steps = result.multipliers, 2 * n_steps
     return _stability_of(orbit, result, error)

@@ -293,13 +293,11 @@ def hover_stability(
         If an option was given for a path that does not run.
     """
     if isinstance(orbit, SixDofHoverOrbit):
-        linear = orbit.aerodynamics == "linear"
-        allowed = (DEFAULT_BACKEND, "adaptive", "compiled") if linear else (DEFAULT_BACKEND,
-                                                                             "adaptive")
+        allowed = (DEFAULT_BACKEND, "adaptive", "compiled")
         if backend not in allowed or method not in (None, "DOP853"):
-            raise ValueError("a six-degree-of-freedom orbit is analysed on the adaptive path "
-                             "(DOP853), or on the compiled one for the linear loads: leave "
-                             "`backend` and `method` at their defaults")
+            raise ValueError("a six-degree-of-freedom orbit is analysed on the compiled path "
+                             "or the adaptive one (DOP853): `backend` 'auto', 'compiled' or "
+                             "'adaptive', `method` left at its default")
         return sixdof_stability(orbit, rtol=rtol, atol=atol,
                                 backend="auto" if backend == DEFAULT_BACKEND else str(backend))
     orbit = _validation.instance("orbit", orbit, HoverOrbit)
