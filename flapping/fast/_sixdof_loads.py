@@ -306,20 +306,21 @@ def _grading(x):  # pragma: no cover - compiled
 
 
 @_jit
-def segment(y0, t_start, half, s0, h, n_steps, variational, amplitude, p, kmech,
+def segment(y0, t_start, half, mesh, variational, amplitude, p, kmech,
             data):  # pragma: no cover - compiled
-    """The state after ``n_steps`` DOP853 steps of size h in the graded time s of the
-    half-stroke starting at t_start (t = t_start + half g(s), s in [0, 1], from s0): steps
-    crowd at stroke reversal, where the small-angle loads' sign change enters and leaves the
-    span (the planar blade-element path's grading, :func:`flapping.hover.problem.grading`).
-    The stroke sign is ``p[4]``."""
+    """The state after DOP853 steps between the points of ``mesh`` in the graded time s of
+    the half-stroke starting at t_start (t = t_start + half g(s), s in [0, 1]): steps crowd at
+    stroke reversal, where the small-angle loads' sign change enters and leaves the span (the
+    planar blade-element path's grading, :func:`flapping.hover.problem.grading`). The stroke
+    sign is ``p[4]``."""
     n = y0.size
     y = y0.copy()
     stages = np.empty((N_STAGES, n))
     tmp = np.empty(n)
     work = _work()
-    for step in range(n_steps):
-        s = s0 + h * step
+    for step in range(mesh.size - 1):
+        s = mesh[step]
+        h = mesh[step + 1] - s
         for st in range(N_STAGES):
             for i in range(n):
                 tmp[i] = y[i]
@@ -340,6 +341,38 @@ def segment(y0, t_start, half, s0, h, n_steps, variational, amplitude, p, kmech,
                 for i in range(n):
                     y[i] += bs * stages[st, i]
     return y
+
+
+@_jit
+def trajectory(y0, t_start, half, mesh, amplitude, p, kmech,
+               data):  # pragma: no cover - compiled
+    """The plain state at every point of ``mesh`` (rows), from y0 at its first."""
+    out = np.empty((mesh.size, y0.size))
+    out[0] = y0
+    for i in range(mesh.size - 1):
+        out[i + 1] = segment(out[i], t_start, half, mesh[i:i + 2], False, amplitude, p, kmech,
+                             data)
+    return out
+
+
+@_jit
+def switches(t_start, half, s, y, amplitude, p, kmech, data):  # pragma: no cover - compiled
+    """Where the field's Jacobian has a kink, each as the zero of a function of (s, y): per
+    wing the span-axis pitch rate Omega_k (the damping's ``|Omega|``), and for the small-angle
+    loads the chordwise speed at the root, U0, and at the tip, U0 + U1 R (``|U|``)."""
+    omega = p[P_OMEGA]
+    t = t_start + half * _grading(s)[0]
+    c, sn = math.cos(omega * t), math.sin(omega * t)
+    phi = p[P_PHI_BAR] + amplitude * c
+    phi_dot = -omega * amplitude * sn
+    kin = _strip_kinematics(phi, phi_dot, y[0], y[1], y[2], y[3], y[4], y[5], y[6], y[7],
+                            kmech)
+    R = data[_blade.I_R]
+    out = np.empty(6)
+    out[0], out[1] = kin[4], kin[9]
+    out[2], out[3] = kin[0], kin[5]
+    out[4], out[5] = kin[0] + kin[1] * R, kin[5] + kin[6] * R
+    return out
 
 
 # --------------------------------------------------------------------------- the Python driver
@@ -373,35 +406,73 @@ class Flow:
 
     def __init__(self, model: Any) -> None:
         self.period = float(model.period)
+        self.small_angle = model.aerodynamics == "small-angle"
         self._p, self._kmech, self._data = constants(model)
 
-    def segment(self, y: np.ndarray, half: int, s0: float, h: float, n_steps: int,
-                variational: bool, amplitude: float) -> np.ndarray:
-        """n_steps steps of size h in the graded time of half-stroke ``half`` (0 or 1) from
-        s0 in [0, 1]."""
+    def _p_of(self, half: int) -> np.ndarray:
         p = self._p.copy()
         p[4] = segment_stroke_sign(half)
-        return segment(y, half * 0.5 * self.period, 0.5 * self.period, float(s0), float(h),
-                       int(n_steps), bool(variational), float(amplitude), p, self._kmech,
-                       self._data)
+        return p
+
+    def segment(self, y: np.ndarray, half: int, mesh: np.ndarray, variational: bool,
+                amplitude: float) -> np.ndarray:
+        """Steps between the points of ``mesh`` (graded time in [0, 1]) of half-stroke
+        ``half`` (0 or 1)."""
+        return segment(y, half * 0.5 * self.period, 0.5 * self.period,
+                       np.ascontiguousarray(mesh, dtype=float), bool(variational),
+                       float(amplitude), self._p_of(half), self._kmech, self._data)
 
     def __call__(self, x0: np.ndarray, amplitude: float, n_steps: int,
                  variational: bool) -> np.ndarray:
-        """The plain (9) or variational (82) state after one period from x0 (8), z = 0."""
+        """The plain (9) or variational (82) state after one period from x0 (8), z = 0:
+        ``n_steps`` per half-stroke, and a step boundary at each kink (:meth:`events`)."""
         y = np.zeros(N_VAR if variational else N_PLAIN)
         y[:8] = x0
         if variational:
             y[9:81] = np.vstack([np.eye(8), np.zeros((1, 8))]).ravel()
-        y = self.segment(y, 0, 0.0, 1.0 / n_steps, n_steps, variational, amplitude)
-        return self.segment(y, 1, 0.0, 1.0 / n_steps, n_steps, variational, amplitude)
+        uniform = np.linspace(0.0, 1.0, int(n_steps) + 1)
+        for half in range(2):
+            kinks, _ = self.events(y[:N_PLAIN], half, uniform, amplitude)
+            y = self.segment(y, half, np.union1d(uniform, kinks), variational, amplitude)
+        return y
 
     def evaluate(self, t: float, y: np.ndarray, half: int, amplitude: float) -> np.ndarray:
         """dy/dt at one point of half-stroke ``half`` (plain for 9 values, else variational)."""
-        p = self._p.copy()
-        p[4] = segment_stroke_sign(half)
         y = np.asarray(y, dtype=float)
-        return evaluate(float(t), y, y.size == N_VAR, float(amplitude), p, self._kmech,
-                        self._data)
+        return evaluate(float(t), y, y.size == N_VAR, float(amplitude), self._p_of(half),
+                        self._kmech, self._data)
+
+    def events(self, y0: np.ndarray, half: int, mesh: np.ndarray,
+               amplitude: float) -> tuple[np.ndarray, np.ndarray]:
+        """The kinks of the field's Jacobian on half-stroke ``half`` along the plain
+        trajectory from y0 (9 values) on ``mesh``: their graded times (sorted), and the state
+        at the mesh's end.
+
+        Each sign change of a :func:`switches` function between two mesh points is located by
+        Brent's method on the one-step map from the first (to 1e-13 in s)."""
+        from scipy.optimize import brentq
+
+        t_start, half_period = half * 0.5 * self.period, 0.5 * self.period
+        p = self._p_of(half)
+        amp = float(amplitude)
+        states = trajectory(np.ascontiguousarray(y0, dtype=float), t_start, half_period,
+                            mesh, amp, p, self._kmech, self._data)
+        n_switch = 6 if self.small_angle else 2
+        values = np.array([switches(t_start, half_period, s, y, amp, p, self._kmech,
+                                    self._data)[:n_switch] for s, y in zip(mesh, states,
+                                                                           strict=True)])
+        roots = []
+        for i, j in zip(*np.nonzero(values[:-1] * values[1:] < 0.0), strict=True):
+            a, y = mesh[i], states[i]
+
+            def g(s: float, a: float = a, y: np.ndarray = y, j: int = j) -> float:
+                end = segment(y, t_start, half_period, np.array([a, s]), False, amp, p,
+                              self._kmech, self._data) if s > a else y
+                return float(switches(t_start, half_period, s, end, amp, p, self._kmech,
+                                      self._data)[j])
+
+            roots.append(brentq(g, a, mesh[i + 1], xtol=1e-13, rtol=1e-15))
+        return np.unique(np.array(roots, dtype=float)), states[-1]
 
 
 #: Factors of the monodromy per half-stroke (as :data:`flapping.fast._sixdof.
@@ -413,20 +484,28 @@ def monodromy_factors(flow: Flow, x0: np.ndarray, amplitude: float,
                       n_steps: int) -> tuple[np.ndarray, np.ndarray, float]:
     """The monodromy's factors (8 x 8 x K, M their product, the last leftmost), the state after
     one period (9) and the integral of trace J over it; ``n_steps`` per half-stroke, a
-    multiple of :data:`FACTORS_PER_HALF_STROKE`."""
-    y = np.zeros(N_VAR)
-    y[:8] = x0
+    multiple of :data:`FACTORS_PER_HALF_STROKE`, and a step boundary at each kink of the
+    Jacobian (:meth:`Flow.events`): the variational equations' field is only continuous there,
+    and a step across one loses the method's order."""
     k = FACTORS_PER_HALF_STROKE
     per = int(n_steps) // k
-    h = 1.0 / (per * k)
+    uniform = np.linspace(0.0, 1.0, per * k + 1)
+    y = np.zeros(N_VAR)
+    y[:8] = x0
+    plain = y[:N_PLAIN].copy()
     factors = np.empty((8, 8, 2 * k))
     trace = 0.0
-    for i in range(2 * k):
-        y[9:81] = np.vstack([np.eye(8), np.zeros((1, 8))]).ravel()
-        y[81] = 0.0
-        y = flow.segment(y, i // k, (i % k) * per * h, h, per, True, amplitude)
-        factors[:, :, i] = y[9:81].reshape(9, 8)[:8]
-        trace += y[81]
+    for half in range(2):
+        kinks, plain = flow.events(plain, half, uniform, amplitude)
+        for piece in range(k):
+            a, b = uniform[piece * per], uniform[(piece + 1) * per]
+            inside = kinks[(kinks > a + 1e-12) & (kinks < b - 1e-12)]
+            mesh = np.union1d(uniform[piece * per:(piece + 1) * per + 1], inside)
+            y[9:81] = np.vstack([np.eye(8), np.zeros((1, 8))]).ravel()
+            y[81] = 0.0
+            y = flow.segment(y, half, mesh, True, amplitude)
+            factors[:, :, half * k + piece] = y[9:81].reshape(9, 8)[:8]
+            trace += y[81]
     return factors, y[:9].copy(), trace
 
 
