@@ -480,26 +480,39 @@ class Flow:
 FACTORS_PER_HALF_STROKE = 4
 
 
-def monodromy_factors(flow: Flow, x0: np.ndarray, amplitude: float,
-                      n_steps: int) -> tuple[np.ndarray, np.ndarray, float]:
+def kinks(flow: Flow, x0: np.ndarray, amplitude: float, n_steps: int) -> list[np.ndarray]:
+    """The kinks of each half-stroke (:meth:`Flow.events`) along the period from x0, bracketed
+    on ``n_steps`` uniform steps per half-stroke."""
+    uniform = np.linspace(0.0, 1.0, int(n_steps) + 1)
+    plain = np.append(np.asarray(x0, dtype=float), 0.0)
+    out = []
+    for half in range(2):
+        found, plain = flow.events(plain, half, uniform, amplitude)
+        out.append(found)
+    return out
+
+
+def monodromy_factors(flow: Flow, x0: np.ndarray, amplitude: float, n_steps: int,
+                      known: list[np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray,
+                                                                      float]:
     """The monodromy's factors (8 x 8 x K, M their product, the last leftmost), the state after
     one period (9) and the integral of trace J over it; ``n_steps`` per half-stroke, a
     multiple of :data:`FACTORS_PER_HALF_STROKE`, and a step boundary at each kink of the
-    Jacobian (:meth:`Flow.events`): the variational equations' field is only continuous there,
+    Jacobian (:meth:`Flow.events`; ``known``: those of :func:`kinks` at this orbit, found
+    once for several step counts): the variational equations' field is only continuous there,
     and a step across one loses the method's order."""
     k = FACTORS_PER_HALF_STROKE
     per = int(n_steps) // k
     uniform = np.linspace(0.0, 1.0, per * k + 1)
+    found = kinks(flow, x0, amplitude, per * k) if known is None else known
     y = np.zeros(N_VAR)
     y[:8] = x0
-    plain = y[:N_PLAIN].copy()
     factors = np.empty((8, 8, 2 * k))
     trace = 0.0
     for half in range(2):
-        kinks, plain = flow.events(plain, half, uniform, amplitude)
         for piece in range(k):
             a, b = uniform[piece * per], uniform[(piece + 1) * per]
-            inside = kinks[(kinks > a + 1e-12) & (kinks < b - 1e-12)]
+            inside = found[half][(found[half] > a + 1e-12) & (found[half] < b - 1e-12)]
             mesh = np.union1d(uniform[piece * per:(piece + 1) * per + 1], inside)
             y[9:81] = np.vstack([np.eye(8), np.zeros((1, 8))]).ravel()
             y[81] = 0.0

@@ -555,12 +555,14 @@ def _compiled_stability(orbit: SixDofHoverOrbit) -> SixDofStability:
     return _stability_of(orbit, result, error)
 
 
-def _blade_monodromy(flow: Any, orbit: SixDofHoverOrbit, n_steps: int) -> Monodromy:
-    """The monodromy of the blade-element loads' compiled path at ``n_steps`` per half-stroke."""
+def _blade_monodromy(flow: Any, orbit: SixDofHoverOrbit, n_steps: int,
+                     kinks: list[np.ndarray]) -> Monodromy:
+    """The monodromy of the blade-element loads' compiled path at ``n_steps`` per half-stroke
+    (a step boundary at each of ``kinks``)."""
     from flapping.fast import _sixdof_loads
 
-    factors, end, trace_integral = _sixdof_loads.monodromy_factors(flow, orbit.x0,
-                                                                   orbit.amplitude, n_steps)
+    factors, end, trace_integral = _sixdof_loads.monodromy_factors(
+        flow, orbit.x0, orbit.amplitude, n_steps, kinks)
     return _monodromy_of(orbit, factors, end, trace_integral,
                          2 * n_steps * _sixdof_loads.N_STAGES)
 
@@ -574,9 +576,10 @@ def _compiled_blade_stability(orbit: SixDofHoverOrbit) -> SixDofStability:
 
     flow = _sixdof_loads.Flow(orbit.model)
     n_steps = BLADE_ANALYSIS_STEPS
-    coarse = _blade_monodromy(flow, orbit, n_steps // 2).multipliers
+    kinks = _sixdof_loads.kinks(flow, orbit.x0, orbit.amplitude, n_steps)  # found once
+    coarse = _blade_monodromy(flow, orbit, n_steps // 2, kinks).multipliers
     while True:
-        result = _blade_monodromy(flow, orbit, n_steps)
+        result = _blade_monodromy(flow, orbit, n_steps, kinks)
         error = float(np.max(np.abs(np.sort_complex(result.multipliers)
                                     - np.sort_complex(coarse))))
         if error <= BLADE_MULTIPLIER_TOL or 2 * n_steps > COMPILED_MAX_STEPS:
