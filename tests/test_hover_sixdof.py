@@ -242,6 +242,19 @@ def test_the_hinge_10_mm_above_the_centre_of_gravity_converges_at_the_defaults(m
     assert np.max(np.abs(orbit.x0[list(LATERAL)])) < 1e-12
 
 
+@needs_numba
+@pytest.mark.slow
+def test_every_hinge_height_of_the_stabilisation_chapter_converges(moth):
+    """book/control.md's passive sweep: 25 hinge heights from 0 to one body length."""
+    from flapping.studies.control import BODY_LENGTHS
+
+    for height in np.linspace(0.0, BODY_LENGTHS["hawkmoth"], 25):
+        orbit = flapping.find_hover_orbit(moth.with_(hinge_height=float(height)), dof=6)
+        assert orbit.backend == "compiled" and orbit.residual_norm <= 1e-10
+        # The plane of symmetry is invariant: Phi is the planar orbit's to the tolerances.
+        assert abs(orbit.amplitude_change) < 1e-10
+
+
 @pytest.mark.slow
 def test_a_tolerance_below_the_integrations_error_is_raised_to_it(moth):
     """The adaptive path's residual cannot be resolved below its flow's error: a tolerance
