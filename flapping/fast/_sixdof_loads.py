@@ -18,6 +18,14 @@ moments). The derivatives of the span integrals are the span integrals of the de
 the correction's integrand vanishes where U = 0, so the moving end of its piece adds nothing.
 ``tests/fast/test_sixdof_loads.py`` checks field and Jacobian against the Python model.
 
+The integration runs in the graded time of the planar blade-element path
+(:func:`flapping.hover.problem.grading`: steps crowd at stroke reversal) with a step boundary at
+each kink of the field's Jacobian (:meth:`Flow.events`): where a wing's span-axis pitch rate
+changes sign (the damping's ``|Omega|``) and, for the small-angle loads, where its chordwise
+speed at the root or the tip does (``|U|``). Across such a kink the field is only once
+differentiable; a step straddling one loses the method's order (the hawkmoth's multipliers
+converged at about first order without them, at eighth with them).
+
 State layout as :mod:`flapping.fast._sixdof`: plain (9), variational (82: the state, the 9 x 8
 matrix dx(t)/dx0 row-major, the integral of trace J).
 

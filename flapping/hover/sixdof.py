@@ -416,12 +416,14 @@ class SixDofStability:
         The diagonal blocks of (u, w, q, theta) and (v, p, r, roll).
     coupling : float
         Largest entry of the off-diagonal blocks over the largest entry of the monodromy: zero
-        to the finite-difference Jacobian's rounding (~1e-10) for symmetric flapping (the two
-        sets decouple).
+        for symmetric flapping (the two sets decouple), to rounding (~1e-16) with the compiled
+        path's analytic Jacobian, to the finite-difference Jacobian's rounding (~1e-10) on the
+        adaptive path.
     multiplier_error : float
-        Largest change of a multiplier when the analysis is repeated at tolerances
-        :data:`ERROR_FACTOR` times looser: an estimate of the error of that looser analysis,
-        so (for a regular convergence) a bound on this one's.
+        Largest change of a multiplier when the analysis is repeated coarser: at tolerances
+        :data:`ERROR_FACTOR` times looser (adaptive path) or at half the steps (compiled
+        path). An estimate of the error of that coarser analysis, so (for a regular
+        convergence) a bound on this one's.
     liouville_error : float
         Relative difference of det M and exp(int_0^T trace J dt).
     details : Monodromy
