@@ -572,14 +572,20 @@ def _blade_monodromy(flow: Any, orbit: SixDofHoverOrbit, n_steps: int,
 def _compiled_blade_stability(orbit: SixDofHoverOrbit) -> SixDofStability:
     """:func:`sixdof_stability` on the blade-element loads' compiled path: the monodromy at
     :data:`BLADE_ANALYSIS_STEPS` per half-stroke, its error estimate the largest change of a
-    multiplier from half as many steps, the steps doubled while that exceeds
+    multiplier from half as many steps (Newton's monodromy where it ran at those), the steps
+    doubled while that exceeds
     :data:`BLADE_MULTIPLIER_TOL` (to at most :data:`COMPILED_MAX_STEPS`)."""
     from flapping.fast import _sixdof_loads
 
     flow = _sixdof_loads.Flow(orbit.model)
     n_steps = BLADE_ANALYSIS_STEPS
     kinks = _sixdof_loads.kinks(flow, orbit.x0, orbit.amplitude, n_steps)  # found once
-    coarse = _blade_monodromy(flow, orbit, n_steps // 2, kinks).multipliers
+    if orbit.newton_monodromy is not None and orbit.n_steps == n_steps // 2:
+        # Newton's last monodromy, at half the steps (at the solution, or one converged step
+        # from it): the coarse analysis, as on the linear loads' path.
+        coarse = floquet_multipliers(orbit.newton_monodromy)
+    else:
+        coarse = _blade_monodromy(flow, orbit, n_steps // 2, kinks).multipliers
     while True:
         result = _blade_monodromy(flow, orbit, n_steps, kinks)
         error = float(np.max(np.abs(np.sort_complex(result.multipliers)
