@@ -248,8 +248,9 @@ def hover_stability(
     ----------
     orbit : HoverOrbit or SixDofHoverOrbit
         A six-degree-of-freedom orbit (``find_hover_orbit(insect, dof=6)``) gets its eight
-        multipliers from :func:`~flapping.hover.sixdof.sixdof_stability` (adaptive path; only
-        ``rtol`` and ``atol`` apply), a :class:`~flapping.hover.sixdof.SixDofStability` with
+        multipliers from :func:`~flapping.hover.sixdof.sixdof_stability` (on the orbit's path,
+        compiled or adaptive; ``rtol`` and ``atol`` apply to the adaptive one only), a
+        :class:`~flapping.hover.sixdof.SixDofStability` with
         ``.longitudinal`` and ``.lateral`` views.
     backend : "auto", "compiled", "fixed-step", "adaptive", or a backend object
         The integration path of the monodromy (:mod:`flapping.backends`). ``"auto"`` (the
@@ -293,13 +294,11 @@ def hover_stability(
         If an option was given for a path that does not run.
     """
     if isinstance(orbit, SixDofHoverOrbit):
-        linear = orbit.aerodynamics == "linear"
-        allowed = (DEFAULT_BACKEND, "adaptive", "compiled") if linear else (DEFAULT_BACKEND,
-                                                                             "adaptive")
+        allowed = (DEFAULT_BACKEND, "adaptive", "compiled")
         if backend not in allowed or method not in (None, "DOP853"):
-            raise ValueError("a six-degree-of-freedom orbit is analysed on the adaptive path "
-                             "(DOP853), or on the compiled one for the linear loads: leave "
-                             "`backend` and `method` at their defaults")
+            raise ValueError("a six-degree-of-freedom orbit is analysed on the compiled path "
+                             "or the adaptive one (DOP853): `backend` 'auto', 'compiled' or "
+                             "'adaptive', `method` left at its default")
         return sixdof_stability(orbit, rtol=rtol, atol=atol,
                                 backend="auto" if backend == DEFAULT_BACKEND else str(backend))
     orbit = _validation.instance("orbit", orbit, HoverOrbit)
