@@ -1,0 +1,208 @@
+"""Package-internal: the defining systems of codimension-one bifurcations of forced orbits.
+
+Used by :mod:`flapping.periodic.bifurcation_curves`. A forced orbit is a fixed point of the
+stroboscopic map ``P(x; p, q)`` (the flow over one period); its monodromy matrix is
+``M = dP/dx``, integrated exactly from the variational equations by
+:class:`~flapping.periodic._branchflow.OrbitSystem` (one shooting segment, ``q`` its one free
+parameter, ``p`` its continuation parameter). The unknowns are
+
+    U = (x, q, p)            fold, period doubling
+    U = (x, q, p, theta)     Neimark-Sacker
+
+and the defining system ``G(U) = (x(T) - x, g)`` is minimally augmented (Govaerts 2000, ch. 4;
+Kuznetsov 2004, sec. 10.2): with ``A = M - lam I`` (``lam = 1``, ``-1``, ``exp(i theta)``) and
+border vectors ``b``, ``c``, the scalar ``g`` solves the bordered system
+
+    [[A, b], [c^H, 0]] [v; g] = [0; 1],
+
+and vanishes exactly where ``A`` is singular (its null vector is then ``v``). For
+Neimark-Sacker ``A`` is complex and ``g`` gives two real equations (``Re g``, ``Im g``) for the
+one extra unknown ``theta``, the angle of the critical pair: a bordered complex system keeps the
+matrix of size n + 1 and gives ``theta`` directly (the strong resonances are where it crosses
+0, pi/2, 2 pi/3, pi), where the bialternate product would square the size and lose the angle.
+The borders are refreshed at every accepted point (``c`` the null vector ``v``, ``b`` the
+adjoint one ``w``), which keeps the bordered matrix well conditioned.
+
+Derivatives of ``g``: ``g_z = -w^H (dA/dz) v`` (``w^H A = 0`` and ``w^H b = 1``), with
+``dA/dz v = (M(z + h e_z) - M(z)) v / h`` a forward difference of the monodromy matrix (one
+variational integration per unknown, relative error ~1e-8). The exact derivative needs the
+second-order variational equations, which the layer does not integrate; the difference only
+enters the Newton matrix and the tangent, never the residual, so the curve is exact to the
+corrector's tolerance and Newton converges at a rate ~1e-8 per step. ``g_theta`` is exact:
+``dA/dtheta = -i exp(i theta) I``.
+
+A *fixed orbit* (the same state ``x*`` for every ``(p, q)``: ``x = 0`` of a linear or an odd
+system such as the Mathieu equation) has ``dP/dp = dP/dq = 0`` and, at a +1 multiplier, a line
+of periodic solutions: the system above is singular there. The curve is then ``g(p, q) = 0``
+with ``x = x*`` held (``U = (q, p[, theta])``), which is what is computed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from flapping.periodic._branchflow import Evaluation, OrbitSystem
+
+__all__ = ["Defining", "Point"]
+
+_SQRT_EPS = math.sqrt(float(np.finfo(float).eps))
+
+
+@dataclass
+class Point:
+    """One point of the defining system: unknowns, residual, Jacobian, monodromy."""
+
+    U: np.ndarray
+    G: np.ndarray
+    DG: np.ndarray
+    monodromy: np.ndarray
+    v: np.ndarray  # right null vector of A (approximately)
+    w: np.ndarray  # left null vector of A (approximately)
+
+
+class Defining:
+    """``G(U)`` and ``dG/dU`` of one kind of bifurcation (module notes).
+
+    Parameters
+    ----------
+    system : OrbitSystem
+        One segment, forced, one free parameter (q).
+    kind : str
+        ``"fold"``, ``"period-doubling"`` or ``"neimark-sacker"``.
+    x_fixed : ndarray or None
+        The fixed orbit's state, or None when the orbit's state is an unknown.
+    """
+
+    def __init__(self, system: OrbitSystem, kind: str, x_fixed: np.ndarray | None) -> None:
+        self.system, self.kind, self.x_fixed = system, kind, x_fixed
+        self.n = system.n
+        self.ns = kind == "neimark-sacker"
+        dtype = complex if self.ns else float
+        self.b = np.zeros(self.n, dtype=dtype)
+        self.c = np.zeros(self.n, dtype=dtype)
+
+    # ---- layout ------------------------------------------------------------------------
+    @property
+    def size(self) -> int:
+        """Number of unknowns."""
+        return (0 if self.x_fixed is not None else self.n) + 2 + int(self.ns)
+
+    @property
+    def iq(self) -> int:
+        """Index of q in U."""
+        return 0 if self.x_fixed is not None else self.n
+
+    def orbit_u(self, U: np.ndarray) -> np.ndarray:
+        """The unknowns ``(x, q, p)`` of the orbit system."""
+        i = self.iq
+        x = self.x_fixed if self.x_fixed is not None else U[:i]
+        return np.concatenate([x, U[i:i + 2]])
+
+    def x(self, U: np.ndarray) -> np.ndarray:
+        """The orbit's state at t = 0."""
+        return self.x_fixed.copy() if self.x_fixed is not None else U[:self.n].copy()
+
+    def pq(self, U: np.ndarray) -> tuple[float, float]:
+        """``(p, q)``."""
+        return float(U[self.iq + 1]), float(U[self.iq])
+
+    def theta(self, U: np.ndarray) -> float:
+        """The critical pair's angle (NaN but for Neimark-Sacker)."""
+        return float(U[-1]) if self.ns else math.nan
+
+    def pack(self, x: np.ndarray, p: float, q: float, theta: float) -> np.ndarray:
+        """Unknowns from their parts."""
+        head = [] if self.x_fixed is not None else list(x)
+        return np.array(head + [q, p] + ([theta] if self.ns else []), dtype=float)
+
+    def scale(self, U: np.ndarray) -> float:
+        """``1 + |x|``: the size of the state, for relative tolerances."""
+        return 1.0 + float(np.linalg.norm(self.x(U)))
+
+    # ---- the bordered scalar -----------------------------------------------------------
+    def lam(self, U: np.ndarray) -> complex:
+        """The critical multiplier: 1, -1 or ``exp(i theta)``."""
+        if self.kind == "fold":
+            return 1.0
+        if self.kind == "period-doubling":
+            return -1.0
+        return complex(np.exp(1j * float(U[-1])))
+
+    def matrix(self, mono: np.ndarray, U: np.ndarray) -> np.ndarray:
+        """``A = M - lam I``."""
+        return mono - self.lam(U) * np.eye(self.n)
+
+    def init_borders(self, mono: np.ndarray, U: np.ndarray) -> None:
+        """Borders from the singular vectors of A's smallest singular value."""
+        uu, _, vh = np.linalg.svd(self.matrix(mono, U))
+        self.b, self.c = uu[:, -1].copy(), vh[-1].conj().copy()
+
+    def bordered(self, mono: np.ndarray, U: np.ndarray) -> tuple[complex, np.ndarray,
+                                                                   np.ndarray]:
+        """``(g, v, w)``: the bordered scalar and the (approximate) right and left null vectors.
+
+        Raises
+        ------
+        numpy.linalg.LinAlgError
+            If the bordered matrix is singular (borders orthogonal to the null vectors).
+        """
+        n = self.n
+        B = np.zeros((n + 1, n + 1), dtype=self.b.dtype)
+        B[:n, :n] = self.matrix(mono, U)
+        B[:n, n] = self.b
+        B[n, :n] = self.c.conj()
+        rhs = np.zeros(n + 1, dtype=B.dtype)
+        rhs[n] = 1.0
+        sol = np.linalg.solve(B, rhs)
+        adj = np.linalg.solve(B.conj().T, rhs)
+        return complex(sol[n]), sol[:n], adj[:n]
+
+    def update_borders(self, point: Point) -> None:
+        """Borders at an accepted point: its null vectors, normalised."""
+        self.c = point.v / np.linalg.norm(point.v)
+        self.b = point.w / np.linalg.norm(point.w)
+
+    # ---- G and dG/dU ------------------------------------------------------------------
+    def _g_rows(self, g: complex) -> list[float]:
+        return [g.real, g.imag] if self.ns else [g.real]
+
+    def evaluate(self, U: np.ndarray) -> Point:
+        """``G(U)`` with its Jacobian (forward differences for the ``g`` rows: module notes).
+
+        Raises
+        ------
+        IntegrationFailed, numpy.linalg.LinAlgError
+        """
+        u = self.orbit_u(U)
+        ev = self.system.evaluate(u, jacobian=True)
+        assert ev.monodromy is not None and ev.jacobian is not None
+        mono = ev.monodromy
+        g, v, w = self.bordered(mono, U)
+        rows_g = len(self._g_rows(g))
+        fixed = self.x_fixed is not None
+        n_per = 0 if fixed else self.n
+        G = np.array(([] if fixed else list(ev.residual)) + self._g_rows(g))
+        DG = np.zeros((n_per + rows_g, self.size))
+        if not fixed:
+            DG[:n_per, :self.n + 2] = ev.jacobian
+        # the g rows: g_z = -w^H (dM/dz) v, dM/dz v by forward differences
+        cols = range(self.n + 2) if not fixed else range(self.n, self.n + 2)
+        for k, j in enumerate(cols):
+            h = _SQRT_EPS * max(1.0, abs(float(u[j])))
+            shifted = u.copy()
+            shifted[j] += h
+            other = self.system.evaluate(shifted, jacobian=True)
+            assert other.monodromy is not None
+            dg = -(w.conj() @ ((other.monodromy - mono) @ v)) / h
+            DG[n_per:, k] = self._g_rows(complex(dg))
+        if self.ns:
+            dg = 1j * np.exp(1j * float(U[-1])) * (w.conj() @ v)
+            DG[n_per:, -1] = self._g_rows(complex(dg))
+        return Point(U.copy(), G, DG, mono, v, w)
+
+    def orbit_evaluation(self, U: np.ndarray) -> Evaluation:
+        """The orbit system's evaluation at U (with the monodromy)."""
+        return self.system.evaluate(self.orbit_u(U), jacobian=True)
