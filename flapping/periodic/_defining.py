@@ -169,6 +169,21 @@ class Defining:
     def _g_rows(self, g: complex) -> list[float]:
         return [g.real, g.imag] if self.ns else [g.real]
 
+    def residual(self, U: np.ndarray) -> Point:
+        """``G(U)`` without its Jacobian (one variational integration; ``DG`` left empty).
+
+        Raises
+        ------
+        IntegrationFailed, numpy.linalg.LinAlgError
+        """
+        ev = self.system.evaluate(self.orbit_u(U), jacobian=True)
+        assert ev.monodromy is not None and ev.jacobian is not None
+        g, v, w = self.bordered(ev.monodromy, U)
+        head = [] if self.x_fixed is not None else list(ev.residual)
+        self._periodicity = ev.jacobian
+        return Point(U.copy(), np.array(head + self._g_rows(g)), np.empty((0, self.size)),
+                     ev.monodromy, v, w)
+
     def evaluate(self, U: np.ndarray) -> Point:
         """``G(U)`` with its Jacobian (forward differences for the ``g`` rows: module notes).
 
@@ -176,18 +191,14 @@ class Defining:
         ------
         IntegrationFailed, numpy.linalg.LinAlgError
         """
-        u = self.orbit_u(U)
-        ev = self.system.evaluate(u, jacobian=True)
-        assert ev.monodromy is not None and ev.jacobian is not None
-        mono = ev.monodromy
-        g, v, w = self.bordered(mono, U)
-        rows_g = len(self._g_rows(g))
+        pt = self.residual(U)
+        u, mono, v, w = self.orbit_u(U), pt.monodromy, pt.v, pt.w
         fixed = self.x_fixed is not None
         n_per = 0 if fixed else self.n
-        G = np.array(([] if fixed else list(ev.residual)) + self._g_rows(g))
+        rows_g = pt.G.size - n_per
         DG = np.zeros((n_per + rows_g, self.size))
         if not fixed:
-            DG[:n_per, :self.n + 2] = ev.jacobian
+            DG[:n_per, :self.n + 2] = self._periodicity
         # the g rows: g_z = -w^H (dM/dz) v, dM/dz v by forward differences
         cols = range(self.n + 2) if not fixed else range(self.n, self.n + 2)
         for k, j in enumerate(cols):
@@ -201,7 +212,8 @@ class Defining:
         if self.ns:
             dg = 1j * np.exp(1j * float(U[-1])) * (w.conj() @ v)
             DG[n_per:, -1] = self._g_rows(complex(dg))
-        return Point(U.copy(), G, DG, mono, v, w)
+        pt.DG = DG
+        return pt
 
     def orbit_evaluation(self, U: np.ndarray) -> Evaluation:
         """The orbit system's evaluation at U (with the monodromy)."""

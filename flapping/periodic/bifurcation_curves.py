@@ -17,8 +17,9 @@ where ``M - I``, ``M + I`` or ``M - exp(i theta) I`` is singular (``M = dP/dx``,
 matrix, exact from the variational equations): a minimally augmented system (Govaerts 2000;
 Kuznetsov 2004, sec. 10.2). From a point with unit tangent ``t`` (the null vector of the
 Jacobian), the predictor ``U + ds t`` is corrected by Newton's method on ``G(U) = 0``,
-``<U - U_k, t> = ds``; the step grows by 1.5 after a one- or two-iteration correction and halves
-on a failure. The last point is corrected at ``q = q_end`` exactly.
+``<U - U_k, t> = ds`` (chord iterations with the last point's Jacobian, refreshed every
+four); the step grows by 1.5 after at most three iterations, shrinks by 0.6 after six or more
+and halves on a failure. The last point is corrected at ``q = q_end`` exactly.
 
 A fixed orbit (the same state for every ``(p, q)``, e.g. ``x = 0`` of the Mathieu equation)
 makes the system above singular at a +1 multiplier; it is detected (``fun`` independent of p and
@@ -76,6 +77,9 @@ KINDS: tuple[str, ...] = ("fold", "period-doubling", "neimark-sacker")
 #: its fold curves and would otherwise signal a 1:1 resonance at every step.
 _TEST_NOISE = 1e-7
 
+#: Chord iterations of the corrector between refreshes of its Jacobian.
+_REFRESH = 4
+
 #: Resonance angles of a Neimark-Sacker curve and the special point each marks.
 _RESONANCES: tuple[tuple[float, str], ...] = (
     (0.0, "1:1 resonance"), (math.pi / 2, "1:4 resonance"),
@@ -91,7 +95,7 @@ class CurveOptions:
     ds_max: float = 0.2
     max_points: int = 500
     tol: float = 1e-10
-    max_newton: int = 8
+    max_newton: int = 12
     rtol: float = 1e-11
     atol: float = 1e-11
     method: str = "DOP853"
@@ -267,22 +271,33 @@ class _Corrector:
         self.problem, self.tol, self.max_iter = problem, tol, max_iter
         self.message, self.residual, self.iterations = "", math.nan, 0
 
-    def __call__(self, U: np.ndarray, U_c: np.ndarray, d: np.ndarray,
-                 s: float) -> tuple[Point, int] | None:
+    def __call__(self, U: np.ndarray, U_c: np.ndarray, d: np.ndarray, s: float,
+                 DG: np.ndarray | None = None) -> tuple[Point, int] | None:
+        """The corrected point (with its Jacobian) and the iterations, or None.
+
+        With ``DG`` (the last point's Jacobian) the iterations are chord steps: one
+        variational integration each instead of ``n + 3`` (the finite-difference rows of
+        ``g``); the Jacobian is refreshed every ``_REFRESH`` iterations and once at the
+        converged point, for its tangent.
+        """
         problem = self.problem
         U = U.copy()
         try:
-            pt = problem.evaluate(U)
+            pt = problem.evaluate(U) if DG is None else problem.residual(U)
+            J = pt.DG if DG is None else DG
             first = float(np.linalg.norm(pt.G))
             for it in range(1, self.max_iter + 1):
-                A = np.vstack([pt.DG, d])
+                A = np.vstack([J, d])
                 r = np.append(pt.G, d @ (U - U_c) - s)
                 U = U + np.linalg.solve(A, -r)
-                pt = problem.evaluate(U)
+                refresh = it % _REFRESH == 0
+                pt = problem.evaluate(U) if refresh else problem.residual(U)
+                if refresh:
+                    J = pt.DG
                 norm = float(np.linalg.norm(pt.G))
                 self.residual, self.iterations = norm, it
                 if norm <= self.tol * problem.scale(U):
-                    return pt, it
+                    return (pt if refresh else problem.evaluate(U)), it
                 if not np.isfinite(norm) or norm > 1e3 * max(first, self.tol):
                     self.message = f"Newton diverged (residual {norm:.3e})"
                     return None
@@ -400,7 +415,7 @@ class _Tracer:
             if len(self.points) >= opts.max_points:
                 return f"step budget spent (max_points = {opts.max_points})", False
             last = self.points[-1]
-            out = self.corrector(last.pt.U + ds * last.t, last.pt.U, last.t, ds)
+            out = self.corrector(last.pt.U + ds * last.t, last.pt.U, last.t, ds, last.pt.DG)
             if out is None:
                 ds *= 0.5
                 if ds < opts.ds_min:
@@ -418,7 +433,7 @@ class _Tracer:
             if stop:
                 return stop, False
             self.points.append(new)
-            ds = min(ds * 1.5, opts.ds_max) if nit <= 2 else (ds * 0.6 if nit >= 4 else ds)
+            ds = min(ds * 1.5, opts.ds_max) if nit <= 3 else (ds * 0.6 if nit >= 6 else ds)
 
     def _finish(self, last: _Accepted) -> tuple[str, bool]:
         """The last point, corrected at ``q = q_end`` exactly."""
@@ -427,7 +442,7 @@ class _Tracer:
         e_q[problem.iq] = 1.0
         dq = self.q_end - problem.pq(last.pt.U)[1]
         guess = last.pt.U + dq / last.t[problem.iq] * last.t
-        out = self.corrector(guess, last.pt.U, e_q, dq)
+        out = self.corrector(guess, last.pt.U, e_q, dq, last.pt.DG)
         if out is None:
             return f"could not correct the last point at q_end: {self.corrector.message}", False
         self.points.append(self._accepted(out[0], last.t))
@@ -474,7 +489,7 @@ class _Tracer:
         def f(s: float) -> float:
             near = min(cache, key=lambda v: abs(v - s)) if cache else None
             start = U_a + s * t_a if near is None else cache[near][0].U + (s - near) * t_a
-            out = self.corrector(start, U_a, t_a, s)
+            out = self.corrector(start, U_a, t_a, s, a.pt.DG)
             if out is None:
                 raise IntegrationFailed(self.corrector.message)
             pt = out[0]
@@ -622,7 +637,7 @@ def continue_bifurcation(
         :class:`CurveOptions`: ``ds`` (first step in the unknowns' arclength, 0.05),
         ``ds_min`` (1e-6), ``ds_max`` (0.2), ``max_points`` (500, at most 10**5), ``tol``
         (residual of the defining system relative to ``1 + |x|``, 1e-10, at most 1e-6),
-        ``max_newton`` (8), ``rtol``/``atol`` (1e-11), ``method`` ("DOP853"), ``max_steps``
+        ``max_newton`` (12), ``rtol``/``atol`` (1e-11), ``method`` ("DOP853"), ``max_steps``
         (per integration), ``fixed_orbit`` (None: detected; True: hold the state ``x0``, an
         orbit for every (p, q)), ``special_points`` (True: detect and locate them).
 
