@@ -445,6 +445,8 @@ class _Tracer:
         out = self.corrector(guess, last.pt.U, e_q, dq, last.pt.DG)
         if out is None:
             return f"could not correct the last point at q_end: {self.corrector.message}", False
+        # the constraint holds to rounding (q_c + dq): q_end itself, as promised
+        out[0].U[problem.iq] = self.q_end
         self.points.append(self._accepted(out[0], last.t))
         return "reached q_end", True
 
