@@ -44,7 +44,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from flapping.periodic._branchflow import Evaluation, OrbitSystem
+from flapping.periodic import _segments as seg
+from flapping.periodic._branchflow import (
+    Evaluation,
+    IntegrationFailed,
+    OrbitSystem,
+    _VariationalField,
+)
 
 __all__ = ["Defining", "Point"]
 
@@ -169,20 +175,44 @@ class Defining:
     def _g_rows(self, g: complex) -> list[float]:
         return [g.real, g.imag] if self.ns else [g.real]
 
+    def flow(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(x(T), M)`` at the orbit unknowns u: state and monodromy only.
+
+        The orbit system's own evaluation also integrates the sensitivities to (p, q) (one
+        more call of ``fun`` per parameter at every stage); the residual and the difference
+        quotients of ``g`` need only the state and the monodromy, at about half the cost.
+
+        Raises
+        ------
+        IntegrationFailed
+        """
+        system, n = self.system, self.n
+        states, T, q, p = system.unpack(u)
+        P = np.concatenate([[p], q])
+        rhs = _VariationalField(system.field(0, P), system.jacs[0], 0)
+        y0 = np.concatenate([states[0], np.eye(n).ravel()])
+        try:
+            out = seg.propagate([rhs], 0.0, T, y0, period=T, breakpoints=(),
+                                settings=system.settings, h=None)
+        except seg.Diverged as exc:
+            raise IntegrationFailed(str(exc)) from None
+        if not out.success:
+            raise IntegrationFailed(out.message)
+        return out.y_end[:n], out.y_end[n:].reshape(n, n)
+
     def residual(self, U: np.ndarray) -> Point:
-        """``G(U)`` without its Jacobian (one variational integration; ``DG`` left empty).
+        """``G(U)`` without its Jacobian (``DG`` left empty): one lean variational integration.
 
         Raises
         ------
         IntegrationFailed, numpy.linalg.LinAlgError
         """
-        ev = self.system.evaluate(self.orbit_u(U), jacobian=True)
-        assert ev.monodromy is not None and ev.jacobian is not None
-        g, v, w = self.bordered(ev.monodromy, U)
-        head = [] if self.x_fixed is not None else list(ev.residual)
-        self._periodicity = ev.jacobian
+        u = self.orbit_u(U)
+        x_end, mono = self.flow(u)
+        g, v, w = self.bordered(mono, U)
+        head = [] if self.x_fixed is not None else list(x_end - u[:self.n])
         return Point(U.copy(), np.array(head + self._g_rows(g)), np.empty((0, self.size)),
-                     ev.monodromy, v, w)
+                     mono, v, w)
 
     def evaluate(self, U: np.ndarray) -> Point:
         """``G(U)`` with its Jacobian (forward differences for the ``g`` rows: module notes).
@@ -197,17 +227,17 @@ class Defining:
         n_per = 0 if fixed else self.n
         rows_g = pt.G.size - n_per
         DG = np.zeros((n_per + rows_g, self.size))
-        if not fixed:
-            DG[:n_per, :self.n + 2] = self._periodicity
+        if not fixed:  # the periodicity rows: [M - I, dx(T)/dq, dx(T)/dp]
+            ev = self.system.evaluate(u, jacobian=True)
+            assert ev.jacobian is not None
+            DG[:n_per, :self.n + 2] = ev.jacobian
         # the g rows: g_z = -w^H (dM/dz) v, dM/dz v by forward differences
         cols = range(self.n + 2) if not fixed else range(self.n, self.n + 2)
         for k, j in enumerate(cols):
             h = _SQRT_EPS * max(1.0, abs(float(u[j])))
             shifted = u.copy()
             shifted[j] += h
-            other = self.system.evaluate(shifted, jacobian=True)
-            assert other.monodromy is not None
-            dg = -(w.conj() @ ((other.monodromy - mono) @ v)) / h
+            dg = -(w.conj() @ ((self.flow(shifted)[1] - mono) @ v)) / h
             DG[n_per:, k] = self._g_rows(complex(dg))
         if self.ns:
             dg = 1j * np.exp(1j * float(U[-1])) * (w.conj() @ v)
