@@ -1,4 +1,4 @@
-"""Package-internal: the defining systems of codimension-one bifurcations of forced orbits.
+"""Package-internal: the defining systems of codimension-one bifurcations of periodic orbits.
 
 Used by :mod:`flapping.periodic.bifurcation_curves`. A forced orbit is a fixed point of the
 stroboscopic map ``P(x; p, q)`` (the flow over one period); its monodromy matrix is
@@ -6,16 +6,19 @@ stroboscopic map ``P(x; p, q)`` (the flow over one period); its monodromy matrix
 :class:`~flapping.periodic._branchflow.OrbitSystem` (one shooting segment, ``q`` its one free
 parameter, ``p`` its continuation parameter). The unknowns are
 
-    U = (x, q, p)            fold, period doubling
-    U = (x, q, p, theta)     Neimark-Sacker
+    U = (x, [T,] q, p)            fold, period doubling
+    U = (x, [T,] q, p, theta)     Neimark-Sacker
 
-and the defining system ``G(U) = (x(T) - x, g)`` is minimally augmented (Govaerts 2000, ch. 4;
-Kuznetsov 2004, sec. 10.2): with ``A = M - lam I`` (``lam = 1``, ``-1``, ``exp(i theta)``) and
-border vectors ``b``, ``c``, the scalar ``g`` solves the bordered system
+(T for an autonomous orbit) and the defining system ``G(U) = (x(T) - x, [phase,] g)`` is
+minimally augmented (Govaerts 2000, ch. 4; Kuznetsov 2004, sec. 10.2): with
+``A = M - lam I`` (``lam = 1``, ``-1``, ``exp(i theta)``) and border vectors ``b``, ``c``,
+the scalar ``g`` solves the bordered system
 
     [[A, b], [c^H, 0]] [v; g] = [0; 1],
 
-and vanishes exactly where ``A`` is singular (its null vector is then ``v``). For
+and vanishes exactly where ``A`` is singular (its null vector is then ``v``). The fold of an
+autonomous orbit uses ``A = [[M - I, f(x)], [f_ref^T, 0]]`` instead (the trivial multiplier
+makes ``M - I`` singular everywhere; Kuznetsov 2004, sec. 10.3.1). For
 Neimark-Sacker ``A`` is complex and ``g`` gives two real equations (``Re g``, ``Im g``) for the
 one extra unknown ``theta``, the angle of the critical pair: a bordered complex system keeps the
 matrix of size n + 1 and gives ``theta`` directly (the strong resonances are where it crosses
@@ -24,11 +27,11 @@ The borders are refreshed at every accepted point (``c`` the null vector ``v``, 
 adjoint one ``w``), which keeps the bordered matrix well conditioned.
 
 Derivatives of ``g``: ``g_z = -w^H (dA/dz) v`` (``w^H A = 0`` and ``w^H b = 1``), with
-``dA/dz v = (M(z + h e_z) - M(z)) v / h`` a forward difference of the monodromy matrix (one
+``dA/dz v = (A(z + h e_z) - A(z)) v / h`` a forward difference of the monodromy matrix (one
 variational integration per unknown, relative error ~1e-8). The exact derivative needs the
 second-order variational equations, which the layer does not integrate; the difference only
 enters the Newton matrix and the tangent, never the residual, so the curve is exact to the
-corrector's tolerance and Newton converges at a rate ~1e-8 per step. ``g_theta`` is exact:
+corrector's tolerance (whose chord iterations use an older Jacobian anyway). ``g_theta`` is exact:
 ``dA/dtheta = -i exp(i theta) I``.
 
 A *fixed orbit* (the same state ``x*`` for every ``(p, q)``: ``x = 0`` of a linear or an odd
@@ -51,6 +54,7 @@ from flapping.periodic._branchflow import (
     OrbitSystem,
     _VariationalField,
 )
+from flapping.periodic.floquet import nontrivial_multipliers
 
 __all__ = ["Defining", "Point"]
 
@@ -75,7 +79,7 @@ class Defining:
     Parameters
     ----------
     system : OrbitSystem
-        One segment, forced, one free parameter (q).
+        One segment, one free parameter (q), forced or autonomous.
     kind : str
         ``"fold"``, ``"period-doubling"`` or ``"neimark-sacker"``.
     x_fixed : ndarray or None
@@ -84,32 +88,40 @@ class Defining:
 
     def __init__(self, system: OrbitSystem, kind: str, x_fixed: np.ndarray | None) -> None:
         self.system, self.kind, self.x_fixed = system, kind, x_fixed
-        self.n = system.n
+        self.n, self.auto = system.n, system.autonomous
+        self.nT = int(self.auto)
         self.ns = kind == "neimark-sacker"
+        # an autonomous orbit's trivial multiplier makes M - I singular everywhere: its fold is
+        # the singularity of M - I bordered by the vector field and the phase condition
+        self.m = self.n + int(self.auto and kind == "fold")
         dtype = complex if self.ns else float
-        self.b = np.zeros(self.n, dtype=dtype)
-        self.c = np.zeros(self.n, dtype=dtype)
+        self.b = np.zeros(self.m, dtype=dtype)
+        self.c = np.zeros(self.m, dtype=dtype)
 
     # ---- layout ------------------------------------------------------------------------
     @property
     def size(self) -> int:
         """Number of unknowns."""
-        return (0 if self.x_fixed is not None else self.n) + 2 + int(self.ns)
+        return self.iq + 2 + int(self.ns)
 
     @property
     def iq(self) -> int:
         """Index of q in U."""
-        return 0 if self.x_fixed is not None else self.n
+        return 0 if self.x_fixed is not None else self.n + self.nT
 
     def orbit_u(self, U: np.ndarray) -> np.ndarray:
-        """The unknowns ``(x, q, p)`` of the orbit system."""
-        i = self.iq
-        x = self.x_fixed if self.x_fixed is not None else U[:i]
-        return np.concatenate([x, U[i:i + 2]])
+        """The unknowns ``(x, [T,] q, p)`` of the orbit system."""
+        if self.x_fixed is not None:
+            return np.concatenate([self.x_fixed, U[:2]])
+        return U[:self.iq + 2].copy()
 
     def x(self, U: np.ndarray) -> np.ndarray:
         """The orbit's state at t = 0."""
         return self.x_fixed.copy() if self.x_fixed is not None else U[:self.n].copy()
+
+    def period(self, U: np.ndarray) -> float:
+        """The period unknown of an autonomous orbit, or the (rescaled) forced one."""
+        return self.system.unpack(self.orbit_u(U))[1]
 
     def pq(self, U: np.ndarray) -> tuple[float, float]:
         """``(p, q)``."""
@@ -119,14 +131,29 @@ class Defining:
         """The critical pair's angle (NaN but for Neimark-Sacker)."""
         return float(U[-1]) if self.ns else math.nan
 
-    def pack(self, x: np.ndarray, p: float, q: float, theta: float) -> np.ndarray:
-        """Unknowns from their parts."""
-        head = [] if self.x_fixed is not None else list(x)
+    def pack(self, x: np.ndarray, T: float, p: float, q: float, theta: float) -> np.ndarray:
+        """Unknowns from their parts (T only for an autonomous orbit)."""
+        head = [] if self.x_fixed is not None else list(x) + ([T] if self.auto else [])
         return np.array(head + [q, p] + ([theta] if self.ns else []), dtype=float)
 
     def scale(self, U: np.ndarray) -> float:
         """``1 + |x|``: the size of the state, for relative tolerances."""
         return 1.0 + float(np.linalg.norm(self.x(U)))
+
+    def effective(self, mu: np.ndarray) -> np.ndarray:
+        """The multipliers without the trivial one of an autonomous orbit."""
+        return nontrivial_multipliers(mu) if self.auto else mu
+
+    # ---- the phase condition (autonomous) ----------------------------------------------
+    def set_reference(self, point: Point) -> None:
+        """Move the phase condition to the point; its Jacobian's phase row follows."""
+        if not self.auto:
+            return
+        self.system.set_reference(self.orbit_u(point.U))
+        assert self.system.ref is not None
+        if point.DG.size:
+            point.DG[self.n, :] = 0.0
+            point.DG[self.n, :self.n] = self.system.ref[1]
 
     # ---- the bordered scalar -----------------------------------------------------------
     def lam(self, U: np.ndarray) -> complex:
@@ -138,8 +165,14 @@ class Defining:
         return complex(np.exp(1j * float(U[-1])))
 
     def matrix(self, mono: np.ndarray, U: np.ndarray) -> np.ndarray:
-        """``A = M - lam I``."""
-        return mono - self.lam(U) * np.eye(self.n)
+        """``A = M - lam I`` (for an autonomous fold bordered by ``f(x)`` and ``f_ref``)."""
+        A = mono - self.lam(U) * np.eye(self.n)
+        if self.m == self.n:
+            return A
+        states, _, q, p = self.system.unpack(self.orbit_u(U))
+        f = self.system.vector_field(states[0], np.concatenate([[p], q]))
+        assert self.system.ref is not None
+        return np.block([[A, f[:, None]], [self.system.ref[1][None, :], np.zeros((1, 1))]])
 
     def init_borders(self, mono: np.ndarray, U: np.ndarray) -> None:
         """Borders from the singular vectors of A's smallest singular value."""
@@ -155,7 +188,7 @@ class Defining:
         numpy.linalg.LinAlgError
             If the bordered matrix is singular (borders orthogonal to the null vectors).
         """
-        n = self.n
+        n = self.m
         B = np.zeros((n + 1, n + 1), dtype=self.b.dtype)
         B[:n, :n] = self.matrix(mono, U)
         B[:n, n] = self.b
@@ -210,7 +243,13 @@ class Defining:
         u = self.orbit_u(U)
         x_end, mono = self.flow(u)
         g, v, w = self.bordered(mono, U)
-        head = [] if self.x_fixed is not None else list(x_end - u[:self.n])
+        head: list[float] = []
+        if self.x_fixed is None:
+            head = list(x_end - u[:self.n])
+            if self.auto:
+                assert self.system.ref is not None
+                s_ref, f_ref = self.system.ref
+                head.append(float((u[:self.n] - s_ref) @ f_ref))
         return Point(U.copy(), np.array(head + self._g_rows(g)), np.empty((0, self.size)),
                      mono, v, w)
 
@@ -222,25 +261,23 @@ class Defining:
         IntegrationFailed, numpy.linalg.LinAlgError
         """
         pt = self.residual(U)
-        u, mono, v, w = self.orbit_u(U), pt.monodromy, pt.v, pt.w
-        fixed = self.x_fixed is not None
-        n_per = 0 if fixed else self.n
+        A, v, w = self.matrix(pt.monodromy, U), pt.v, pt.w
+        n_per = 0 if self.x_fixed is not None else self.n + self.nT
         rows_g = pt.G.size - n_per
         DG = np.zeros((n_per + rows_g, self.size))
-        if not fixed:  # the periodicity rows: [M - I, dx(T)/dq, dx(T)/dp]
-            ev = self.system.evaluate(u, jacobian=True)
+        if n_per:  # the periodicity (and phase) rows: [M - I, (f,) dx(T)/dq, dx(T)/dp]
+            ev = self.system.evaluate(self.orbit_u(U), jacobian=True)
             assert ev.jacobian is not None
-            DG[:n_per, :self.n + 2] = ev.jacobian
-        # the g rows: g_z = -w^H (dM/dz) v, dM/dz v by forward differences
-        cols = range(self.n + 2) if not fixed else range(self.n, self.n + 2)
-        for k, j in enumerate(cols):
-            h = _SQRT_EPS * max(1.0, abs(float(u[j])))
-            shifted = u.copy()
-            shifted[j] += h
-            dg = -(w.conj() @ ((self.flow(shifted)[1] - mono) @ v)) / h
-            DG[n_per:, k] = self._g_rows(complex(dg))
+            DG[:n_per, :self.iq + 2] = ev.jacobian
+        # the g rows: g_z = -w^H (dA/dz) v, dA/dz by forward differences of the monodromy
+        for k in range(self.iq + 2):
+            h = _SQRT_EPS * max(1.0, abs(float(U[k])))
+            shifted = U.copy()
+            shifted[k] += h
+            A_k = self.matrix(self.flow(self.orbit_u(shifted))[1], shifted)
+            DG[n_per:, k] = self._g_rows(complex(-(w.conj() @ ((A_k - A) @ v)) / h))
         if self.ns:
-            dg = 1j * np.exp(1j * float(U[-1])) * (w.conj() @ v)
+            dg = 1j * np.exp(1j * float(U[-1])) * (w.conj() @ v[:self.n])
             DG[n_per:, -1] = self._g_rows(complex(dg))
         pt.DG = DG
         return pt

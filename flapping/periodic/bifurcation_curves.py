@@ -2,9 +2,10 @@
 
 :func:`continue_bifurcation` follows a fold (a Floquet multiplier +1), a period doubling (-1) or
 a Neimark-Sacker bifurcation (a complex pair ``exp(+-i theta)`` on the unit circle) of a forced
-periodic orbit of ``x' = fun(t, x, p, q)`` in the plane of the two parameters ``(p, q)``: it
-first locates the bifurcation in p at ``q0`` (from a point at or near it), then continues the
-curve in q towards ``q_end`` by pseudo-arclength, and returns a :class:`BifurcationCurve`.
+or autonomous periodic orbit of ``x' = fun(t, x, p, q)`` in the plane of the two parameters
+``(p, q)``: it first locates the bifurcation in p at ``q0`` (from a point at or near it), then
+continues the curve in q towards ``q_end`` by pseudo-arclength, and returns a
+:class:`BifurcationCurve`.
 
 The method
 ----------
@@ -20,6 +21,12 @@ Jacobian), the predictor ``U + ds t`` is corrected by Newton's method on ``G(U) 
 ``<U - U_k, t> = ds`` (chord iterations with the last point's Jacobian, refreshed every
 four); the step grows by 1.5 after at most three iterations, shrinks by 0.6 after six or more
 and halves on a failure. The last point is corrected at ``q = q_end`` exactly.
+
+An autonomous orbit's period is an unknown, with the moving Poincare-type phase condition of
+:func:`~flapping.periodic.continuation.continue_orbit` (through the last accepted point, normal
+to the vector field there); its trivial multiplier makes ``M - I`` singular everywhere, so its
+fold is the singularity of ``M - I`` bordered by ``f(x)`` and the phase condition's normal, and
+the special points' tests leave the trivial multiplier out.
 
 A fixed orbit (the same state for every ``(p, q)``, e.g. ``x = 0`` of the Mathieu equation)
 makes the system above singular at a +1 multiplier; it is detected (``fun`` independent of p and
@@ -42,8 +49,9 @@ by Brent's method on points corrected onto the curve:
 
 Not computed: normal-form coefficients, hence generalised period doubling and Chenciner points
 (and the non-degeneracy of the cusp beyond the tangent test), and the switch to the curves that
-emanate from a codimension-two point. Autonomous orbits (period unknown) are not implemented
-yet: ``autonomous=True`` raises NotImplementedError.
+emanate from a codimension-two point. A bifurcation found on a
+:class:`~flapping.periodic.continuation.Branch` is followed by passing its ``x0`` and ``p``
+(and ``period``) here.
 """
 
 from __future__ import annotations
@@ -148,6 +156,8 @@ class BifurcationCurve:
         ``"fold"``, ``"period-doubling"`` or ``"neimark-sacker"``.
     p, q : ndarray, shape (m,)
         The parameters along the curve (``q[0] = q0``; ``q[-1] = q_end`` on success).
+    period : ndarray, shape (m,)
+        The orbit's period at each point.
     x0 : ndarray, shape (m, n)
         The orbit's state at t = 0 at each point.
     multipliers : ndarray, shape (m, n), complex
@@ -162,6 +172,8 @@ class BifurcationCurve:
         Why the continuation stopped.
     success : bool
         True if the last point lies at ``q = q_end``.
+    autonomous : bool
+        Whether the period is an unknown.
     fixed_orbit : bool
         Whether the orbit's state was held (module notes).
     nfev : int
@@ -171,6 +183,7 @@ class BifurcationCurve:
     kind: str
     p: np.ndarray
     q: np.ndarray
+    period: np.ndarray
     x0: np.ndarray
     multipliers: np.ndarray
     theta: np.ndarray
@@ -178,6 +191,7 @@ class BifurcationCurve:
     special_points: tuple[SpecialPoint, ...]
     message: str
     success: bool
+    autonomous: bool
     fixed_orbit: bool
     nfev: int
 
@@ -278,7 +292,8 @@ class _Corrector:
         With ``DG`` (the last point's Jacobian) the iterations are chord steps: one
         variational integration each instead of ``n + 3`` (the finite-difference rows of
         ``g``); the Jacobian is refreshed every ``_REFRESH`` iterations and once at the
-        converged point, for its tangent.
+        converged point, for its tangent. Without it (the start, from a rough guess), full
+        Newton steps.
         """
         problem = self.problem
         U = U.copy()
@@ -290,7 +305,7 @@ class _Corrector:
                 A = np.vstack([J, d])
                 r = np.append(pt.G, d @ (U - U_c) - s)
                 U = U + np.linalg.solve(A, -r)
-                refresh = it % _REFRESH == 0
+                refresh = DG is None or it % _REFRESH == 0
                 pt = problem.evaluate(U) if refresh else problem.residual(U)
                 if refresh:
                     J = pt.DG
@@ -341,7 +356,10 @@ def _is_complex(mu: np.ndarray) -> np.ndarray:
 
 
 def _tests(kind: str, mu: np.ndarray, theta: float) -> dict[str, float]:
-    """Test functions of the special points (a sign change marks each); NaN: not applicable."""
+    """Test functions of the special points (a sign change marks each); NaN: not applicable.
+
+    ``mu``: the multipliers without an autonomous orbit's trivial one.
+    """
     others = _others(kind, mu, theta)
     real = others[~_is_complex(others)].real
     pairs = others[_is_complex(others)]
@@ -372,7 +390,7 @@ def _value(kind: str, name: str, pt: Point, problem: Defining, t: np.ndarray,
         return theta
     if name == "1:2 resonance" and kind == "neimark-sacker":
         return theta - math.pi
-    return _tests(kind, _multipliers(pt.monodromy), theta)[name]
+    return _tests(kind, problem.effective(_multipliers(pt.monodromy)), theta)[name]
 
 
 # ---- the continuation loop ---------------------------------------------------------------------
@@ -395,7 +413,8 @@ class _Tracer:
     def _accepted(self, pt: Point, previous: np.ndarray | None) -> _Accepted:
         t = _tangent(pt.DG, previous)
         theta = self.problem.theta(pt.U)
-        return _Accepted(pt, t, _tests(self.problem.kind, _multipliers(pt.monodromy), theta))
+        mu = self.problem.effective(_multipliers(pt.monodromy))
+        return _Accepted(pt, t, _tests(self.problem.kind, mu, theta))
 
     def run(self, start: Point, direction: float) -> tuple[str, bool]:
         """Follow the curve from ``start`` with q moving in the sign of ``direction``."""
@@ -425,6 +444,7 @@ class _Tracer:
                 continue
             pt, nit = out
             problem.update_borders(pt)
+            problem.set_reference(pt)
             q = problem.pq(pt.U)[1]
             if (q - self.q_end) * direction >= 0:
                 return self._finish(last)
@@ -447,6 +467,7 @@ class _Tracer:
             return f"could not correct the last point at q_end: {self.corrector.message}", False
         # the constraint holds to rounding (q_c + dq): q_end itself, as promised
         out[0].U[problem.iq] = self.q_end
+        problem.set_reference(out[0])
         self.points.append(self._accepted(out[0], last.t))
         return "reached q_end", True
 
@@ -516,32 +537,33 @@ class _Tracer:
         self.special.append(found)
         return found
 
-    def curve(self, message: str, success: bool) -> BifurcationCurve:
+    def curve(self, message: str, success: bool, period: Callable[[float, float], float]
+              ) -> BifurcationCurve:
         problem = self.problem
         pts = [a.pt for a in self.points]
         pq = np.array([problem.pq(pt.U) for pt in pts])
         return BifurcationCurve(
             kind=problem.kind, p=pq[:, 0].copy(), q=pq[:, 1].copy(),
+            period=np.array([problem.period(pt.U) if problem.auto else period(p, q)
+                             for pt, (p, q) in zip(pts, pq, strict=True)]),
             x0=np.array([problem.x(pt.U) for pt in pts]),
             multipliers=np.array([_multipliers(pt.monodromy) for pt in pts]),
             theta=np.array([problem.theta(pt.U) for pt in pts]),
             residual=np.array([float(np.linalg.norm(pt.G)) for pt in pts]),
             special_points=tuple(self.special), message=message, success=success,
-            fixed_orbit=problem.x_fixed is not None, nfev=problem.system.counter.n)
+            autonomous=problem.auto, fixed_orbit=problem.x_fixed is not None,
+            nfev=problem.system.counter.n)
 
 
 # ---- the start -------------------------------------------------------------------------------
 def _system(fun: Callable[..., Any], jac: Callable[..., Any] | None, n: int,
-            period: Any, opts: CurveOptions) -> OrbitSystem:
-    if callable(period):
-        funs: tuple[Any, ...] = (_Bound(fun, period),)
-        jacs: tuple[Any, ...] = ((_Bound(jac, period),) if jac is not None else (None,))
-        T = 1.0
-    else:
-        funs, jacs = (_Bound(fun, None),), ((_Bound(jac, None),) if jac is not None else (None,))
-        T = check.positive("period", period)
-    return OrbitSystem(funs, jacs, n, False, lambda p: T, 1, (), 1, (), _integration(opts),
-                       tuple(range(n)))
+            period: Any, autonomous: bool, opts: CurveOptions) -> OrbitSystem:
+    rescale = period if (callable(period) and not autonomous) else None
+    funs: tuple[Any, ...] = (_Bound(fun, rescale),)
+    jacs: tuple[Any, ...] = ((_Bound(jac, rescale),) if jac is not None else (None,))
+    T = 1.0 if rescale is not None else period
+    return OrbitSystem(funs, jacs, n, autonomous, None if autonomous else (lambda p: T), 1, (),
+                       1, (), _integration(opts), tuple(range(n)))
 
 
 def _probe(fun: Any, jac: Any, x0: np.ndarray, p0: float, q0: float, period: Any) -> None:
@@ -556,22 +578,21 @@ def _probe(fun: Any, jac: Any, x0: np.ndarray, p0: float, q0: float, period: Any
                    given="the parameters p0 and q0")
 
 
-def _fixed_orbit(system: OrbitSystem, x0: np.ndarray, p0: float, q0: float,
-                 opts: CurveOptions) -> bool:
+def _fixed_orbit(system: OrbitSystem, u0: np.ndarray, opts: CurveOptions) -> bool:
     """Whether x0 is an orbit for every (p, q): periodic, with zero parameter sensitivities."""
+    if system.autonomous:
+        return False
     if opts.fixed_orbit is not None:
         return opts.fixed_orbit
-    ev = system.evaluate(np.concatenate([x0, [q0, p0]]), jacobian=True)
+    ev = system.evaluate(u0, jacobian=True)
     assert ev.jacobian is not None
-    scale = 1.0 + float(np.linalg.norm(x0))
+    scale = 1.0 + float(np.linalg.norm(u0[:system.n]))
     return bool(np.linalg.norm(ev.residual) <= opts.tol * scale
                 and np.linalg.norm(ev.jacobian[:, -2:]) <= 1e-12 * scale)
 
 
-def _initial_theta(system: OrbitSystem, x0: np.ndarray, p0: float, q0: float) -> float:
-    ev = system.evaluate(np.concatenate([x0, [q0, p0]]), jacobian=True)
-    assert ev.monodromy is not None
-    mu = _multipliers(ev.monodromy)
+def _initial_theta(problem: Defining, u0: np.ndarray, p0: float, q0: float) -> float:
+    mu = problem.effective(_multipliers(problem.flow(u0)[1]))
     pairs = mu[_is_complex(mu) & (mu.imag > 0)]
     if not pairs.size:
         raise ValueError(f"no complex pair of multipliers at (p0, q0) = ({p0!r}, {q0!r}) "
@@ -580,13 +601,12 @@ def _initial_theta(system: OrbitSystem, x0: np.ndarray, p0: float, q0: float) ->
     return float(np.angle(pairs[np.argmin(np.abs(np.abs(pairs) - 1.0))]))
 
 
-def _locate_start(problem: Defining, corrector: _Corrector, x0: np.ndarray, p0: float,
-                  q0: float, theta0: float) -> Point:
+def _locate_start(problem: Defining, corrector: _Corrector, U0: np.ndarray, p0: float,
+                  q0: float) -> Point:
     """The bifurcation in p at q = q0: Newton on G = 0 with q held."""
-    U0 = problem.pack(x0, p0, q0, theta0)
-    ev = problem.orbit_evaluation(U0)
-    assert ev.monodromy is not None
-    problem.init_borders(ev.monodromy, U0)
+    problem.system.set_reference(problem.orbit_u(U0))
+    mono = problem.flow(problem.orbit_u(U0))[1]
+    problem.init_borders(mono, U0)
     e_q = np.zeros(problem.size)
     e_q[problem.iq] = 1.0
     out = corrector(U0, U0, e_q, 0.0)
@@ -596,6 +616,7 @@ def _locate_start(problem: Defining, corrector: _Corrector, x0: np.ndarray, p0: 
             f"at q0 = {q0!r}: {corrector.message}", x=U0, residual=corrector.residual,
             iterations=corrector.iterations)
     problem.update_borders(out[0])
+    problem.set_reference(out[0])
     return out[0]
 
 
@@ -623,7 +644,8 @@ def continue_bifurcation(
         A state at t = 0 on (or near) the periodic orbit at ``(p0, q0)``, which is at or near
         the bifurcation of ``kind`` in p.
     period : float or callable
-        The forcing period, or ``period(p, q)`` when it depends on the parameters.
+        Forced: the forcing period, or ``period(p, q)`` when it depends on the parameters.
+        Autonomous: a guess of the period at the start (a number).
     kind : str
         ``"fold"`` (a multiplier +1), ``"period-doubling"`` (-1) or ``"neimark-sacker"``
         (a complex pair on the unit circle).
@@ -632,7 +654,7 @@ def continue_bifurcation(
     q_end : float
         Where to stop (``q_end != q0``).
     autonomous : bool, optional
-        False (forced orbits). True is not implemented yet (NotImplementedError).
+        True: the period is an unknown, with a phase condition (module notes).
     jac : callable, optional
         ``jac(t, x, p, q)``: ``df/dx``; default central differences of ``fun``.
     **options
@@ -656,12 +678,11 @@ def continue_bifurcation(
     ValueError
         For bad arguments (``kind`` not one of :data:`KINDS`, ``q_end == q0``, unknown or out
         of range options, non-finite numbers, ``fun``/``jac`` returning a wrong shape at the
-        first call; no complex pair of multipliers at the start of a Neimark-Sacker curve).
+        first call; no complex pair of multipliers at the start of a Neimark-Sacker curve; a
+        callable ``period`` or ``fixed_orbit=True`` with ``autonomous=True``).
     TypeError
         ``fun``/``jac`` cannot be called as ``fun(t, x, p, q)``, or ``period(p, q)`` returns no
         number.
-    NotImplementedError
-        For ``autonomous=True``.
     ConvergenceError
         If the bifurcation is not found in p at ``q0`` (with the residual and iterations), or
         the curve is tangent to ``q = q0`` there.
@@ -671,18 +692,27 @@ def continue_bifurcation(
     p0, q0, q_end = check.real("p0", p0), check.real("q0", q0), check.real("q_end", q_end)
     if q_end == q0:
         raise ValueError(f"`q_end` equals `q0` ({q0!r}): nothing to continue")
-    if check.boolean("autonomous", autonomous):
-        raise NotImplementedError(
-            "continue_bifurcation: autonomous orbits (period unknown, with a phase condition) "
-            "are not implemented yet; only forced orbits (autonomous=False)")
+    autonomous = check.boolean("autonomous", autonomous)
+    if autonomous and callable(period):
+        raise ValueError("`period` must be a number (a guess) for an autonomous system")
+    T_given = None if callable(period) else check.positive("period", period)
     opts = _check_options(options)
+    if autonomous and opts.fixed_orbit:
+        raise ValueError("`fixed_orbit` needs a forced system (autonomous=False): an "
+                         "autonomous orbit that does not move is an equilibrium")
     opt.check_scaled("atol", opts.atol, x, opt.TOL_CEILING)
     _probe(fun, jac, x, p0, q0, period)
-    system = _system(fun, jac, x.size, period, opts)
-    theta0 = _initial_theta(system, x, p0, q0) if kind == "neimark-sacker" else math.nan
-    fixed = _fixed_orbit(system, x, p0, q0, opts)
+    system = _system(fun, jac, x.size, period if T_given is None else T_given, autonomous,
+                     opts)
+    T0 = T_given if (autonomous and T_given is not None) else 1.0
+    u0 = system.pack(x[None, :], T0, np.array([q0]), p0)
+    system.set_reference(u0)
+    fixed = _fixed_orbit(system, u0, opts)
     problem = Defining(system, kind, x.copy() if fixed else None)
+    theta0 = _initial_theta(problem, u0, p0, q0) if kind == "neimark-sacker" else math.nan
     tracer = _Tracer(problem, opts, q_end)
-    start = _locate_start(problem, tracer.corrector, x, p0, q0, theta0)
+    start = _locate_start(problem, tracer.corrector, problem.pack(x, T0, p0, q0, theta0),
+                          p0, q0)
     message, success = tracer.run(start, math.copysign(1.0, q_end - q0))
-    return tracer.curve(message, success)
+    return tracer.curve(message, success, (lambda p, q: T_given) if T_given is not None
+                        else period)  # type: ignore[arg-type]

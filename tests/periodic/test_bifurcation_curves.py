@@ -194,9 +194,49 @@ def test_bad_arguments_are_named(args, kwargs, match):
         continue_bifurcation(mathieu, [0.0, 0.0], math.pi, *args, **kwargs)
 
 
-def test_autonomous_is_not_implemented():
-    with pytest.raises(NotImplementedError, match="autonomous"):
-        continue_bifurcation(mathieu, [0.0, 0.0], math.pi, "fold", 0.0, 0.5, 1.0,
+def bautin(t, x, b1, b2):
+    """Bautin normal form r' = r (b1 + b2 r^2 - r^4), phase' = 1: cycles of period 2 pi whose
+    fold is on b1 = -b2^2 / 4, at r^2 = b2 / 2 (closed form)."""
+    rho = x[0] ** 2 + x[1] ** 2
+    g = b1 + b2 * rho - rho * rho
+    return np.array([x[0] * g - x[1], x[1] * g + x[0]])
+
+
+def test_autonomous_fold_of_cycles_on_the_bautin_curve():
+    r = math.sqrt(0.5)
+    curve = continue_bifurcation(bautin, [1.05 * r, 0.0], 2 * math.pi * 1.01, "fold",
+                                 -0.24, 1.0, 1.3, autonomous=True)
+    assert curve.success and curve.autonomous and curve.q[-1] == 1.3
+    # the corrector's residual 1e-10 and rtol 1e-11: ~1e-11 on each; measured ~1e-12
+    np.testing.assert_allclose(curve.p, -curve.q ** 2 / 4, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(curve.period, 2 * math.pi, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(np.hypot(*curve.x0.T) ** 2, curve.q / 2, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(curve.multipliers, 1.0, atol=1e-5)  # double: sqrt of 1e-10
+
+
+def test_autonomous_period_doubling_starts_at_the_roessler_reference():
+    from flapping.periodic.shooting import find_periodic_orbit
+    from flapping.periodic.testproblems import rossler
+
+    def fun(t, x, c, a):
+        return rossler(t, x, a=a, b=0.2, c=c)
+
+    orbit = find_periodic_orbit(lambda t, x: fun(t, x, 2.83, 0.2), [4.58081622, 0.0, 1.52645301],
+                                5.77, autonomous=True)
+    # at the reference's rtol 1e-12: with the defaults (rtol 1e-11, a residual 5e-10 of the
+    # bordered scalar, whose derivative in c is ~0.2) c is off by 2.6e-9, here by 5e-11
+    curve = continue_bifurcation(fun, orbit.x0, orbit.period, "period-doubling", 2.83, 0.2,
+                                 0.205, autonomous=True, rtol=1e-12, atol=1e-12)
+    # c = 2.83244502786, T = 5.76982001651 at a = b = 0.2 (test_continuation.py, two routes)
+    assert abs(curve.p[0] - 2.83244502786) < 1e-9
+    assert abs(curve.period[0] - 5.76982001651) < 1e-9
+    assert curve.success and curve.q[-1] == 0.205
+    assert np.all(np.min(np.abs(curve.multipliers + 1.0), axis=1) < 1e-8)
+
+
+def test_autonomous_needs_a_number_as_period():
+    with pytest.raises(ValueError, match="period"):
+        continue_bifurcation(bautin, [0.7, 0.0], lambda p, q: 6.0, "fold", -0.25, 1.0, 1.2,
                              autonomous=True)
 
 
