@@ -80,10 +80,16 @@ __all__ = ["BifurcationCurve", "SpecialPoint", "CurveOptions", "continue_bifurca
 #: Kinds of codimension-one bifurcation that can be continued.
 KINDS: tuple[str, ...] = ("fold", "period-doubling", "neimark-sacker")
 
-#: A test function whose value at either end of a step is below this (relative) is noise, not a
-#: sign change: the Mathieu equation's second multiplier is 1 (det M = 1) to rounding all along
-#: its fold curves and would otherwise signal a 1:1 resonance at every step.
-_TEST_NOISE = 1e-7
+#: A test function whose value at either end of a step is below this is noise, not a sign
+#: change: a double multiplier (a Jordan block) at +-1 splits by the square root of the
+#: perturbation, ~1e-5 for the corrector's residual 1e-10, either along the real axis or off it.
+#: The Mathieu equation's second multiplier is such a double 1 (det M = 1) all along its fold
+#: curves and would otherwise signal a 1:1 resonance at every other step. (A genuine crossing
+#: is missed only if a curve point falls within 1e-4 of it.)
+_TEST_NOISE = 1e-4
+
+#: Distance from +-1 within which a complex pair is a split double multiplier, not a pair.
+_SPLIT = 1e-3
 
 #: Chord iterations of the corrector between refreshes of its Jacobian.
 _REFRESH = 4
@@ -361,8 +367,11 @@ def _tests(kind: str, mu: np.ndarray, theta: float) -> dict[str, float]:
     ``mu``: the multipliers without an autonomous orbit's trivial one.
     """
     others = _others(kind, mu, theta)
-    real = others[~_is_complex(others)].real
-    pairs = others[_is_complex(others)]
+    # a double multiplier at +-1 (a Jordan block) splits by ~sqrt(eps) into a complex pair:
+    # counted as real, not as a pair on the circle
+    cplx = _is_complex(others) & (np.abs(others - 1.0) > _SPLIT) & (np.abs(others + 1.0) > _SPLIT)
+    real = others[~cplx].real
+    pairs = others[cplx & (others.imag > 0)]  # one of each conjugate pair
     out: dict[str, float] = {}
     # one of the other real multipliers through +1 or -1 (products over the real ones: a
     # complex pair contributes a positive factor)

@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 from scipy.special import mathieu_a, mathieu_b
 
 from flapping.errors import ConvergenceError
@@ -171,6 +172,25 @@ def test_fold_flip_on_a_fold_curve_lies_on_the_flip_curve():
     flip = continue_bifurcation(two_oscillators, np.zeros(4), math.pi, "period-doubling",
                                 ff.p + 0.01, ff.q, ff.q + 0.01, max_points=2)
     assert abs(flip.p[0] - ff.p) < 1e-8
+
+
+def oscillator_and_rotor(t, x, a, q):
+    """A Mathieu oscillator beside a rotating linear system of growth rate a + 0.3: its complex
+    pair crosses the unit circle where a = -0.3 (a fold-Neimark-Sacker point on a = a_0(q))."""
+    mu, om = a + 0.3, 1.3
+    return np.array([x[1], -(a - 2.0 * q * math.cos(2.0 * t)) * x[0],
+                     mu * x[2] - om * x[3], om * x[2] + mu * x[3]])
+
+
+def test_fold_neimark_sacker_where_the_pair_crosses_the_circle():
+    curve = continue_bifurcation(oscillator_and_rotor, np.zeros(4), math.pi, "fold",
+                                 mathieu_a(0, 0.5), 0.5, 1.0)
+    (fns,) = [s for s in curve.special_points if s.kind == "fold-neimark-sacker"]
+    q_star = brentq(lambda q: mathieu_a(0, q) + 0.3, 0.5, 1.0, xtol=1e-14)
+    # located to the bisection's xtol on corrected points (1e-12) and the curve's 1e-10
+    assert abs(fns.p + 0.3) < 1e-9 and abs(fns.q - q_star) < 1e-8
+    pair = fns.multipliers[np.abs(fns.multipliers.imag) > 1e-3]
+    np.testing.assert_allclose(np.abs(pair), 1.0, atol=1e-9)
 
 
 def test_last_point_exactly_at_q_end_backwards():
