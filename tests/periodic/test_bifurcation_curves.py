@@ -254,6 +254,24 @@ def test_autonomous_period_doubling_starts_at_the_roessler_reference():
     assert np.all(np.min(np.abs(curve.multipliers + 1.0), axis=1) < 1e-8)
 
 
+def hopf_and_rotor(t, x, p, q):
+    """The circle r = sqrt(p) of period 2 pi beside a rotating linear system of growth rate
+    q - p and frequency 0.3: a Neimark-Sacker curve p = q with theta = 0.6 pi."""
+    g = p - x[0] ** 2 - x[1] ** 2
+    mu = q - p
+    return np.array([x[0] * g - x[1], x[1] * g + x[0], mu * x[2] - 0.3 * x[3],
+                     0.3 * x[2] + mu * x[3]])
+
+
+def test_autonomous_neimark_sacker_curve():
+    curve = continue_bifurcation(hopf_and_rotor, [0.72, 0.0, 0.0, 0.0], 6.4, "neimark-sacker",
+                                 0.51, 0.5, 0.8, autonomous=True)
+    assert curve.success and curve.q[-1] == 0.8
+    np.testing.assert_allclose(curve.p, curve.q, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(curve.theta, 0.6 * math.pi, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(curve.period, 2 * math.pi, rtol=0, atol=1e-9)
+
+
 def test_autonomous_needs_a_number_as_period():
     with pytest.raises(ValueError, match="period"):
         continue_bifurcation(bautin, [0.7, 0.0], lambda p, q: 6.0, "fold", -0.25, 1.0, 1.2,
