@@ -193,6 +193,17 @@ def test_fold_neimark_sacker_where_the_pair_crosses_the_circle():
     np.testing.assert_allclose(np.abs(pair), 1.0, atol=1e-9)
 
 
+def test_fold_flip_is_the_same_point_seen_from_the_flip_curve():
+    fold = continue_bifurcation(two_oscillators, np.zeros(4), math.pi, "fold",
+                                mathieu_a(0, 0.1), 0.1, 0.6)
+    # the lower edge of the damped oscillator's first tongue, a + 0.7 ~ 1 - q
+    flip = continue_bifurcation(two_oscillators, np.zeros(4), math.pi, "period-doubling",
+                                0.05, 0.25, 0.6)
+    (a,) = [s for s in fold.special_points if s.kind == "fold-flip"]
+    (b,) = [s for s in flip.special_points if s.kind == "fold-flip"]
+    assert abs(a.p - b.p) < 1e-8 and abs(a.q - b.q) < 1e-8
+
+
 def test_last_point_exactly_at_q_end_backwards():
     curve = continue_bifurcation(mathieu, [0.0, 0.0], math.pi, "period-doubling",
                                  mathieu_a(1, 0.2) + 0.01, 0.2, 0.0, jac=mathieu_jac)
