@@ -470,7 +470,8 @@ class _Tracer:
         e_q = np.zeros(problem.size)
         e_q[problem.iq] = 1.0
         dq = self.q_end - problem.pq(last.pt.U)[1]
-        guess = last.pt.U + dq / last.t[problem.iq] * last.t
+        t_q = float(last.t[problem.iq])
+        guess = last.pt.U + dq / t_q * last.t if abs(t_q) > 1e-3 else last.pt.U
         out = self.corrector(guess, last.pt.U, e_q, dq, last.pt.DG)
         if out is None:
             return f"could not correct the last point at q_end: {self.corrector.message}", False

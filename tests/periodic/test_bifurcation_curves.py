@@ -21,6 +21,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.optimize import brentq
 from scipy.special import mathieu_a, mathieu_b
 
@@ -281,6 +283,13 @@ def test_autonomous_neimark_sacker_curve():
     np.testing.assert_allclose(curve.p, curve.q, rtol=0, atol=1e-9)
     np.testing.assert_allclose(curve.theta, 0.6 * math.pi, rtol=0, atol=1e-9)
     np.testing.assert_allclose(curve.period, 2 * math.pi, rtol=0, atol=1e-9)
+
+
+@given(ds=st.one_of(st.floats(max_value=0.0), st.just(math.inf), st.just(math.nan)))
+@settings(max_examples=25, deadline=None)
+def test_nonpositive_or_nonfinite_ds_is_refused_by_name(ds):
+    with pytest.raises(ValueError, match="ds"):
+        continue_bifurcation(mathieu, [0.0, 0.0], math.pi, "fold", 0.0, 0.5, 1.0, ds=ds)
 
 
 def test_autonomous_needs_a_number_as_period():
