@@ -49,7 +49,6 @@ import numpy as np
 
 from flapping.periodic import _segments as seg
 from flapping.periodic._branchflow import (
-    Evaluation,
     IntegrationFailed,
     OrbitSystem,
     _VariationalField,
@@ -262,26 +261,33 @@ class Defining:
         """
         pt = self.residual(U)
         A, v, w = self.matrix(pt.monodromy, U), pt.v, pt.w
-        n_per = 0 if self.x_fixed is not None else self.n + self.nT
-        rows_g = pt.G.size - n_per
-        DG = np.zeros((n_per + rows_g, self.size))
-        if n_per:  # the periodicity (and phase) rows: [M - I, (f,) dx(T)/dq, dx(T)/dp]
-            ev = self.system.evaluate(self.orbit_u(U), jacobian=True)
-            assert ev.jacobian is not None
-            DG[:n_per, :self.iq + 2] = ev.jacobian
-        # the g rows: g_z = -w^H (dA/dz) v, dA/dz by forward differences of the monodromy
+        n, n_per = self.n, (0 if self.x_fixed is not None else self.n + self.nT)
+        DG = np.zeros((pt.G.size, self.size))
+        u = self.orbit_u(U)
+        x_end = pt.G[:n] + u[:n] if n_per else None
+        if n_per:  # the periodicity (and phase) rows' exact parts: M - I, f(x(T)), f_ref
+            DG[:n, :n] = pt.monodromy - np.eye(n)
+            if self.auto:
+                assert self.system.ref is not None and x_end is not None
+                states, _, q, p = self.system.unpack(u)
+                DG[:n, n] = self.system.vector_field(x_end, np.concatenate([[p], q]))
+                DG[n, :n] = self.system.ref[1]
+        # forward differences of the lean flow: the g rows, g_z = -w^H (dA/dz) v, and the
+        # periodicity rows' parameter columns dx(T)/dq, dx(T)/dp (relative error ~1e-8, as
+        # the orbit system's own sensitivities, at no extra integration)
         for k in range(self.iq + 2):
             h = _SQRT_EPS * max(1.0, abs(float(U[k])))
             shifted = U.copy()
             shifted[k] += h
-            A_k = self.matrix(self.flow(self.orbit_u(shifted))[1], shifted)
+            end_k, mono_k = self.flow(self.orbit_u(shifted))
+            A_k = self.matrix(mono_k, shifted)
             DG[n_per:, k] = self._g_rows(complex(-(w.conj() @ ((A_k - A) @ v)) / h))
+            if n_per and k >= self.iq:
+                assert x_end is not None
+                DG[:n, k] = (end_k - x_end) / h
         if self.ns:
             dg = 1j * np.exp(1j * float(U[-1])) * (w.conj() @ v[:self.n])
             DG[n_per:, -1] = self._g_rows(complex(dg))
         pt.DG = DG
         return pt
 
-    def orbit_evaluation(self, U: np.ndarray) -> Evaluation:
-        """The orbit system's evaluation at U (with the monodromy)."""
-        return self.system.evaluate(self.orbit_u(U), jacobian=True)
