@@ -206,6 +206,31 @@ def test_fold_flip_is_the_same_point_seen_from_the_flip_curve():
     assert abs(a.p - b.p) < 1e-8 and abs(a.q - b.q) < 1e-8
 
 
+def jordan(t, x, p, q):
+    """``x' = [[p, 1], [-q, p]] x`` over period 1: multipliers exp(p +- sqrt(-q)). A +1
+    multiplier on the parabola q = -p^2 (q <= 0), a pair exp(p +- i sqrt(q)) on the circle on
+    p = 0 (q > 0, theta = sqrt(q)); the two curves meet at the 1:1 resonance (0, 0), a Jordan
+    block (the miniature of the +1 and Neimark-Sacker curves meeting in the bumblebee's map)."""
+    return np.array([p * x[0] + x[1], -q * x[0] + p * x[1]])
+
+
+def test_fold_and_neimark_sacker_curves_meet_at_the_one_to_one_resonance():
+    fold = continue_bifurcation(jordan, [0.0, 0.0], 1.0, "fold", -0.9, -1.0, 0.5)
+    np.testing.assert_allclose(fold.q, -fold.p ** 2, rtol=0, atol=1e-9)
+    assert "turns back" in fold.message and not fold.success
+    kinds = {s.kind: s for s in fold.special_points}
+    assert set(kinds) == {"1:1 resonance", "turning point"}
+    for s in kinds.values():
+        assert abs(s.p) < 1e-9 and abs(s.q) < 1e-9
+    ns = continue_bifurcation(jordan, [0.0, 0.0], 1.0, "neimark-sacker", 0.05, 1.0, -0.5)
+    np.testing.assert_allclose(ns.p, 0.0, atol=1e-9)
+    np.testing.assert_allclose(ns.theta, np.sqrt(ns.q), atol=1e-8)
+    (one,) = ns.special_points
+    # the pair degenerates into a Jordan block there: p to the square root of the residual
+    assert one.kind == "1:1 resonance" and abs(one.q) < 1e-9 and abs(one.p) < 1e-5
+    assert "1:1 resonance" in ns.message
+
+
 def test_last_point_exactly_at_q_end_backwards():
     curve = continue_bifurcation(mathieu, [0.0, 0.0], math.pi, "period-doubling",
                                  mathieu_a(1, 0.2) + 0.01, 0.2, 0.0, jac=mathieu_jac)
