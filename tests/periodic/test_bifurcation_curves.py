@@ -125,6 +125,7 @@ def test_duffing_fold_curve_agrees_with_one_parameter_route(fold, side):
                                  0.3, q_end, jac=duffing_jac)
     assert abs(curve.p[0] - fold) < 1e-9  # the start, located in p at q0 = 0.3
     assert curve.success and curve.q[-1] == q_end
+    np.testing.assert_allclose(curve.period, 2 * math.pi / curve.p, rtol=1e-15)
     np.testing.assert_allclose(np.min(np.abs(curve.multipliers - 1.0), axis=1), 0.0,
                                atol=1e-8)
     # second route: the fold of the orbit branch at F = q_end, from the curve's last orbit
