@@ -47,6 +47,14 @@ by Brent's method on points corrected onto the curve:
   ``"1:3 resonance"`` (theta = 2 pi / 3), ``"1:4 resonance"`` (theta = pi / 2),
   ``"fold-neimark-sacker"``, ``"flip-neimark-sacker"``.
 
+A test function within 1e-4 of zero at either end of a step is not trusted (a double
+multiplier at +-1, as all along the Mathieu equation's curves, splits by the square root of
+the corrector's residual, ~1e-5): a crossing with a curve point that close to it is missed.
+
+The start is Newton's method (full steps) from ``(x0, p0)`` at ``q = q0``: a guess between two
+curves may converge to the farther one (the Mathieu equation's a = 1 at q = 0.2, between b_1
+and a_1, goes to a = 25); ``curve.p[0]`` is where it landed.
+
 Not computed: normal-form coefficients, hence generalised period doubling and Chenciner points
 (and the non-degeneracy of the cusp beyond the tangent test), and the switch to the curves that
 emanate from a codimension-two point. A bifurcation found on a
