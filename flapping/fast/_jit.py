@@ -42,6 +42,7 @@ import hashlib
 import logging
 import os
 import signal
+import sys
 import threading
 import time
 import warnings
@@ -51,7 +52,8 @@ from types import ModuleType
 from typing import Any
 
 __all__ = ["ENV", "FIRST_CALL_MODES", "KernelCompileWarning", "announce", "cache_dir", "cached",
-           "entry_point", "entry_points", "first_call_mode", "forced", "helper", "in_cache"]
+           "announce_quietly", "entry_point", "entry_points", "first_call_mode", "forced", "helper",
+           "in_cache"]
 
 _LOG = logging.getLogger("flapping")
 
@@ -182,6 +184,24 @@ def announce(name: str, path: str | Path | None) -> None:
                   f"it all ahead", KernelCompileWarning, stacklevel=2)
 
 
+def announce_quietly() -> None:
+    """No note from now on that numba compiles (a caller that asked for the compile says it)."""
+    if not _NOTED:
+        _NOTED.append(True)
+
+
+def _held(pending: list[int]) -> Callable[[int, Any], None]:
+    """The SIGINT handler during a compile: record, and say once why nothing stops yet."""
+    def handler(signum: int, frame: Any) -> None:
+        if not pending:
+            with contextlib.suppress(Exception):  # no stderr: nothing to say it on
+                sys.stderr.write("flapping: Ctrl-C: stopping when numba's compile in progress "
+                                 "returns (it cannot be interrupted safely)\n")
+                sys.stderr.flush()
+        pending.append(signum)
+    return handler
+
+
 @contextlib.contextmanager
 def _sigint_deferred() -> Iterator[None]:
     """SIGINT recorded, not raised, during the block (main thread, outermost compile only);
@@ -196,7 +216,7 @@ def _sigint_deferred() -> Iterator[None]:
         return
     pending: list[int] = []
     try:
-        previous = signal.signal(signal.SIGINT, lambda signum, frame: pending.append(signum))
+        previous = signal.signal(signal.SIGINT, _held(pending))
     except (ValueError, TypeError):  # no signal handling here (an embedded interpreter)
         previous = None
     _DEPTH.value = 1
@@ -245,6 +265,8 @@ def entry_point(*depends: ModuleType, **options: Any) -> Callable[[Callable[...,
         numba's ``njit`` options (e.g. ``fastmath``).
     """
     digest = _digest(depends)
+    # registered under the module that decorates (a generated function is compiled there)
+    owner = str(sys._getframe(1).f_globals.get("__name__", ""))
 
     def decorate(fn: Callable[..., Any]) -> Any:
         import numba
@@ -264,7 +286,7 @@ def entry_point(*depends: ModuleType, **options: Any) -> Callable[[Callable[...,
             _STATE["cached"] = False
             announced = False
         dispatcher.compile = _compiling(dispatcher, announced)
-        _ENTRY_POINTS.setdefault(fn.__module__, {})[fn.__name__] = dispatcher
+        _ENTRY_POINTS.setdefault(owner, {})[fn.__name__] = dispatcher
         return dispatcher
 
     return decorate

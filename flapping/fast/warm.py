@@ -32,7 +32,9 @@ class WarmUp:
     ready : tuple of str
         The entry points this process had compiled or loaded before.
     missed : tuple of str
-        Entry points no warm-up called (a module without a warm-up; they compile on first use).
+        Modules none of whose entry points a warm-up reached (a compiled module without a
+        warm-up: it compiles on first use). The entry points that only compiled code calls
+        (linked into their callers' machine code) are in none of the lists.
     seconds : float
         Wall time of the warm-up [s].
     cache_dir : pathlib.Path or None
@@ -122,6 +124,7 @@ def warm_up(progress: Callable[[str], object] | None = None) -> WarmUp:
     from flapping.fast import _jit, kernel
 
     say = progress if progress is not None else (lambda line: None)
+    _jit.announce_quietly()  # asked for: no note that numba compiles (the lines say it)
     start = time.perf_counter()
     steps = _steps()
     before = _counts(_jit.entry_points())
@@ -134,6 +137,7 @@ def warm_up(progress: Callable[[str], object] | None = None) -> WarmUp:
     after = _jit.entry_points()
     compiled, loaded, ready, missed = [], [], [], []
     for module, functions in sorted(after.items()):
+        reached = False
         for name, dispatcher in sorted(functions.items()):
             key = f"{module}.{name}"
             hits, misses = before.get(key, (0, 0))
@@ -144,7 +148,10 @@ def warm_up(progress: Callable[[str], object] | None = None) -> WarmUp:
             elif dispatcher.signatures:
                 ready.append(key)
             else:
-                missed.append(key)
+                continue
+            reached = True
+        if not reached:
+            missed.append(module)
     return WarmUp(tuple(compiled), tuple(loaded), tuple(ready), tuple(missed),
                   time.perf_counter() - start, kernel.cache_dir())
 
