@@ -53,7 +53,7 @@ from typing import Any
 
 __all__ = ["ENV", "FIRST_CALL_MODES", "KernelCompileWarning", "announce", "cache_dir", "cached",
            "announce_quietly", "entry_point", "entry_points", "first_call_mode", "forced", "helper",
-           "in_cache"]
+           "in_cache", "ready"]
 
 _LOG = logging.getLogger("flapping")
 
@@ -158,6 +158,12 @@ def in_cache(dispatcher: Any) -> bool:
         return True
     cache = _our_cache(dispatcher)
     return cache is not None and cache.holds_any()
+
+
+def ready(dispatcher: Any) -> bool:
+    """Whether a call of ``dispatcher`` runs machine code without compiling it: compiled (or
+    loaded) in this process already, or in numba's on-disk cache (:func:`in_cache`)."""
+    return bool(getattr(dispatcher, "signatures", None)) or in_cache(dispatcher)
 
 
 def cache_dir(dispatcher: Any) -> Path | None:

@@ -128,7 +128,7 @@ def load() -> ModuleType:
         start = time.perf_counter()
         from flapping.fast import _blade
 
-        fresh = not all(_jit.in_cache(f) for f in (_blade.graded_rhs, _blade.graded_flow))
+        fresh = not all(_jit.ready(f) for f in (_blade.graded_rhs, _blade.graded_flow))
         with _jit.forced("compiled"):
             _touch(_blade)
         seconds = time.perf_counter() - start
@@ -146,7 +146,7 @@ def available() -> bool:
         return True
     from flapping.fast import _blade
 
-    if all(_jit.in_cache(f) for f in (_blade.graded_rhs, _blade.graded_flow)):
+    if all(_jit.ready(f) for f in (_blade.graded_rhs, _blade.graded_flow)):
         return True
     if not _UNCOMPILED_NOTED:
         _UNCOMPILED_NOTED.append(True)

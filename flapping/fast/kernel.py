@@ -270,7 +270,7 @@ def run_reporting(kc: ModuleType, name: str, *args: Any) -> tuple[Any, bool]:
 
     if _jit_disabled():  # njit returned the Python functions, which Python cannot run as they are
         return _uncompiled.entry(kc, name)(*args), False
-    if mode == "uncompiled" and not _jit.in_cache(fn):
+    if mode == "uncompiled" and not _jit.ready(fn):
         return _run_uncompiled(kc, name, args), False
     out = fn(*args)
     _READY.add(name)

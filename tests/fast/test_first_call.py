@@ -107,7 +107,7 @@ def fresh_process(monkeypatch, kc):
 @pytest.fixture
 def cold(fresh_process):
     """As if numba's cache held none of the kernel (whatever it holds: no test depends on it)."""
-    fresh_process.setattr(_jit, "in_cache", lambda dispatcher: False)
+    fresh_process.setattr(_jit, "ready", lambda dispatcher: False)
     return fresh_process
 
 
@@ -133,7 +133,7 @@ def test_uncompiled_with_a_cold_cache_answers_in_python_says_so_once_and_equals_
 
 
 def test_uncompiled_with_the_kernel_in_the_cache_runs_compiled(fresh_process):
-    fresh_process.setattr(_jit, "in_cache", lambda dispatcher: True)
+    fresh_process.setattr(_jit, "ready", lambda dispatcher: True)
     fresh_process.setenv("FLAPPING_FIRST_CALL", "uncompiled")
     with warnings.catch_warnings():
         warnings.simplefilter("error", kernel.KernelCompileWarning)  # nothing to say
@@ -312,3 +312,22 @@ def test_no_numba_module_bypasses_the_policy():
     registered = _jit.entry_points()
     for module in ("flapping.fast._compiled", "flapping.fast._blade", "flapping.fast._sixdof"):
         assert registered.get(module), module
+
+
+def test_uncompiled_with_a_cold_cache_runs_the_python_blade_loads(cold):
+    # The blade-element loads' Python twin is the model's own loads: the field is not compiled.
+    from flapping.fast import blade
+    from flapping.model.dynamics import LongitudinalDynamics
+
+    model = LongitudinalDynamics(flapping.hawkmoth(), aerodynamics="small-angle")
+    cold.setattr(blade, "_MODULE", [])
+    cold.setattr(blade, "_UNCOMPILED_NOTED", [])
+    cold.setenv("FLAPPING_FIRST_CALL", "uncompiled")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert blade.BladeField.of(model, 1) is None
+        assert blade.BladeField.of(model, 1) is None
+    assert sum(issubclass(w.category, kernel.KernelCompileWarning) for w in caught) == 1
+    assert blade._MODULE == []  # nothing compiled or loaded
+    cold.setenv("FLAPPING_FIRST_CALL", "compiled")
+    assert blade.BladeField.of(model, 1) is not None
