@@ -8,9 +8,12 @@ two changes inside numba's own key and files, never beside them:
   ``_generated.py`` it would load the old arithmetic; another digest is another key, which numba
   compiles and adds;
 - an index or data file that cannot be read (truncated, corrupt: numba raised
-  ``UnpicklingError`` on every run until it was deleted) reads as a missing one, said once per
-  file by a :class:`~flapping.fast._jit.KernelCompileWarning` naming it; numba then compiles and
-  writes the entry again, as for a missing one.
+  ``UnpicklingError`` on every run until it was deleted) reads as a missing one, said by the
+  ``on_unreadable`` callback (:mod:`flapping.fast._jit`: a warning naming the file); numba then
+  compiles and writes the entry again, as for a missing one.
+
+The callbacks come from :mod:`flapping.fast._jit`, which imports this module (and not the other
+way round).
 
 Checked for numba 0.60-0.68 (``numba.core.caching``: ``FunctionCache``, ``IndexDataCacheFile``,
 ``_index_key``, ``_load_index``, ``_load_data``).
@@ -19,35 +22,28 @@ Checked for numba 0.60-0.68 (``numba.core.caching``: ``FunctionCache``, ``IndexD
 from __future__ import annotations
 
 import os
-import warnings
 from collections.abc import Callable
 from typing import Any
 
 from numba.core import caching
 
-from flapping.fast._jit import KernelCompileWarning, announce
-
-_WARNED_FILES: set[str] = set()
-
-
-def _unreadable(path: str, error: BaseException) -> None:
-    """Say once per file that a cache file could not be read and is compiled again."""
-    if path in _WARNED_FILES:
-        return
-    _WARNED_FILES.add(path)
-    warnings.warn(f"numba's cache file {path} could not be read ({type(error).__name__}: "
-                  f"{error}); flapping recompiles that function and numba rewrites the file",
-                  KernelCompileWarning, stacklevel=2)
+#: ``on_unreadable(path, error)``: a cache file could not be read.
+Unreadable = Callable[[str, BaseException], None]
 
 
 class _CacheFile(caching.IndexDataCacheFile):
-    """numba's index and data files, an unreadable one read as a missing one (said once)."""
+    """numba's index and data files, an unreadable one read as a missing one (and said)."""
+
+    def __init__(self, cache_path: str, filename_base: str, source_stamp: Any,
+                 on_unreadable: Unreadable) -> None:
+        super().__init__(cache_path, filename_base, source_stamp)
+        self._on_unreadable = on_unreadable
 
     def _load_index(self) -> dict:
         try:
             return super()._load_index()
         except Exception as error:  # noqa: BLE001 - any unpickling failure: a corrupt file
-            _unreadable(self._index_path, error)
+            self._on_unreadable(self._index_path, error)
             return {}
 
     def load(self, key: Any) -> Any:
@@ -59,7 +55,7 @@ class _CacheFile(caching.IndexDataCacheFile):
         except OSError:  # removed while the index still refers to it (as numba's load)
             return None
         except Exception as error:  # noqa: BLE001 - a corrupt data file
-            _unreadable(self._data_path(name), error)
+            self._on_unreadable(self._data_path(name), error)
             return None
 
 
@@ -73,15 +69,17 @@ class _NoCodegen:
 
 class Cache(caching.FunctionCache):
     """numba's function cache, keyed also on ``depends`` (a digest of the sources the function
-    inlines), reading an unreadable file as a missing one, and announcing a compile
-    (:func:`flapping.fast._jit.announce`) when it has nothing to load."""
+    inlines), reading an unreadable file as a missing one (``on_unreadable(path, error)``), and
+    calling ``on_miss(function name, cache directory)`` when it has nothing to load (numba
+    compiles next)."""
 
-    def __init__(self, py_func: Callable[..., Any], depends: str) -> None:
+    def __init__(self, py_func: Callable[..., Any], depends: str,
+                 on_miss: Callable[[str, str], None], on_unreadable: Unreadable) -> None:
         super().__init__(py_func)
         self._depends = depends
-        self._cache_file = _CacheFile(cache_path=self._cache_path,
-                                      filename_base=self._impl.filename_base,
-                                      source_stamp=self._impl.locator.get_source_stamp())
+        self._on_miss = on_miss
+        self._cache_file = _CacheFile(self._cache_path, self._impl.filename_base,
+                                      self._impl.locator.get_source_stamp(), on_unreadable)
 
     def _index_key(self, sig: Any, codegen: Any) -> Any:
         return (*super()._index_key(sig, codegen), self._depends)
@@ -89,7 +87,7 @@ class Cache(caching.FunctionCache):
     def load_overload(self, sig: Any, target_context: Any) -> Any:
         out = super().load_overload(sig, target_context)
         if out is None and self._enabled:
-            announce(self._py_func.__name__, self._cache_path)
+            self._on_miss(self._py_func.__name__, self._cache_path)
         return out
 
     def holds_any(self) -> bool:

@@ -208,6 +208,20 @@ def _held(pending: list[int]) -> Callable[[int, Any], None]:
     return handler
 
 
+_WARNED_FILES: set[str] = set()
+
+
+def _unreadable(path: str, error: BaseException) -> None:
+    """Say once per file that a file of numba's cache could not be read (numba compiles the
+    function again and rewrites the file)."""
+    if path in _WARNED_FILES:
+        return
+    _WARNED_FILES.add(path)
+    warnings.warn(f"numba's cache file {path} could not be read ({type(error).__name__}: "
+                  f"{error}); flapping recompiles that function and numba rewrites the file",
+                  KernelCompileWarning, stacklevel=2)
+
+
 @contextlib.contextmanager
 def _sigint_deferred() -> Iterator[None]:
     """SIGINT recorded, not raised, during the block (main thread, outermost compile only);
@@ -284,7 +298,7 @@ def entry_point(*depends: ModuleType, **options: Any) -> Callable[[Callable[...,
             return dispatcher
         try:
             # as numba's Dispatcher.enable_caching (njit(cache=True)), with this cache
-            dispatcher._cache = Cache(dispatcher.py_func, digest)
+            dispatcher._cache = Cache(dispatcher.py_func, digest, announce, _unreadable)
             announced = True
         except RuntimeError as error:  # numba found no writable place ("cannot cache")
             if "cannot cache" not in str(error):

@@ -497,8 +497,8 @@ class HoverSolution:
         last Newton integration: x_e(T) / T and -z(T) / T. Read-only.
     compiled : bool
         True if numba's compiled code answered every call of the solve; False if a call ran
-        the kernel's Python code uncompiled (the first call in an environment whose numba cache
-        is cold, see the module notes), whose numbers are the same to the last bit.
+        the kernel's Python code uncompiled (``FLAPPING_FIRST_CALL=uncompiled`` and numba's
+        cache without it, see the module notes), whose numbers are the same to the last bit.
     """
 
     x0: np.ndarray
@@ -521,7 +521,7 @@ class HoverSolution:
     @property
     def path(self) -> str:
         """Which code answered, in words: ``"compiled"``, or ``UNCOMPILED_PATH`` (the kernel's
-        Python code, uncompiled: a first call while numba compiles)."""
+        Python code, uncompiled: ``FLAPPING_FIRST_CALL=uncompiled`` with a cold cache)."""
         return "compiled" if self.compiled else UNCOMPILED_PATH
 
     @property

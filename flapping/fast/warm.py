@@ -84,10 +84,9 @@ def _steps() -> list[tuple[str, Callable[[], object]]]:
         ("blade-element loads (flapping.fast.blade)", blade.load),
         ("six degrees of freedom, linear loads (flapping.fast._sixdof)", _sixdof),
     ]
-    import flapping.fast as package
-
-    for info in pkgutil.iter_modules(package.__path__):
-        name = f"{package.__name__}.{info.name}"
+    package = __name__.rpartition(".")[0]  # flapping.fast, found by path (no import of it)
+    for info in pkgutil.iter_modules([str(Path(__file__).parent)]):
+        name = f"{package}.{info.name}"
         if name in (kernel.__name__, __name__):
             continue
         module = importlib.import_module(name)  # registers its entry points

@@ -286,7 +286,8 @@ def test_the_cache_key_holds_the_sources_a_function_inlines(tmp_path):
     assert digests[0] != digests[1]
     fn = kernel.load().newton_and_estimate.py_func
     codegen = cpu_target.target_context.codegen()
-    keys = [_cache.Cache(fn, d)._index_key(("sig",), codegen) for d in digests]
+    keys = [_cache.Cache(fn, d, _jit.announce, _jit._unreadable)._index_key(("sig",), codegen)
+            for d in digests]
     assert keys[0][:3] == keys[1][:3] and keys[0] != keys[1]
 
 
