@@ -97,3 +97,19 @@ def test_ctrl_c_in_a_six_dof_hover_that_compiles_exits_130_cleanly(tmp_path, del
     _, err = process.communicate(timeout=900)
     assert process.returncode == 130, err
     assert "Exception ignored" not in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("delay", [pytest.param(d, marks=() if d in (0.5, 0.6, 0.7)
+                                                else pytest.mark.slow)
+                                   for d in (0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.2)])
+def test_an_early_ctrl_c_exits_130_not_minus_2(tmp_path, delay):
+    # About a third of early Ctrl-Cs exited -2 (killed by SIGINT) after printing "interrupted":
+    # CPython remembered the KeyboardInterrupt that left a PyRun_* evaluation while the command
+    # line's modules loaded, though it was caught. The window was 0.5-0.9 s after the start here.
+    process = subprocess.Popen([sys.executable, "-m", "flapping", "compile"],
+                               env=_env(tmp_path), stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)
+    time.sleep(delay)
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=600)
+    assert process.returncode == 130, err
