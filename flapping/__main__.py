@@ -7,6 +7,8 @@ exits with status 130 and one line, as a Ctrl-C anywhere later does, not with a 
 ``__init__``'s to handle.)
 """
 
+import contextlib
+import ctypes
 import os
 import sys
 from collections.abc import Sequence
@@ -36,8 +38,24 @@ def main(argv: Sequence[str] | None = None) -> int:
         prog = "flapping" if sys.argv and os.path.basename(sys.argv[0]) == "flapping" else \
             "python -m flapping"
         print(f"{prog}: interrupted", file=sys.stderr)
-        return _INTERRUPTED
-    return cli_main(argv)
+        return _interrupted()
+    status = cli_main(argv)
+    return _interrupted() if status == _INTERRUPTED else status
+
+
+def _interrupted() -> int:
+    """130, and CPython told that the Ctrl-C was handled.
+
+    CPython 3.8-3.11 remember a KeyboardInterrupt that left any ``PyRun_*`` evaluation (one
+    runs while the command line's modules load) in ``_Py_UnhandledKeyboardInterrupt``, even once
+    it is caught, and at exit kill the process with SIGINT instead of exiting with the status
+    returned: a parent saw -2 instead of 130 after about a third of early Ctrl-Cs. The handled
+    interrupt is forgotten here (on another Python the flag is absent and nothing is done).
+    """
+    # not CPython 3.8-3.11 (no such flag): nothing to forget
+    with contextlib.suppress(AttributeError, ValueError, OSError):
+        ctypes.c_int.in_dll(ctypes.pythonapi, "_Py_UnhandledKeyboardInterrupt").value = 0
+    return _INTERRUPTED
 
 
 if __name__ == "__main__":

@@ -7,6 +7,8 @@ file (:mod:`flapping.model.insect_file`), and ``flapping species [--json]`` list
 ``flapping sweep --insect hawkmoth --param frequency=LO:HI:N [--param NAME=LO:HI:N] [--csv |
 --json] [--workers K]`` prints hover and its multipliers over a parameter grid, one row per point
 (:mod:`flapping.studies.sweep`).
+``flapping compile`` compiles every numba function into numba's on-disk cache
+(:func:`flapping.fast.warm_up`), for installs, clusters and CI, with a line per step.
 
 Exit status: 0 on success; 1 if the solver fails (no convergence, a failed integration, or a result
 that is not a finite number; for a sweep, if no point gave an orbit); 2 for bad arguments; 130
@@ -210,7 +212,32 @@ def _parser() -> argparse.ArgumentParser:
                          help="print a JSON list of objects (SI units in the key names)")
     add_sweep_parser(sub, tuple(PRESETS))
     fwuav_cli.add_parser(sub)
+    sub.add_parser("compile", help="compile the numba code into its on-disk cache, once",
+                   description=_COMPILE_DESCRIPTION, formatter_class=raw)
     return parser
+
+
+_COMPILE_DESCRIPTION = """\
+Compile every numba function of flapping (the hover kernel, the blade-element loads, six degrees
+of freedom) into numba's on-disk cache, printing a line per step and what was compiled, so that
+later processes load the machine code instead of compiling on their first call. numba chooses
+the cache directory: NUMBA_CACHE_DIR if set (a shared one serves every node of a cluster).
+Needs numba (pip install flapping[fast]). Exit status 0 on success, 1 without numba, 130 after
+Ctrl-C."""
+
+
+def _compile(prog: str) -> int:
+    """The ``compile`` subcommand: :func:`flapping.fast.warm_up` with its progress lines."""
+    try:
+        from flapping.fast import warm_up
+
+        report = warm_up(progress=lambda line: _write(line))
+    except ImportError as exc:
+        print(f"{prog}: error: {_one_line(exc)} (numba is the `fast` extra: "
+              f"pip install flapping[fast])", file=sys.stderr)
+        return 1
+    _raise_if_interrupted()  # a Ctrl-C that a compile deferred and something then swallowed
+    return 0 if _write(str(report)) else 1
 
 
 def _complex_list(values) -> list[dict[str, float]]:
@@ -526,6 +553,8 @@ def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
         return _species(args.json)
     if args.command == "fwuav":
         return fwuav_cli.run(args, parser.prog)
+    if args.command == "compile":
+        return _compile(parser.prog)
     return _hover(parser, args)
 
 

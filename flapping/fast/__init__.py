@@ -7,8 +7,11 @@ compiled call (:mod:`flapping.fast.kernel`). The sweeps over insect parameters b
 :mod:`flapping.studies.sweep`; :func:`flapping.hover.find_hover_orbit` can use it as its backend.
 
 Importing this package does not import numba: the kernel is compiled (or loaded from numba's
-on-disk cache) the first time it runs. numba is the optional ``fast`` extra
-(``pip install flapping[fast]``); :func:`numba_available` says whether it is installed.
+on-disk cache) the first time it runs, in the process, or ahead of use by :func:`warm_up`
+(``python -m flapping compile``); every numba module here follows the same policy
+(:mod:`flapping.fast._jit`, with ``FLAPPING_FIRST_CALL`` and ``NUMBA_CACHE_DIR``). numba is the
+optional ``fast`` extra (``pip install flapping[fast]``); :func:`numba_available` says whether it
+is installed.
 """
 
 from flapping.fast.kernel import (
@@ -27,6 +30,7 @@ from flapping.fast.kernel import (
     sample_orbit,
     solve_hover,
 )
+from flapping.fast.warm import WarmUp, warm_up
 
 __all__ = [
     "AMPLITUDE_TOL_DEG",
@@ -43,4 +47,6 @@ __all__ = [
     "orbit_quadrature",
     "sample_orbit",
     "solve_hover",
+    "WarmUp",
+    "warm_up",
 ]

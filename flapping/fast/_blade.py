@@ -25,13 +25,16 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
-from flapping.fast import _compiled
-from flapping.fast._compiled import _jit  # the kernel's: njit with the disk cache if numba can
+from flapping.fast import _jit as _jit_policy
 from flapping.model import _inertia_generated
+from flapping.periodic import _tableau
 from flapping.periodic._tableau import N_STAGES, A, B, C
+
+# The one policy of flapping's numba code (flapping.fast._jit): cached entry points, keyed also
+# on the sources they inline (the generated inertial loads, the tableau).
+_jit = _jit_policy.entry_point(_inertia_generated, _tableau)
 
 # The layout of ``data``: the 13 constants of BladeElementModel._consts, in its order, then ...
 (I_OMEGA, I_SIN_2AM, I_COS_2AM, I_SIN_AM2, I_COS_AM2, I_RHO_A, I_RHO_K, I_X_H, I_ZH, I_XC,
@@ -379,14 +382,6 @@ def rhs_into(t, y, p, sign, data, out):  # pragma: no cover - compiled
 
 
 @_jit
-def rhs(t, y, p, sign, data):  # pragma: no cover - compiled
-    """:func:`rhs_into` into a new array."""
-    out = np.empty(4 + int(data[I_N_COND]))
-    rhs_into(t, y, p, sign, data, out)
-    return out
-
-
-@_jit
 def graded_into(s, y, p, k, sign, data, out):  # pragma: no cover - compiled
     """F(s, y, p) = dt/ds f(t(s), y, p) on half-stroke k (flapping.hover.problem._graded) into
     ``out``."""
@@ -437,12 +432,11 @@ def switch(i, s, y, p, k, data):  # pragma: no cover - compiled
     return (y[0] - y[2] * h_w) * math.cos(phi) - omega * p[0] * math.sin(omega * t) * data[I_R]
 
 
-def _jit_fused(fn):
-    """:func:`_jit` (the same cache decision) with LLVM's ``contract`` flag: ``a * b + c`` may
-    become one fused multiply-add. The stage sums then round as the Python map's NumPy matrix
-    products do (BLAS kernels fuse them): measured on the hawkmoth's orbit, the two maps'
-    central-difference multipliers differed by 1.6e-9 unfused, 1.0e-10 fused."""
-    return numba.njit(cache=_compiled.CACHED, fastmath={"contract"})(fn)
+# :func:`_jit` with LLVM's ``contract`` flag: ``a * b + c`` may become one fused multiply-add.
+# The stage sums then round as the Python map's NumPy matrix products do (BLAS kernels fuse
+# them): measured on the hawkmoth's orbit, the two maps' central-difference multipliers differed
+# by 1.6e-9 unfused, 1.0e-10 fused.
+_jit_fused = _jit_policy.entry_point(_inertia_generated, _tableau, fastmath={"contract"})
 
 
 @_jit_fused

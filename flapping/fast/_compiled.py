@@ -41,7 +41,6 @@ half-stroke is smooth, so the global error is O(h^8).
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numba
 import numpy as np
@@ -53,39 +52,14 @@ import numpy as np
 from numba.np.linalg import _LAPACK, F_INT_nptype, _dummy_liveness_func
 
 from flapping.fast import _dop853, _generated
+from flapping.fast import _jit as _jit_policy
 from flapping.model import _inertia_generated
+from flapping.periodic import _tableau
 
-#: Whether numba found a writable place for its on-disk cache (see :func:`_jit`).
-CACHED = True
-
-
-def _jit(fn, **options):
-    """``numba.njit(cache=True)``, or without the disk cache if numba finds no writable place.
-
-    numba looks for one at decoration time (``NUMBA_CACHE_DIR``, then ``__pycache__`` beside this
-    file, then the user-wide cache directory) and raises RuntimeError ("cannot cache function")
-    if none is writable. The kernel then still runs, compiled again in every process.
-    """
-    global CACHED
-    try:
-        return numba.njit(cache=True, **options)(fn)
-    except RuntimeError as error:
-        if "cannot cache" not in str(error):
-            raise
-        CACHED = False
-        return numba.njit(**options)(fn)
-
-
-def _helper(fn):
-    """A function called from compiled code (and from the tests): ``numba.njit`` without numba's
-    disk cache (its machine code is linked into each entry point's, which is cached) and without
-    the C wrapper numba would also compile, for calls through a function pointer (the kernel
-    makes none). Its CPython wrapper stays: without it, a call from Python crashes."""
-    return numba.njit(**_NO_C_WRAPPER)(fn)
-
-
-# numba's own option (its internal functions use it), absent from the stubs of njit's keywords.
-_NO_C_WRAPPER: dict[str, Any] = {"no_cfunc_wrapper": True}
+# How every numba function of flapping is compiled and cached (one policy): an entry point is
+# cached under the digest of the sources it inlines, a helper is linked into the entry points.
+_jit = _jit_policy.entry_point(_dop853, _tableau, _generated, _inertia_generated)
+_helper = _jit_policy.helper
 
 
 # The generated formulas (plain Python, from the SymPy derivation), compiled here.

@@ -28,12 +28,17 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import numba
 import numpy as np
 
 from flapping.fast import _dop853
-from flapping.fast._compiled import _helper, _jit  # the kernel's numba wrappers
+from flapping.fast import _jit as _jit_policy
 from flapping.model import _sixdof_generated, _sixdof_linear_generated
+from flapping.periodic import _tableau
+
+# The one policy of flapping's numba code (flapping.fast._jit): cached entry points keyed also
+# on the sources they inline, and helpers linked into them.
+_jit = _jit_policy.entry_point(_sixdof_generated, _sixdof_linear_generated, _tableau)
+_helper = _jit_policy.helper
 
 N_PLAIN = 9
 N_VAR = 82
@@ -55,7 +60,7 @@ RK_C = np.ascontiguousarray(_dop853.C)
 N_STAGES = _dop853.N_STAGES
 
 
-@numba.njit
+@_helper
 def _solve(a, b, n, m):  # pragma: no cover - compiled
     """Solve a X = b in place (b is n x m, overwritten by X): Gauss with partial pivoting."""
     for col in range(n):
@@ -83,7 +88,7 @@ def _solve(a, b, n, m):  # pragma: no cover - compiled
             b[col, j] = acc / a[col, col]
 
 
-@numba.njit
+@_helper
 def _field(t, y, dy, variational, amplitude, p, klin, kmech, w):  # pragma: no cover
     """dy/dt of the plain (variational False) or the variational state.
 
@@ -153,7 +158,7 @@ def _field(t, y, dy, variational, amplitude, p, klin, kmech, w):  # pragma: no c
     dy[81] = trace
 
 
-@numba.njit
+@_helper
 def _work():  # pragma: no cover - compiled
     """The scratch arrays of :func:`_field`: loads (42), B (6 x 9), A (6 x 6), dF/dx and A's
     values (48 + 36), the Euler rates' Jacobian (16), J (9 x 8)."""

@@ -40,8 +40,8 @@ from typing import Any
 
 import numpy as np
 
-from flapping.fast import _blade, _dop853
-from flapping.fast._compiled import _helper, _jit
+from flapping.fast import _blade, _dop853, _sixdof
+from flapping.fast import _jit as _jit_policy
 from flapping.fast._sixdof import _solve
 from flapping.model import (
     _sixdof_generated,
@@ -49,6 +49,14 @@ from flapping.model import (
     _sixdof_linear_generated,
 )
 from flapping.model.kinematics import segment_stroke_sign
+from flapping.periodic import _tableau
+
+# The one compile policy (flapping.fast._jit): cached under the digest of every source whose
+# functions are inlined here (the generated mechanics and Jacobians, the blade-element helpers,
+# the six-dof linear solver's helpers, the tableau).
+_jit = _jit_policy.entry_point(_dop853, _tableau, _sixdof_generated, _sixdof_jacobian_generated,
+                               _sixdof_linear_generated, _blade, _sixdof)
+_helper = _jit_policy.helper
 
 N_PLAIN = 9
 N_VAR = 82
@@ -572,3 +580,19 @@ def newton(flow: Flow, x0: np.ndarray, amplitude: float, n_steps: int, tol: floa
             evaluations += per_flow
             residual = np.append(end[:8] - x, end[8])
     raise AssertionError("unreachable")  # pragma: no cover
+
+
+def warm_up() -> None:
+    """Compile (or load from numba's cache) this module's entry points: one period of the plain
+    and variational flows and the monodromy's factors on the hawkmoth, for both load models
+    (:func:`flapping.fast.warm_up` calls it)."""
+    from flapping.model.morphology import hawkmoth
+    from flapping.model.sixdof import SixDofDynamics
+
+    insect = hawkmoth()
+    for loads in ("small-angle", "exact"):
+        flow = Flow(SixDofDynamics(insect, insect.stroke_amplitude, None, loads))
+        x0 = np.zeros(8)
+        for variational in (False, True):
+            flow(x0, insect.stroke_amplitude, 4, variational)
+        monodromy_factors(flow, x0, insect.stroke_amplitude, 4 * FACTORS_PER_HALF_STROKE)

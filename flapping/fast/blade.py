@@ -27,34 +27,36 @@ off its default (a field added to ``Insect`` and not yet modelled here), so that
 runs then.
 
 Importing this module does not import numba: :func:`load` compiles the numba code (or loads it
-from numba's on-disk cache) the first time a field is built, said once by a
-:class:`~flapping.fast.kernel.KernelCompileWarning` when it compiles, and logged on the
-``"flapping"`` logger, as for the hover kernel.
+from numba's on-disk cache) the first time a field is built, under the policy of every numba
+module here (:mod:`flapping.fast._jit`: one :class:`~flapping.fast.kernel.KernelCompileWarning`
+per process when numba compiles, the times on the ``"flapping"`` logger; with
+``FLAPPING_FIRST_CALL=uncompiled`` and a cold cache the Python loads run instead).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import logging
 import math
 import time
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from types import MappingProxyType, ModuleType
 from typing import Any
 
 import numpy as np
 
-from flapping.fast.kernel import KernelCompileWarning, numba_available
+from flapping.fast import _jit
+from flapping.fast._jit import KernelCompileWarning
+from flapping.fast.kernel import numba_available
 from flapping.model.dynamics import LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
 from flapping.periodic._fixedmap import COMPILED_MAP, NonFinite
 
-__all__ = ["SUPPORTED_FIELDS", "BladeField", "GradedMap", "load", "pack", "unsupported_field"]
+__all__ = ["SUPPORTED_FIELDS", "BladeField", "GradedMap", "available", "load", "pack",
+           "unsupported_field"]
 
 #: The :class:`~flapping.model.morphology.Insect` fields the compiled loads follow, and how each
 #: enters. An insect whose other fields differ from their defaults is refused (the Python path
@@ -90,9 +92,6 @@ SUPPORTED_FIELDS: Mapping[str, str] = MappingProxyType({
 
 _LOG = logging.getLogger("flapping")
 
-#: Seconds above which the first load is worth a note (loading the cache takes ~0.1 s).
-_NOTE_AFTER_S = 1.0
-
 _MODULE: list[ModuleType] = []
 
 
@@ -111,7 +110,9 @@ def unsupported_field(insect: Insect) -> str:
 
 
 def load() -> ModuleType:
-    """Import the numba code and compile it, or load it from numba's cache, once per process.
+    """Import the numba code and compile it, or load it from numba's cache, once per process
+    (with an empty cache numba compiles it here, 5-20 s of CPU, said as
+    :mod:`flapping.fast._jit` says every compile).
 
     Returns
     -------
@@ -125,54 +126,38 @@ def load() -> ModuleType:
     """
     if not _MODULE:
         start = time.perf_counter()
-        from flapping.fast import _blade, _compiled
+        from flapping.fast import _blade
 
-        entry = _blade.graded_rhs
-        # _compiled._jit decorated both modules' functions: one cache place, one flag
-        if _compiled.CACHED and entry.stats.cache_path:
-            _drop_stale_cache(Path(entry.stats.cache_path))
-        fresh = not _compiled.CACHED or not all(_cached(f) for f in (entry, _blade.graded_flow))
-        if fresh:
-            warnings.warn("compiling flapping's blade-element loads with numba (first use in "
-                          "this environment: 5-20 s of CPU, once)", KernelCompileWarning,
-                          stacklevel=3)
-        _touch(_blade)
+        fresh = not all(_jit.ready(f) for f in (_blade.graded_rhs, _blade.graded_flow))
+        with _jit.forced("compiled"):
+            _touch(_blade)
         seconds = time.perf_counter() - start
         _LOG.info("blade-element loads %s in %.2f s", "compiled" if fresh else "loaded", seconds)
         _MODULE.append(_blade)
     return _MODULE[0]
 
 
-def _cached(dispatcher: Any) -> bool:
-    """Whether numba's on-disk cache holds compiled code of ``dispatcher``."""
-    path = dispatcher.stats.cache_path
-    name = dispatcher.py_func.__module__.rsplit(".", 1)[-1]
-    entry = dispatcher.py_func.__name__
-    return bool(path) and any(Path(path).glob(f"{name}.{entry}-*.nbi"))
+def available() -> bool:
+    """Whether the compiled loads run here: always once loaded; else unless
+    ``FLAPPING_FIRST_CALL=uncompiled`` and numba's cache does not hold them (the Python loads
+    run then, and nothing is compiled). The variable is checked on every call."""
+    mode = _jit.first_call_mode()
+    if _MODULE or mode == "compiled":
+        return True
+    from flapping.fast import _blade
+
+    if all(_jit.ready(f) for f in (_blade.graded_rhs, _blade.graded_flow)):
+        return True
+    if not _UNCOMPILED_NOTED:
+        _UNCOMPILED_NOTED.append(True)
+        warnings.warn("flapping's compiled blade-element loads are not in numba's cache here: "
+                      "with FLAPPING_FIRST_CALL=uncompiled the Python loads run (equal to "
+                      "rounding); `python -m flapping compile` compiles them into the cache once",
+                      KernelCompileWarning, stacklevel=3)
+    return False
 
 
-def _drop_stale_cache(cache: Path) -> None:
-    """Remove numba's cached :mod:`flapping.fast._blade` if the generated inertia code changed.
-
-    numba keys a cached function on its own file only, so the functions that inline
-    :mod:`flapping.model._inertia_generated` would keep its old arithmetic after a regeneration
-    that changed that file alone (as :func:`flapping.fast.kernel._drop_stale_cache` guards the
-    kernel): a stamp of the generated source in the cache directory detects it.
-    """
-    from flapping.model import _inertia_generated
-
-    source = Path(_inertia_generated.__file__).read_bytes()
-    digest = hashlib.sha256(source).hexdigest()
-    stamp = cache / "_blade.generated-sha256"
-    try:
-        if stamp.is_file() and stamp.read_text() == digest:
-            return
-        for old in list(cache.glob("_blade.*.nbi")) + list(cache.glob("_blade.*.nbc")):
-            old.unlink()
-        cache.mkdir(parents=True, exist_ok=True)
-        stamp.write_text(digest)
-    except OSError:  # numba checked the directory is writable; a race with another process
-        pass
+_UNCOMPILED_NOTED: list[bool] = []
 
 
 def _touch(compiled: ModuleType) -> None:
@@ -256,9 +241,11 @@ class BladeField:
     def of(cls, model: LongitudinalDynamics, n_conditions: int) -> BladeField | None:
         """The compiled field of ``model``, or None where it does not apply (linear loads, numba
         not installed, or an insect field outside :data:`SUPPORTED_FIELDS`): then the Python
-        field runs. The first call in a process compiles or loads the numba code."""
+        field runs, as it does with ``FLAPPING_FIRST_CALL=uncompiled`` when numba's cache
+        does not hold the compiled loads (:func:`available`). The first call in a process
+        compiles or loads the numba code."""
         if (model.aerodynamics == "linear" or not numba_available()
-                or unsupported_field(model.insect)):
+                or unsupported_field(model.insect) or not available()):
             return None
         compiled = load()
         signs = tuple(segment_stroke_sign(k) for k in range(len(model.breakpoints) + 1))
@@ -321,6 +308,7 @@ class GradedMap:
             If the field's callables refuse a parameter row (a trim out of its range).
         """
         X, P = np.ascontiguousarray(X, dtype=float), np.ascontiguousarray(P, dtype=float)
+        _jit.first_call_mode()  # checked on every call, as every fast module does
         compiled = load()
         # the compiled code indexes without bounds checks: refuse other shapes here
         n_conditions = int(self.field.data[compiled.I_N_COND])

@@ -29,48 +29,37 @@ tolerances accepted (see their notes); a smaller one is a ValueError, since an e
 below the rounding noise is itself noise and the claim "tolerance met" would be false.
 
 Compilation and its cache. numba is imported the first time a kernel function runs (never when
-:mod:`flapping` is imported). Its compiled code is cached on disk where numba puts it: the
-directory named by ``NUMBA_CACHE_DIR`` if set, else ``__pycache__`` beside this package if it is
-writable, else numba's user-wide cache directory (``$XDG_CACHE_HOME/numba`` or
-``~/.cache/numba`` on Linux, one sub-directory per installed package directory), which is where an
-installed wheel in a read-only ``site-packages`` caches (checked for numba 0.60-0.68:
-``numba.core.caching.UserWideCacheLocator``). If no place is writable the kernel still runs,
-compiled again in every process. Each compiled entry point is compiled on its first call (see
-:func:`run`); the first call of every entry point logs one INFO line on the ``"flapping"``
-logger with the time and the cache directory. Later processes load the cache in ~0.1 s.
+:mod:`flapping` is imported), and every numba module of :mod:`flapping.fast` is compiled by one
+policy (:mod:`flapping.fast._jit`): ``numba.njit(cache=True)``, the machine code cached on disk
+where numba puts it: the directory named by ``NUMBA_CACHE_DIR`` if set, else ``__pycache__``
+beside this package if it is writable, else numba's user-wide cache directory
+(``$XDG_CACHE_HOME/numba`` or ``~/.cache/numba`` on Linux), which is where an installed wheel in
+a read-only ``site-packages`` caches. If no place is writable the kernel still runs, compiled
+again in every process. Each entry point is compiled (or loaded, ~0.1 s) on its first call:
+with an empty cache the orbit and its multipliers compile in the process in 5-10 s of CPU, said
+once by a :class:`KernelCompileWarning` before and logged on the ``"flapping"`` logger after.
+:func:`flapping.fast.warm_up` (``python -m flapping compile``) compiles everything ahead, for
+installs, clusters and CI.
 
-The first call in a new environment. Compiling the orbit and its multipliers costs 5-10 s of CPU,
-several times a warm process's whole first answer. So the first call of an entry point whose numba
-cache is cold runs the same functions as plain Python (:mod:`flapping.fast._uncompiled`: the same
-arithmetic and the same LAPACK routines, equal to the compiled results bit for bit; the default
-orbit and multipliers in ~0.2 s) and starts one background process that compiles every entry point
-into the cache (:mod:`flapping.fast._background`); a :class:`KernelCompileWarning` says so, once,
-and the result says which path answered (:attr:`HoverSolution.compiled`). The next call of that
-entry point runs compiled: it waits for the background compile (at most ``WAIT_S``, 300 s) and
-loads the cache, or compiles in the process if that failed. So a sweep solves at most its first
-point per process uncompiled. Calls with much work (many steps, samples or nodes, past the limits
-of ``_UNCOMPILED_LIMITS``) compile at once. The environment variable ``FLAPPING_FIRST_CALL``
-chooses: ``auto`` (the default, as above), ``compiled`` (compile in the process before the first
-answer, no background process) or ``uncompiled`` (every entry point's first call uncompiled even
-with a warm cache, for tests; the background compile only if the cache is cold). With
-``NUMBA_DISABLE_JIT=1`` every call runs uncompiled and nothing is started. :func:`warm_up` always
-compiles.
+The environment variable ``FLAPPING_FIRST_CALL`` chooses: ``compiled`` (the default, as above) or
+``uncompiled``: an entry point whose machine code is not in numba's cache runs the same functions
+as plain Python (:mod:`flapping.fast._uncompiled`: the same arithmetic and the same LAPACK
+routines, equal to the compiled results bit for bit; the default orbit and multipliers in
+~0.2 s), said once by a :class:`KernelCompileWarning`, and nothing is compiled or started; the
+result says which path answered (:attr:`HoverSolution.compiled`). With ``NUMBA_DISABLE_JIT=1``
+every call runs uncompiled.
 """
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import functools
-import hashlib
 import importlib.util
 import logging
 import math
-import os
-import sys
 import time
 import warnings
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType, ModuleType
@@ -82,7 +71,8 @@ from numpy.typing import ArrayLike
 import flapping._validation as _validation
 from flapping.backends import Compiled
 from flapping.errors import ConvergenceError
-from flapping.fast import _generated
+from flapping.fast import _generated, _jit
+from flapping.fast._jit import KernelCompileWarning
 from flapping.model.aerodynamics import AeroConstants, aero_constants, trim_angle_of_attack
 from flapping.model.kinematics import check_alpha_m, check_amplitude
 from flapping.model.morphology import Insect
@@ -192,22 +182,6 @@ SUPPORTED_FIELDS: Mapping[str, str] = MappingProxyType({
 _LOG = logging.getLogger("flapping")
 
 
-class KernelCompileWarning(UserWarning):
-    """The compiled kernel was (or is being) compiled by numba, or a first call was answered
-    uncompiled while numba compiles it: said once per process.
-
-    A warning, not a log record: Python shows it by default (once) in scripts, notebooks and
-    pytest's summary, whereas a log record below WARNING is dropped without a configured
-    handler; and its own category lets a user or a test silence it alone
-    (``warnings.simplefilter("ignore", KernelCompileWarning)``).
-    """
-
-
-#: Seconds above which the first call of an entry point is worth a note (loading the cache takes
-#: ~0.1 s; compiling seconds).
-_NOTE_AFTER_S = 1.0
-
-
 @functools.lru_cache(maxsize=1)
 def numba_available() -> bool:
     """True if numba can be imported (the ``fast`` extra), without importing it (looked up once
@@ -217,8 +191,8 @@ def numba_available() -> bool:
 
 _MODULE: list[ModuleType] = []
 
-#: The entry points of :mod:`flapping.fast._compiled` called (so compiled, or loaded from numba's
-#: cache) in this process, and whether the process has said that numba compiles (said once).
+#: The entry points of :mod:`flapping.fast._compiled` called compiled in this process (their
+#: later calls skip the first call's checks).
 _READY: set[str] = set()
 _NOTED: list[bool] = []
 
@@ -226,12 +200,12 @@ _NOTED: list[bool] = []
 def load() -> ModuleType:
     """Import the kernel's numba code, once per process; nothing is compiled here.
 
-    Each entry point of :mod:`flapping.fast._compiled` is compiled on its first call (see
-    :func:`run`), so a call compiles only what it uses: the orbit and its multipliers
-    (:func:`solve_hover`, the default path) compile ``newton_and_estimate`` and what it calls
-    (5-7 s of CPU with an empty cache, measured on a busy 2-core machine; ~0.1 s to load from
-    numba's cache); the sampled orbit, the quadrature along it and :func:`monodromy_at` compile
-    their own on first use.
+    Each entry point of :mod:`flapping.fast._compiled` is compiled (or loaded from numba's
+    cache) on its first call (see :func:`run`), so a call compiles only what it uses: the orbit
+    and its multipliers (:func:`solve_hover`, the default path) compile ``newton_and_estimate``
+    and what it calls (5-7 s of CPU with an empty cache, measured on a busy 2-core machine;
+    ~0.1 s to load from numba's cache); the sampled orbit, the quadrature along it and
+    :func:`monodromy_at` compile their own on first use.
 
     Returns
     -------
@@ -246,70 +220,35 @@ def load() -> ModuleType:
     if not _MODULE:
         from flapping.fast import _compiled
 
-        cache = cache_dir(_compiled)
-        if cache is not None:
-            _drop_stale_cache(cache, Path(__file__).with_name("_generated.py"))
         _MODULE.append(_compiled)
     return _MODULE[0]
 
 
 #: How :attr:`HoverSolution.path` names the uncompiled first call.
-UNCOMPILED_PATH = "compiled kernel's Python code, uncompiled (first call; numba compiles it)"
+UNCOMPILED_PATH = "compiled kernel's Python code, uncompiled (FLAPPING_FIRST_CALL=uncompiled)"
 
-#: The values of ``FLAPPING_FIRST_CALL`` (see the module notes).
-FIRST_CALL_MODES = ("auto", "compiled", "uncompiled")
-
-#: Longest wait [s] of a second call for the background compile before it compiles itself.
-WAIT_S = 300.0
-
-#: Calls answered uncompiled only up to this much work (the argument's position and its largest
-#: value): ~20 ms per Newton iteration at 12 steps per half-stroke, ~0.4 ms per step of the plain
-#: state, measured uncompiled; past these a first call could take seconds, and compiles instead.
-_UNCOMPILED_LIMITS: Mapping[str, tuple[tuple[int, int], ...]] = MappingProxyType({
-    "newton_and_estimate": ((1, 32),),  # n_steps
-    "variational_period": ((1, 128),),  # n_steps
-    "sample_period": ((2, 2048),),  # n_steps
-    "states_at": ((2, 2048), (5, 4096)),  # n_steps, times
-    "orbit_quadrature": ((4, 1024), (6, 1024)),  # nodes, min_steps
-})
-
-#: Entry points whose first call was made in this process (compiled or not), and the mode
-#: :func:`warm_up` imposes while it runs.
-_FIRST_DONE: set[str] = set()
-_FORCED: list[str] = []
+#: The values of ``FLAPPING_FIRST_CALL`` (see :mod:`flapping.fast._jit`).
+FIRST_CALL_MODES = _jit.FIRST_CALL_MODES
 
 
 def first_call_mode() -> str:
-    """How the first call of an entry point runs: ``FLAPPING_FIRST_CALL`` (default ``auto``).
+    """How a first call runs: ``FLAPPING_FIRST_CALL`` (:func:`flapping.fast._jit.first_call_mode`:
+    ``compiled``, the default, or ``uncompiled``).
 
     Raises
     ------
     ValueError
         If the variable holds another value than :data:`FIRST_CALL_MODES`.
     """
-    if _FORCED:
-        return _FORCED[-1]
-    mode = os.environ.get("FLAPPING_FIRST_CALL", "").strip().lower() or "auto"
-    if mode not in FIRST_CALL_MODES:
-        raise ValueError(f"the environment variable FLAPPING_FIRST_CALL must be one of "
-                         f"{', '.join(FIRST_CALL_MODES)}; got {mode!r}")
-    return mode
-
-
-@contextlib.contextmanager
-def _mode(mode: str) -> Iterator[None]:
-    _FORCED.append(mode)
-    try:
-        yield
-    finally:
-        _FORCED.pop()
+    return _jit.first_call_mode()
 
 
 def run(kc: ModuleType, name: str, *args: Any) -> Any:
     """Call the entry point ``name`` of ``kc`` (:func:`load`) with ``args``.
 
-    Compiled, unless this is its first call in the process and numba's cache of it is cold (see
-    the module notes and :func:`run_reporting`, which also says which path answered).
+    Compiled (or loaded from numba's cache), unless ``FLAPPING_FIRST_CALL=uncompiled`` and the
+    cache holds no machine code of it (see the module notes and :func:`run_reporting`, which
+    also says which path answered).
     """
     return run_reporting(kc, name, *args)[0]
 
@@ -317,44 +256,23 @@ def run(kc: ModuleType, name: str, *args: Any) -> Any:
 def run_reporting(kc: ModuleType, name: str, *args: Any) -> tuple[Any, bool]:
     """:func:`run`, and whether the compiled code answered (False: the uncompiled Python).
 
-    The first call of an entry point in a process, if numba's cache holds no entry for it (or
-    ``FLAPPING_FIRST_CALL=uncompiled``) and the call's work is small, runs the uncompiled
-    functions and starts the background compile (if the cache is cold); a
-    :class:`KernelCompileWarning` says so, once per process. Its later calls wait for a
-    running background compile (``WAIT_S`` at most), then run compiled. A compiled first
-    call is timed: one INFO line on the ``"flapping"`` logger reports it, and a
-    :class:`KernelCompileWarning` (once per process) says that numba compiles: before it starts
-    if the cache holds no entry for the function, after if it took more than a second anyway.
+    ``FLAPPING_FIRST_CALL`` is checked on every call. With ``uncompiled``, an entry point whose
+    machine code numba's cache does not hold runs its Python code (the same numbers, bit for
+    bit; nothing is compiled or started), said once per process by a
+    :class:`KernelCompileWarning`. Otherwise numba loads it from the cache, or compiles it in
+    this process (:mod:`flapping.fast._jit` says so).
     """
+    mode = first_call_mode()  # checked on every call: a bad value is refused by each alike
     fn = getattr(kc, name)
     if name in _READY:
         return fn(*args), True
-    from flapping.fast import _background, _uncompiled  # the first calls only
+    from flapping.fast import _uncompiled  # the first calls only
 
     if _jit_disabled():  # njit returned the Python functions, which Python cannot run as they are
         return _uncompiled.entry(kc, name)(*args), False
-    cache = cache_dir(kc)
-    warm = _cached(fn, cache)
-    if name not in _FIRST_DONE:
-        _FIRST_DONE.add(name)
-        mode = first_call_mode()
-        if ((mode == "uncompiled" or (mode == "auto" and not warm))
-                and _small(name, args)):
-            return _run_uncompiled(kc, name, args, cache, warm), False
-    elif not warm and cache is not None and _background.running(cache):
-        _LOG.info("hover kernel (%s): waiting for the background compile into %s", name, cache)
-        _background.wait(cache, WAIT_S, lambda: _cached(fn, cache))
-        warm = _cached(fn, cache)
-    if not warm and not _NOTED:
-        _note_compiling(cache)
-        _NOTED.append(True)
-    start = time.perf_counter()
+    if mode == "uncompiled" and not _jit.ready(fn):
+        return _run_uncompiled(kc, name, args), False
     out = fn(*args)
-    seconds = time.perf_counter() - start
-    compiled = bool(getattr(fn, "stats", None) and fn.stats.cache_misses)
-    _announce(seconds, compiled, cache, noted=bool(_NOTED), name=name)
-    if compiled and seconds > _NOTE_AFTER_S:
-        _NOTED.append(True)
     _READY.add(name)
     return out, True
 
@@ -366,70 +284,23 @@ def _jit_disabled() -> bool:
     return bool(getattr(config, "DISABLE_JIT", False))
 
 
-def _small(name: str, args: tuple[Any, ...]) -> bool:
-    """Whether the call's work is within :data:`_UNCOMPILED_LIMITS`."""
-    for position, limit in _UNCOMPILED_LIMITS.get(name, ()):
-        value = args[position]
-        if (np.size(value) if isinstance(value, np.ndarray) else int(value)) > limit:
-            return False
-    return True
+def _run_uncompiled(kc: ModuleType, name: str, args: tuple[Any, ...]) -> Any:
+    """The entry point's Python code on ``args``, said once per process."""
+    from flapping.fast import _uncompiled
 
-
-def _run_uncompiled(kc: ModuleType, name: str, args: tuple[Any, ...], cache: Path | None,
-                    warm: bool) -> Any:
-    """The entry point's Python code on ``args``; the background compile started if the cache
-    is cold, and said once (:class:`KernelCompileWarning`)."""
-    from flapping.fast import _background, _uncompiled
-
-    pid = None if warm or cache is None else _background.start(cache)
     start = time.perf_counter()
     out = _uncompiled.entry(kc, name)(*args)
     seconds = time.perf_counter() - start
-    if pid is not None:
-        later = (f"numba compiles it in a background process (pid {pid}, 5-15 s of CPU, once) "
-                 f"into {cache}; later calls load it from there")
-    elif cache is not None and not warm and _background.running(cache):
-        later = f"a background compile into {cache} runs already; later calls load it from there"
-    elif not warm:
-        later = "later calls compile it in this process"
-    else:
-        later = "later calls use the compiled kernel (FLAPPING_FIRST_CALL=uncompiled)"
-    _LOG.info("hover kernel (%s) answered uncompiled in %.2f s (numba cache: %s); %s", name,
-              seconds, cache if cache is not None else "none", later)
-    if not warm and not _NOTED:
+    _LOG.info("hover kernel (%s) ran uncompiled in %.2f s (FLAPPING_FIRST_CALL=uncompiled)",
+              name, seconds)
+    if not _NOTED:
         _NOTED.append(True)
-        warnings.warn(f"flapping's hover kernel is not compiled in this environment yet: this "
-                      f"first call ran its Python code uncompiled (the same arithmetic, "
-                      f"{seconds:.2f} s); {later}", KernelCompileWarning, stacklevel=6)
+        warnings.warn(f"flapping's hover kernel is not in numba's cache here: with "
+                      f"FLAPPING_FIRST_CALL=uncompiled it runs its Python code uncompiled (the "
+                      f"same arithmetic, {seconds:.2f} s for this call); `python -m flapping "
+                      f"compile` compiles it into the cache once", KernelCompileWarning,
+                      stacklevel=5)
     return out
-
-
-def _cached(fn: Any, cache: Path | None) -> bool:
-    """Whether numba's cache in ``cache`` holds an entry for the compiled function ``fn``.
-
-    Its index file (``<module>.<function>-<first line>.py<X><Y>.nbi``, numba 0.60-0.68) read as
-    numba reads it: for this numba version and the function's source file as it is now (a stale
-    index reads as empty), with its data files written. An entry for another signature or
-    processor passes here and compiles in the process (then the note comes after, not before).
-    If numba's internals moved: whether the index file exists. False without a cache (None),
-    True for a function that is not numba's.
-    """
-    py_func = getattr(fn, "py_func", None)
-    if py_func is None:  # not numba's (a wrapper a benchmark put in its place): nothing to say
-        return True
-    if cache is None:  # numba caches nothing here
-        return False
-    try:
-        index = fn._cache._cache_file
-        entries = index._load_index()
-        # numba writes the index before the data (each file whole, by a rename)
-        return bool(entries) and all(Path(index._cache_path, data).is_file()
-                                     for data in entries.values())
-    except Exception:  # noqa: BLE001 - numba's internals: fall back on the file's existence
-        code = py_func.__code__
-        module = py_func.__module__.rsplit(".", 1)[-1]
-        version = f"py{sys.version_info.major}{sys.version_info.minor}"
-        return (cache / f"{module}.{code.co_name}-{code.co_firstlineno}.{version}.nbi").is_file()
 
 
 def cache_dir(compiled: ModuleType | None = None) -> Path | None:
@@ -446,69 +317,19 @@ def cache_dir(compiled: ModuleType | None = None) -> Path | None:
         Where numba chose to cache (see the module notes); None if no place was writable.
     """
     compiled = load() if compiled is None else compiled
-    stats = getattr(compiled.newton_and_estimate, "stats", None)  # None: NUMBA_DISABLE_JIT
-    path = stats.cache_path if stats is not None else None
-    return Path(path) if compiled.CACHED and path else None
-
-
-def _cache_text(cache: Path | None) -> str:
-    return (f"later runs load it from numba's cache in {cache}" if cache is not None else
-            "numba found no writable cache directory, so every process compiles it again "
-            "(set NUMBA_CACHE_DIR to a writable directory)")
-
-
-def _note_compiling(cache: Path | None) -> None:
-    """The one-time note before numba compiles the kernel (no cache yet)."""
-    warnings.warn(f"compiling flapping's hover kernel with numba (first use in this "
-                  f"environment: 3-10 s of CPU, once); {_cache_text(cache)}", KernelCompileWarning,
-                  stacklevel=5)
-
-
-def _announce(seconds: float, compiled: bool, cache: Path | None, noted: bool,
-              name: str = "") -> None:
-    """One INFO line on the "flapping" logger; a note if numba compiled for long, unannounced."""
-    what = "compiled" if compiled else "loaded from the cache"
-    _LOG.info("hover kernel%s %s in %.2f s (numba cache: %s)", f" ({name})" if name else "",
-              what, seconds, cache if cache is not None else "none")
-    if compiled and seconds > _NOTE_AFTER_S and not noted:
-        warnings.warn(f"flapping's hover kernel was compiled with numba in {seconds:.1f} s "
-                      f"(first use in this environment or after an upgrade); "
-                      f"{_cache_text(cache)}", KernelCompileWarning, stacklevel=5)
-
-
-def _drop_stale_cache(cache: Path, generated: Path) -> None:
-    """Remove numba's cached :mod:`flapping.fast._compiled` in ``cache`` if ``generated`` changed.
-
-    numba keys a cached function on the content of its own file only, so the functions of
-    ``_compiled`` that inline the generated derivatives would keep the old arithmetic (and the
-    old layout of the constants) after a regeneration or an upgrade that changed
-    ``_generated.py`` alone. A stamp of the generated source in the cache directory numba uses
-    detects that.
-    """
-    digest = hashlib.sha256(generated.read_bytes()).hexdigest()
-    stamp = cache / "_compiled.generated-sha256"
-    try:
-        if stamp.is_file() and stamp.read_text() == digest:
-            return
-        for old in list(cache.glob("_compiled.*.nbi")) + list(cache.glob("_compiled.*.nbc")):
-            old.unlink()
-        cache.mkdir(parents=True, exist_ok=True)
-        stamp.write_text(digest)
-    except OSError:  # numba checked the directory is writable; a race with another process
-        pass
+    return _jit.cache_dir(compiled.newton_and_estimate)
 
 
 def warm_up() -> float:
     """Run every compiled entry point once on the hawkmoth, compiled; returns the seconds it took.
 
     The first call in an environment compiles (seconds); later processes load the on-disk cache.
-    The solve's entry point first (the one a second call most likely waits for), then the
-    quadrature of :func:`~flapping.hover.hover_stability`.
+    :func:`flapping.fast.warm_up` runs it with the other fast modules'.
     """
     from flapping.model.morphology import hawkmoth
 
     start = time.perf_counter()
-    with _mode("compiled"):
+    with _jit.forced("compiled"):
         problem = KernelProblem.of(hawkmoth())
         sol = solve_hover(problem)
         orbit_quadrature(problem, sol.x0, sol.amplitude)
@@ -676,8 +497,8 @@ class HoverSolution:
         last Newton integration: x_e(T) / T and -z(T) / T. Read-only.
     compiled : bool
         True if numba's compiled code answered every call of the solve; False if a call ran
-        the kernel's Python code uncompiled (the first call in an environment whose numba cache
-        is cold, see the module notes), whose numbers are the same to the last bit.
+        the kernel's Python code uncompiled (``FLAPPING_FIRST_CALL=uncompiled`` and numba's
+        cache without it, see the module notes), whose numbers are the same to the last bit.
     """
 
     x0: np.ndarray
@@ -700,7 +521,7 @@ class HoverSolution:
     @property
     def path(self) -> str:
         """Which code answered, in words: ``"compiled"``, or ``UNCOMPILED_PATH`` (the kernel's
-        Python code, uncompiled: a first call while numba compiles)."""
+        Python code, uncompiled: ``FLAPPING_FIRST_CALL=uncompiled`` with a cold cache)."""
         return "compiled" if self.compiled else UNCOMPILED_PATH
 
     @property

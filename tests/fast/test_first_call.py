@@ -1,6 +1,7 @@
-"""The first call in an environment whose numba cache is cold: answered uncompiled, said so,
-equal to the compiled answer bit for bit; the background compile fills the cache; later calls
-and sweeps run compiled (flapping.fast.kernel, "The first call in a new environment")."""
+"""The first call (flapping.fast._jit, one policy for every numba module): compiled in the
+process and said once, or, with FLAPPING_FIRST_CALL=uncompiled and a cold cache, the kernel's
+Python code, equal to the compiled answer bit for bit; no process started; the variable checked
+on every call; a corrupt cache file recompiled with a warning."""
 
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ import numpy as np
 import pytest
 
 import flapping
-from flapping.fast import _background, _uncompiled, kernel
+from flapping.fast import _jit, _uncompiled, kernel
 
 pytest.importorskip("numba")
 
@@ -96,80 +97,83 @@ def test_the_power_rewrite_is_numbas_product():
 
 @pytest.fixture
 def fresh_process(monkeypatch, kc):
-    """This process as if no entry point had been called (the cache stays warm)."""
-    if kernel.cache_dir() is None:
-        pytest.skip("numba found no writable cache directory here: no cache is ever warm")
+    """This process as if no entry point had been called (the cache stays as it is)."""
     monkeypatch.setattr(kernel, "_READY", set())
-    monkeypatch.setattr(kernel, "_FIRST_DONE", set())
     monkeypatch.setattr(kernel, "_NOTED", [])
-
-    def no_start(cache):
-        raise AssertionError("a background compile started with a warm cache")
-
-    monkeypatch.setattr(_background, "start", no_start)
+    monkeypatch.delenv("FLAPPING_FIRST_CALL", raising=False)
     return monkeypatch
 
 
-def test_a_forced_uncompiled_first_call_says_so_and_the_next_runs_compiled(fresh_process):
-    fresh_process.setenv("FLAPPING_FIRST_CALL", "uncompiled")
+@pytest.fixture
+def cold(fresh_process):
+    """As if numba's cache held none of the kernel (whatever it holds: no test depends on it)."""
+    fresh_process.setattr(_jit, "ready", lambda dispatcher: False)
+    return fresh_process
+
+
+def test_uncompiled_with_a_cold_cache_answers_in_python_says_so_once_and_equals_compiled(cold):
+    cold.setenv("FLAPPING_FIRST_CALL", "uncompiled")
     insect = flapping.hawkmoth(frequency=23.0)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", kernel.KernelCompileWarning)  # warm: nothing to say
-        first = kernel.solve_hover(insect)
-        second = kernel.solve_hover(insect)
-        quad = [kernel.orbit_quadrature(insect, first.x0, first.amplitude) for _ in range(2)]
-    assert (first.compiled, second.compiled) == (False, True)
-    assert first.path == kernel.UNCOMPILED_PATH and second.path == "compiled"
-    assert (quad[0].compiled, quad[1].compiled) == (False, True)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        first, second = kernel.solve_hover(insect), kernel.solve_hover(insect)
+        quad = kernel.orbit_quadrature(insect, first.x0, first.amplitude)
+    notes = [w for w in caught if issubclass(w.category, kernel.KernelCompileWarning)]
+    assert len(notes) == 1 and "FLAPPING_FIRST_CALL=uncompiled" in str(notes[0].message)
+    assert (first.compiled, second.compiled, quad.compiled) == (False, False, False)
+    assert first.path == kernel.UNCOMPILED_PATH
+    cold.setenv("FLAPPING_FIRST_CALL", "compiled")
+    compiled = kernel.solve_hover(insect)
+    assert compiled.compiled and compiled.path == "compiled"
     for name in ("x0", "amplitude", "monodromy", "multipliers", "residual", "amplitude_error",
                  "x0_error", "multiplier_error", "mean_velocity", "nit", "n_steps"):
-        assert np.array_equal(getattr(first, name), getattr(second, name)), name
-    assert np.array_equal(quad[0].averaged_jacobian, quad[1].averaged_jacobian)
+        assert np.array_equal(getattr(first, name), getattr(compiled, name)), name
+    assert np.array_equal(quad.averaged_jacobian, kernel.orbit_quadrature(
+        insect, first.x0, first.amplitude).averaged_jacobian)
 
 
-def test_the_hover_orbit_names_the_path_and_a_warm_cache_answers_compiled(fresh_process):
-    # auto (the default) with a warm cache: compiled from the first call, no background process
-    fresh_process.delenv("FLAPPING_FIRST_CALL", raising=False)
+def test_uncompiled_with_the_kernel_in_the_cache_runs_compiled(fresh_process):
+    fresh_process.setattr(_jit, "ready", lambda dispatcher: True)
+    fresh_process.setenv("FLAPPING_FIRST_CALL", "uncompiled")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", kernel.KernelCompileWarning)  # nothing to say
+        assert kernel.solve_hover(flapping.hawkmoth(frequency=24.0)).compiled
+
+
+def test_the_hover_orbit_names_the_path(cold):
     orbit = flapping.find_hover_orbit(flapping.hawkmoth(frequency=24.0))
     assert orbit.backend == "compiled" and orbit.kernel.compiled
-    fresh_process.setattr(kernel, "_FIRST_DONE", set())
-    fresh_process.setattr(kernel, "_READY", set())
-    fresh_process.setenv("FLAPPING_FIRST_CALL", "uncompiled")
-    cold = flapping.find_hover_orbit(flapping.hawkmoth(frequency=24.0))
-    assert not cold.kernel.compiled and cold.kernel.path == kernel.UNCOMPILED_PATH
-    assert np.array_equal(cold.floquet.multipliers, orbit.floquet.multipliers)
-    assert cold.amplitude == orbit.amplitude
+    cold.setattr(kernel, "_READY", set())
+    cold.setenv("FLAPPING_FIRST_CALL", "uncompiled")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", kernel.KernelCompileWarning)
+        python = flapping.find_hover_orbit(flapping.hawkmoth(frequency=24.0))
+    assert not python.kernel.compiled and python.kernel.path == kernel.UNCOMPILED_PATH
+    assert np.array_equal(python.floquet.multipliers, orbit.floquet.multipliers)
+    assert python.amplitude == orbit.amplitude
 
 
-def test_a_first_call_with_much_work_compiles(fresh_process):
-    fresh_process.setenv("FLAPPING_FIRST_CALL", "uncompiled")
-    sol = kernel.solve_hover(flapping.hawkmoth(), n_steps=64)  # above the limit of 32
-    assert sol.compiled
+@pytest.mark.parametrize("value", ["garbage", "auto", "sometimes", "1"])
+def test_a_bad_first_call_mode_is_refused_on_every_call(fresh_process, value):
+    # It was refused on the first call and accepted on the second (read on the first only).
+    insect = flapping.hawkmoth()
+    kernel.solve_hover(insect)  # a first call done: the entry point is ready
+    fresh_process.setenv("FLAPPING_FIRST_CALL", value)
+    for _ in range(2):
+        with pytest.raises(ValueError, match="FLAPPING_FIRST_CALL must be one of compiled, "
+                                             "uncompiled"):
+            kernel.solve_hover(insect)
+    with pytest.raises(ValueError, match="FLAPPING_FIRST_CALL"):
+        _jit.first_call_mode()
+    # also while warm_up forces a mode
+    with pytest.raises(ValueError, match="FLAPPING_FIRST_CALL"), _jit.forced("compiled"):
+        _jit.first_call_mode()
 
 
-def test_a_bad_first_call_mode_is_named(fresh_process):
-    fresh_process.setenv("FLAPPING_FIRST_CALL", "sometimes")
-    with pytest.raises(ValueError, match="FLAPPING_FIRST_CALL must be one of auto, compiled"):
-        kernel.solve_hover(flapping.hawkmoth())
-
-
-def test_one_background_compile_per_cache_and_a_failed_one_reports(tmp_path, kc):
-    # While the lock is held (here by this test), none starts and running() says so.
-    import fcntl
-
-    fd = os.open(tmp_path / _background.LOCK_NAME, os.O_RDWR | os.O_CREAT)
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
-        assert _background.running(tmp_path)
-        assert _background.start(tmp_path) is None
-        assert not _background.wait(tmp_path, 0.2)  # the time limit, not a hang
-    finally:
-        os.close(fd)
-    assert not _background.running(tmp_path)
-    # A child whose numba caches elsewhere compiles nothing and says why, with exit status 1.
-    assert _background.main([str(tmp_path)], niceness=0) == 1
-    report = _background.report(tmp_path)
-    assert not report["ok"] and "nothing compiled" in report["error"]
+@pytest.mark.parametrize("value", ["", "compiled", " Uncompiled "])
+def test_the_first_call_modes_read_alike(fresh_process, value):
+    fresh_process.setenv("FLAPPING_FIRST_CALL", value)
+    assert _jit.first_call_mode() == (value.strip().lower() or "compiled")
 
 
 def _python(code, env, timeout=600):
@@ -185,88 +189,50 @@ FIRST = ("import warnings, flapping; warnings.simplefilter('always'); "
          "s = flapping.hover_stability(o); "
          "print(o.kernel.compiled, abs(s.multipliers).max().hex(), o.amplitude.hex())")
 
-SWEEP = ("import warnings, flapping; warnings.simplefilter('ignore'); "
-         "from flapping.fast import kernel; from flapping.studies.sweep import sweep_hover; "
-         "import hashlib; "
-         "t = sweep_hover(flapping.hawkmoth(), {'frequency': [24.0, 25.0, 26.0]}, "
-         "progress=False); kc = kernel.load(); "
-         "rows = repr([[repr(v) for v in r] for r in t.itertuples(index=False)]); "
-         "print(len(kc.newton_and_estimate.signatures), 'newton_and_estimate' in kernel._READY, "
-         "len(t), hashlib.sha256(rows.encode()).hexdigest())")
 
-
-def _cold_env(tmp_path):
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
-    env.pop("FLAPPING_FIRST_CALL", None)
+def _cold_env(tmp_path, **extra):
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), **extra}
+    if "FLAPPING_FIRST_CALL" not in extra:
+        env.pop("FLAPPING_FIRST_CALL", None)
     env.pop("NUMBA_DISABLE_JIT", None)
     return env
 
 
-def test_a_cold_cache_answers_the_first_calls_uncompiled_in_a_new_process(tmp_path):
-    # The cache directory's compile lock held here: the process finds a compile running and
-    # starts none (so this test compiles nothing); it answers uncompiled and says so.
-    import fcntl
-
-    env = _cold_env(tmp_path)
-    code = ("from flapping.fast import kernel; print(kernel.cache_dir(kernel.load()))")
-    directory = _python(code, env).stdout.strip()
-    fd = os.open(os.path.join(directory, _background.LOCK_NAME), os.O_RDWR | os.O_CREAT)
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
-        out = _python(FIRST, env, 120)
-    finally:
-        os.close(fd)
+def test_an_uncompiled_first_call_starts_nothing_and_writes_nothing(tmp_path, kc):
+    out = _python(FIRST, _cold_env(tmp_path, FLAPPING_FIRST_CALL="uncompiled"), 300)
     assert out.stdout.split()[0] == "False"
     assert out.stderr.count("KernelCompileWarning") == 1
-    assert "ran its Python code uncompiled" in out.stderr and "runs already" in out.stderr
-    assert not list(tmp_path.rglob("*.nbi")) and _background.report(Path(directory)) is None
+    assert not [p for p in tmp_path.rglob("*") if p.is_file()]  # no cache file, lock or stamp
     mu = float.fromhex(out.stdout.split()[1])
     assert mu == abs(kernel.solve_hover(flapping.hawkmoth()).multipliers).max()
 
 
 @pytest.mark.slow
-def test_cold_cache_first_call_uncompiled_background_fills_the_cache_sweeps_compile(tmp_path):
-    """The whole story with one background compile (20-60 s on two busy cores)."""
+def test_a_cold_cache_compiles_in_the_process_says_so_and_the_next_process_loads(tmp_path):
+    """The first call in a new environment (20-60 s on two busy cores): compiled in the
+    process, one warning; the next process loads the cache, silently, to the same bits."""
     env = _cold_env(tmp_path)
     cold = _python(FIRST, env)
-    compiled, mu, phi = cold.stdout.split()
-    assert compiled == "False"
+    assert cold.stdout.split()[0] == "True"
     assert cold.stderr.count("KernelCompileWarning") == 1
-    assert "uncompiled" in cold.stderr and "background process" in cold.stderr
-    locks = list(tmp_path.rglob(_background.LOCK_NAME))
-    assert len(locks) == 1
-    cache = locks[0].parent
-    # A sweep in a new process while the compile runs: its first point may be answered
-    # uncompiled, the others wait and run compiled, and its table is the warm table.
-    sweep = _python(SWEEP, env).stdout.split()
-    assert _background.wait(cache, 600)
-    report = _background.report(cache)
-    assert report["ok"], report
-    assert {p.name.split("-")[0] for p in cache.glob("*.nbi")} == {
-        f"_compiled.{n}" for n in ("newton_and_estimate", "variational_period",
-                                   "sample_period", "states_at", "orbit_quadrature")}
-    assert sweep[:3] == ["1", "True", "3"]  # the sweep's solves ran compiled
-    assert _python(SWEEP, env).stdout.split() == sweep  # the warm table, bit for bit
-    # The next process: compiled from the first call, nothing to say, no background process.
+    assert "compiling flapping's numba code" in cold.stderr
     warm = _python(FIRST, env)
-    assert warm.stdout.split() == ["True", mu, phi]
+    assert warm.stdout.split() == cold.stdout.split()
     assert "KernelCompileWarning" not in warm.stderr
-    assert _background.report(cache)["pid"] == report["pid"]  # no second compile
 
 
-def test_with_numba_disabled_every_call_is_uncompiled_and_nothing_starts(tmp_path):
+def test_with_numba_disabled_every_call_is_uncompiled(tmp_path, kc):
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), "NUMBA_DISABLE_JIT": "1"}
     out = _python(FIRST.replace("print(", "o2 = flapping.find_hover_orbit(flapping.hawkmoth("
                                 "frequency=25.0)); print(o2.kernel.compiled, "), env, 300)
     assert out.stdout.split()[:2] == ["False", "False"]
-    assert not list(tmp_path.rglob(_background.LOCK_NAME))
     mu = float.fromhex(out.stdout.split()[2])
     assert mu == abs(kernel.solve_hover(flapping.hawkmoth()).multipliers).max()
 
 
 def test_a_wrapper_in_place_of_an_entry_point_is_called(fresh_process, kc):
     # as benchmarks/bench_sweep.py times the solves: a plain function has no numba cache to ask
-    fresh_process.delenv("FLAPPING_FIRST_CALL", raising=False)
+    fresh_process.setenv("FLAPPING_FIRST_CALL", "uncompiled")
     calls = []
     inner = kc.newton_and_estimate
 
@@ -277,3 +243,92 @@ def test_a_wrapper_in_place_of_an_entry_point_is_called(fresh_process, kc):
     fresh_process.setattr(kc, "newton_and_estimate", timed)
     assert kernel.solve_hover(flapping.hawkmoth(frequency=22.0)).compiled
     assert calls == [1]
+
+
+# --------------------------------------------------------------------------- numba's cache
+#: A tiny entry point (compiled in ~0.2 s): the cache's behaviour is the same for every one.
+SMALL = ("import warnings; warnings.simplefilter('always'); "
+         "from flapping.fast import _blade; print(_blade.grading(0.25).hex())")
+
+
+@pytest.mark.parametrize("suffix", [".nbi", ".nbc"])
+def test_a_corrupt_cache_file_is_named_recompiled_and_rewritten(tmp_path, suffix):
+    # numba raised UnpicklingError on every run until the file was deleted.
+    env = _cold_env(tmp_path)
+    first = _python(SMALL, env, 300)
+    files = list(tmp_path.rglob(f"_blade.grading-*{suffix}"))
+    assert len(files) == 1
+    files[0].write_bytes(b"\x80\x04garbage, not a pickle")
+    second = _python(SMALL, env, 300)
+    assert second.stdout == first.stdout
+    assert second.stderr.count("KernelCompileWarning") >= 1
+    assert str(files[0]) in second.stderr and "recompiles" in second.stderr
+    assert "Traceback" not in second.stderr
+    third = _python(SMALL, env, 300)  # numba wrote the entry again: read without a word
+    assert third.stdout == first.stdout and "KernelCompileWarning" not in third.stderr
+
+
+def test_the_cache_key_holds_the_sources_a_function_inlines(tmp_path):
+    # numba keys an entry on the function's own file: after a regeneration of _generated.py
+    # alone it loaded the old arithmetic. The digest of the inlined sources is in the key.
+    from numba.core.registry import cpu_target
+
+    from flapping.fast import _cache
+
+    a, b = tmp_path / "a.py", tmp_path / "b.py"
+    a.write_text("X = 1\n")
+    b.write_text("X = 1\n")
+    modules = [type(sys)("a"), type(sys)("b")]
+    modules[0].__file__, modules[1].__file__ = str(a), str(b)
+    assert _jit._digest((modules[0],)) == _jit._digest((modules[1],))
+    b.write_text("X = 2\n")
+    digests = [_jit._digest((m,)) for m in modules]
+    assert digests[0] != digests[1]
+    fn = kernel.load().newton_and_estimate.py_func
+    codegen = cpu_target.target_context.codegen()
+    keys = [_cache.Cache(fn, d, _jit.announce, _jit._unreadable)._index_key(("sig",), codegen)
+            for d in digests]
+    assert keys[0][:3] == keys[1][:3] and keys[0] != keys[1]
+
+
+def test_no_numba_module_bypasses_the_policy():
+    # One policy: every compiled function of flapping.fast is decorated by flapping.fast._jit
+    # (numba.njit appears nowhere else).
+    import flapping.fast as package
+
+    def jits(path):
+        """The uses of numba.njit / numba.jit / njit in the code (not in the docstrings)."""
+        return [n for n in ast.walk(ast.parse(path.read_text()))
+                if (isinstance(n, ast.Attribute) and n.attr in ("njit", "jit")
+                    and isinstance(n.value, ast.Name) and n.value.id == "numba")
+                or (isinstance(n, ast.Name) and n.id == "njit")]
+
+    root = Path(package.__file__).parent
+    offenders = [p.name for p in root.glob("*.py") if p.name != "_jit.py" and jits(p)]
+    assert offenders == []
+    assert jits(root / "_jit.py")  # the test finds what it looks for
+    kernel.load()
+    from flapping.fast import _blade, _sixdof  # noqa: F401 - their entry points register
+
+    registered = _jit.entry_points()
+    for module in ("flapping.fast._compiled", "flapping.fast._blade", "flapping.fast._sixdof"):
+        assert registered.get(module), module
+
+
+def test_uncompiled_with_a_cold_cache_runs_the_python_blade_loads(cold):
+    # The blade-element loads' Python twin is the model's own loads: the field is not compiled.
+    from flapping.fast import blade
+    from flapping.model.dynamics import LongitudinalDynamics
+
+    model = LongitudinalDynamics(flapping.hawkmoth(), aerodynamics="small-angle")
+    cold.setattr(blade, "_MODULE", [])
+    cold.setattr(blade, "_UNCOMPILED_NOTED", [])
+    cold.setenv("FLAPPING_FIRST_CALL", "uncompiled")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert blade.BladeField.of(model, 1) is None
+        assert blade.BladeField.of(model, 1) is None
+    assert sum(issubclass(w.category, kernel.KernelCompileWarning) for w in caught) == 1
+    assert blade._MODULE == []  # nothing compiled or loaded
+    cold.setenv("FLAPPING_FIRST_CALL", "compiled")
+    assert blade.BladeField.of(model, 1) is not None
