@@ -160,8 +160,11 @@ def wing_resultants(U0, U1, W0, W1, omega, s, data, variational, res, jac, sums,
         W = W0 + W1 * r
         if small:
             _section_small(U, W, sigma, sin_2ag, cos_2am, sin_am2, cos_am2, _TINY, sec)
-        else:
+        elif U * U + W * W > _V2_FLOOR:
             _section_exact(U, W, sigma, sin_2ag, cos_2am, sin_am2, cos_am2, _TINY, sec)
+        else:  # still air at this strip: the law (degree two in (U, W)) and its gradient are 0
+            for k in range(6):  # (its gradient's formula is 0/0 here: (|V|^2 + tiny)^1.5 = 0)
+                sec[k] = 0.0
         row = i_w + 6 * i
         w0, w1, w3 = data[row], data[row + 1], data[row + 3]
         a, b = sec[0], sec[1]
@@ -592,7 +595,9 @@ def warm_up() -> None:
     insect = hawkmoth()
     for loads in ("small-angle", "exact"):
         flow = Flow(SixDofDynamics(insect, insect.stroke_amplitude, None, loads))
-        x0 = np.zeros(8)
+        # A state near the hover's (air moving past the body): at rest, a strip meets still air
+        # at the stroke reversal and the section law's gradient is 0/0.
+        x0 = np.array([0.01, 0.0, 0.01, 0.0, 0.01, 0.0, 0.0, 0.1])
         for variational in (False, True):
             flow(x0, insect.stroke_amplitude, 4, variational)
         monodromy_factors(flow, x0, insect.stroke_amplitude, 4 * FACTORS_PER_HALF_STROKE)

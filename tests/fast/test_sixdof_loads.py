@@ -134,3 +134,23 @@ def test_the_kinks_are_step_boundaries():
     changes = np.unique(fine[np.nonzero(np.any(values[:-1] * values[1:] < 0.0, axis=1))[0]])
     assert len(kinks) == len(changes) > 0
     np.testing.assert_array_less(np.abs(kinks - changes), 1.0 / 1024 + 1e-12)
+
+
+def test_the_exact_law_at_a_strip_in_still_air_is_zero_not_a_division_by_zero():
+    # Regression: the body at rest at a stroke reversal (t = 0) put a strip in still air, where
+    # the exact law's gradient formula divided by (|V|^2 + 1e-300)^1.5 = 0 (ZeroDivisionError).
+    from flapping.fast import _sixdof_loads as loads
+    from flapping.model.morphology import hawkmoth
+    from flapping.model.sixdof import SixDofDynamics
+
+    insect = hawkmoth()
+    model = SixDofDynamics(insect, insect.stroke_amplitude, None, "exact")
+    flow = loads.Flow(model)
+    y = np.zeros(loads.N_VAR)
+    y[9:81] = np.vstack([np.eye(8), np.zeros((1, 8))]).ravel()
+    dy = flow.evaluate(0.0, y, 0, insect.stroke_amplitude)
+    assert np.all(np.isfinite(dy))
+    # At rest at the reversal the wings carry no air load: gravity alone.
+    plain = flow.evaluate(0.0, np.zeros(loads.N_PLAIN), 0, insect.stroke_amplitude)
+    python = model.rhs(0.0, np.zeros(8))
+    np.testing.assert_allclose(plain[:8], python, rtol=0, atol=1e-12 * np.abs(python).max())
