@@ -9,13 +9,16 @@ Two studies take minutes and change only when the model does, so the book reads 
   seed=0)`` for the six presets -> ``book/_data/global_sensitivity.npz``;
 - ``reduction``: its check against the full model, ``reduction_check(name, 2, seed=0)`` for the
   six presets and ``nominal_reduction`` of the hawkmoth and the monarch ->
-  ``book/_data/reduction_check.npz``.
+  ``book/_data/reduction_check.npz``;
+- ``windows``: the control chapter's stable windows, ``stable_window(passive_sweep(preset(name),
+  linspace(0, body length, 25)), check=True)`` for its five species ->
+  ``book/_data/passive_windows.npz``.
 
 Each file is read back and compared with what was just computed before the script ends.
 ``tests/studies/test_stored.py`` solves sampled points again and compares them with the files:
 after a change that moves them, run this script again and commit the files.
 
-    python scripts/book_data.py [explorer] [sensitivity] [reduction]    # all when none is named
+    python scripts/book_data.py [explorer] [sensitivity] [reduction] [windows]   # all if none named
 """
 
 from __future__ import annotations
@@ -33,8 +36,9 @@ import numpy as np
 from pandas.testing import assert_frame_equal
 
 from flapping.errors import PlausibilityWarning
-from flapping.model.presets import PRESETS
+from flapping.model.presets import PRESETS, preset
 from flapping.studies import _stored as stored
+from flapping.studies import control
 from flapping.studies import sensitivity as gs
 from flapping.studies.explorer import DEFAULT_GRID, explore_hover
 
@@ -42,6 +46,9 @@ DATA = Path(__file__).resolve().parents[1] / "book" / "_data"
 EXPLORER = DATA / "explorer.npz"
 SENSITIVITY = DATA / "global_sensitivity.npz"
 REDUCTION = DATA / "reduction_check.npz"
+WINDOWS = DATA / "passive_windows.npz"
+#: The control chapter's species (the monarch left out: its hover leaves the linear loads' range).
+CONTROL_SPECIES = ("hawkmoth", "bumblebee", "fruit_fly", "honeybee", "hoverfly")
 #: The book's sample of the global study: 9 x 256 orbits a species (the full study,
 #: scripts/global_sensitivity.py, runs 2048).
 N_BOOK, SEED = 256, 0
@@ -109,9 +116,31 @@ def reduction(path: Path = REDUCTION) -> None:
           f"in {wall:.0f} s -> {path} ({path.stat().st_size / 1e3:.0f} kB)", flush=True)
 
 
+def windows(path: Path = WINDOWS) -> None:
+    """The stable windows of the control chapter's passive sweeps, as the chapter ran them."""
+    found, walls = {}, {}
+    for name in CONTROL_SPECIES:
+        started = time.perf_counter()
+        sweep = control.passive_sweep(preset(name),
+                                      np.linspace(0.0, control.BODY_LENGTHS[name], 25))
+        window = control.stable_window(sweep, check=True)
+        assert window is not None, name
+        found[name], walls[name] = window, time.perf_counter() - started
+    stored.save_windows(found, path, wall_time_s=walls, **_machine())
+    again, _ = stored.load_windows(path)
+    for name, pair in found.items():
+        for a, b in zip(again[name], pair, strict=True):
+            assert (a.hinge_height, a.kind, a.stabilising, a.check_height) == (
+                b.hinge_height, b.kind, b.stabilising, b.check_height)
+            assert np.array_equal(a.multipliers, b.multipliers)
+    print(f"windows: {len(found)} species in {sum(walls.values()):.0f} s -> {path} "
+          f"({path.stat().st_size / 1e3:.0f} kB)", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    studies = {"explorer": explorer, "sensitivity": sensitivity, "reduction": reduction}
+    studies = {"explorer": explorer, "sensitivity": sensitivity, "reduction": reduction,
+               "windows": windows}
     parser.add_argument("study", nargs="*", help=f"of {sorted(studies)} (default: all)")
     names = parser.parse_args().study or list(studies)
     for name in names:

@@ -13,7 +13,9 @@ import pytest
 from pandas.testing import assert_frame_equal
 
 from flapping.errors import PlausibilityWarning
+from flapping.model.presets import preset
 from flapping.studies import _stored as stored
+from flapping.studies import control
 from flapping.studies import sensitivity as gs
 from flapping.studies.explorer import DEFAULT_GRID, ExplorerGrid, explore_hover
 from flapping.studies.sweep import sweep_hover
@@ -22,6 +24,7 @@ DATA = Path(__file__).resolve().parents[1] / "book" / "_data"
 EXPLORER = DATA / "explorer.npz"
 SENSITIVITY = DATA / "global_sensitivity.npz"
 REDUCTION = DATA / "reduction_check.npz"
+WINDOWS = DATA / "passive_windows.npz"
 #: The explorer's and the reduction check's points: Newton on the fixed-step map with Richardson
 #: estimates below 1e-10 relative (FixedStep's default); the orbit samples at rtol 1e-8
 #: (explorer.SAMPLE_RTOL).
@@ -146,3 +149,31 @@ def test_the_stored_reduction_check_is_todays():
     assert list(today) == list(terms["hawkmoth"])
     np.testing.assert_allclose(list(today.values()), list(terms["hawkmoth"].values()),
                                rtol=POINT_RTOL)
+
+
+def test_the_stored_stable_windows_are_todays():
+    windows, meta = stored.load_windows(WINDOWS)
+    assert list(windows) == ["hawkmoth", "bumblebee", "fruit_fly", "honeybee", "hoverfly"]
+    species = min(meta["wall_time_s"], key=meta["wall_time_s"].get)  # the quickest to redo
+    sweep = control.passive_sweep(preset(species),
+                                  np.linspace(0.0, control.BODY_LENGTHS[species], 25))
+    today = control.stable_window(sweep, check=True)
+    assert today is not None
+    for new, old in zip(today, windows[species], strict=True):
+        assert (new.kind, new.stabilising) == (old.kind, old.stabilising)
+        # brentq's xtol is 1e-10 m on both routes
+        assert abs(new.hinge_height - old.hinge_height) <= 1e-9
+        assert abs(new.check_height - old.check_height) <= 1e-9
+        np.testing.assert_allclose(new.multipliers, old.multipliers, rtol=1e-6, atol=1e-9)
+
+
+def test_stable_windows_read_back_bit_for_bit(tmp_path):
+    mu = np.array([0.99 + 0.1j, 0.5 + 0j])
+    pair = (control.PassiveCrossing(0.001, "+1", mu, True, 0.0010000001),
+            control.PassiveCrossing(0.004, "none", mu * 0.5, False, 0.004))
+    path = stored.save_windows({"hoverfly": pair}, tmp_path / "w.npz", wall_time_s={})
+    again = stored.load_windows(path)[0]["hoverfly"]
+    for new, old in zip(again, pair, strict=True):
+        assert (new.hinge_height, new.kind, new.stabilising, new.check_height) == (
+            old.hinge_height, old.kind, old.stabilising, old.check_height)
+        assert np.array_equal(new.multipliers, old.multipliers)

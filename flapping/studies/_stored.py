@@ -1,11 +1,14 @@
-"""Studies computed once and stored: the explorer's grid and the robustness appendix's global study.
+"""Studies computed once and stored: the explorer's grid, the robustness appendix's global study,
+the control chapter's stable windows.
 
 Some of the book's studies take minutes and do not change unless the model does: the explorer's
 grid (:func:`~flapping.studies.explorer.explore_hover`, 450 blade-element orbits), the global
 sensitivity study's sample (:func:`~flapping.studies.sensitivity.global_sensitivity`, six
 species at 256 base samples, 13 824 orbits) and its check against the full model
 (:func:`~flapping.studies.sensitivity.reduction_check` and
-:func:`~flapping.studies.sensitivity.nominal_reduction`, fixed-step solves with two trims).
+:func:`~flapping.studies.sensitivity.nominal_reduction`, fixed-step solves with two trims), and
+the control chapter's stable windows (:func:`~flapping.studies.control.stable_window` of five
+species, each crossing located by brentq and checked by a second route on the adaptive path).
 ``python scripts/book_data.py`` runs them with the current code and writes their results with
 the ``save_*`` functions here (``book/_data/``, versioned); the chapters read them back with the
 ``load_*`` ones, and ``tests/test_stored.py`` solves sampled points again and compares them with
@@ -28,6 +31,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from flapping.studies import sensitivity as _gs
+from flapping.studies.control import PassiveCrossing
 from flapping.studies.explorer import AXES, Exploration, ExplorerGrid
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -35,7 +39,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["save_exploration", "load_exploration", "save_global_sensitivity",
            "load_global_sensitivity", "study_from_outputs", "save_reduction_checks",
-           "load_reduction_checks", "SWEEP_COLUMNS"]
+           "load_reduction_checks", "save_windows", "load_windows", "SWEEP_COLUMNS"]
 
 #: The sensitivity sweep's outputs a stored study keeps per point (the rest is recomputed).
 SWEEP_COLUMNS = ("mu1_real", "mu1_imag", "converged", "message", "backend", "retried")
@@ -295,3 +299,57 @@ def load_reduction_checks(path: str | Path) -> tuple[dict[str, _gs.ReductionChec
         terms = {s: dict(zip(models, (complex(v) for v in data[f"terms/{s}"]), strict=True))
                  for s, models in meta["terms"].items()}
     return checks, terms, meta
+
+
+# =========================================================================== stable windows
+def save_windows(windows: dict[str, tuple[PassiveCrossing, PassiveCrossing]],
+                 path: str | Path, **meta: Any) -> Path:
+    """Write the stable windows of passive sweeps (one per species) to ``path``.
+
+    Parameters
+    ----------
+    windows : dict of str to (PassiveCrossing, PassiveCrossing)
+        From :func:`~flapping.studies.control.stable_window`, by species (none may be None).
+    path : str or Path
+    **meta
+        JSON-serialisable facts of the run.
+
+    Returns
+    -------
+    Path
+    """
+    arrays: dict[str, np.ndarray] = {}
+    for species, pair in windows.items():
+        arrays[f"{species}/hinge_height"] = np.array([c.hinge_height for c in pair])
+        arrays[f"{species}/kind"] = np.array([c.kind for c in pair], dtype=str)
+        arrays[f"{species}/multipliers"] = np.stack([c.multipliers for c in pair])
+        arrays[f"{species}/stabilising"] = np.array([c.stabilising for c in pair])
+        arrays[f"{species}/check_height"] = np.array([c.check_height for c in pair])
+    return _write(path, {**meta, "species": list(windows)}, arrays)
+
+
+def load_windows(path: str | Path) -> tuple[dict[str, tuple[PassiveCrossing, PassiveCrossing]],
+                                            dict[str, Any]]:
+    """Read what :func:`save_windows` wrote.
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    windows : dict of str to (PassiveCrossing, PassiveCrossing)
+        By species, equal to those saved.
+    meta : dict
+        The facts of the run saved with them.
+    """
+    with np.load(path, allow_pickle=False) as data:
+        meta = _meta(data)
+        windows = {}
+        for s in meta["species"]:
+            fields = [data[f"{s}/{k}"] for k in ("hinge_height", "kind", "multipliers",
+                                                 "stabilising", "check_height")]
+            entry, leave = (PassiveCrossing(float(h), str(k), np.array(m), bool(b), float(c))
+                            for h, k, m, b, c in zip(*fields, strict=True))
+            windows[s] = (entry, leave)
+    return windows, meta
