@@ -1,7 +1,7 @@
 """Compute the book's stored studies once and write them to book/_data/ (versioned).
 
 Two studies take minutes and change only when the model does, so the book reads them from files
-(:mod:`flapping.studies._stored`) instead of solving them at every build:
+(:mod:`flapping_book.stored`) instead of solving them at every build:
 
 - ``explorer``: the explorer chapter's grid, ``explore_hover(DEFAULT_GRID)`` on two worker
   processes -> ``book/_data/explorer.npz`` (with the run's wall and CPU time);
@@ -15,7 +15,7 @@ Two studies take minutes and change only when the model does, so the book reads 
   ``book/_data/passive_windows.npz``.
 
 Each file is read back and compared with what was just computed before the script ends.
-``tests/studies/test_stored.py`` solves sampled points again and compares them with the files:
+``tests/book/test_stored.py`` solves sampled points again and compares them with the files:
 after a change that moves them, run this script again and commit the files.
 
     python scripts/book_data.py [explorer] [sensitivity] [reduction] [windows]   # all if none named
@@ -37,10 +37,10 @@ from pandas.testing import assert_frame_equal
 
 from flapping.errors import PlausibilityWarning
 from flapping.model.presets import PRESETS, preset
-from flapping.studies import _stored as stored
 from flapping.studies import control
 from flapping.studies import sensitivity as gs
 from flapping.studies.explorer import DEFAULT_GRID, explore_hover
+from flapping_book import stored
 
 DATA = Path(__file__).resolve().parents[1] / "book" / "_data"
 EXPLORER = DATA / "explorer.npz"

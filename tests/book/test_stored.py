@@ -1,4 +1,4 @@
-"""The stored studies (flapping.studies._stored, book/_data/): a file reads back as what was
+"""The stored studies (flapping_book.stored, book/_data/): a file reads back as what was
 saved, a loaded sensitivity study equals a computed one, and sampled points solved again today
 agree with the versioned files (to the solves' own accuracy), so a change that moves the book's
 stored numbers fails here until `python scripts/book_data.py` writes them again."""
@@ -14,13 +14,13 @@ from pandas.testing import assert_frame_equal
 
 from flapping.errors import PlausibilityWarning
 from flapping.model.presets import preset
-from flapping.studies import _stored as stored
 from flapping.studies import control
 from flapping.studies import sensitivity as gs
 from flapping.studies.explorer import DEFAULT_GRID, ExplorerGrid, explore_hover
 from flapping.studies.sweep import sweep_hover
+from flapping_book import stored
 
-DATA = Path(__file__).resolve().parents[1] / "book" / "_data"
+DATA = Path(__file__).resolve().parents[2] / "book" / "_data"
 EXPLORER = DATA / "explorer.npz"
 SENSITIVITY = DATA / "global_sensitivity.npz"
 REDUCTION = DATA / "reduction_check.npz"

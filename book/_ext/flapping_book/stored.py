@@ -11,8 +11,9 @@ the control chapter's stable windows (:func:`~flapping.studies.control.stable_wi
 species, each crossing located by brentq and checked by a second route on the adaptive path).
 ``python scripts/book_data.py`` runs them with the current code and writes their results with
 the ``save_*`` functions here (``book/_data/``, versioned); the chapters read them back with the
-``load_*`` ones, and ``tests/test_stored.py`` solves sampled points again and compares them with
-the files, so a model change that moves them fails the tests until the files are written again.
+``load_*`` ones, and ``tests/book/test_stored.py`` solves sampled points again and compares them
+with the files, so a model change that moves them fails the tests until the files are written
+again.
 
 What is stored is what the solves produced, bit for bit (NumPy's ``.npz``, float64): the
 explorer's tables, and the sensitivity sweep's per-point outputs (the largest multiplier, whether
