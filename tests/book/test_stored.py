@@ -32,6 +32,8 @@ POINT_RTOL, SAMPLE_RTOL = 1e-8, 1e-6
 #: The sensitivity sweep warm-starts each point from its neighbour; solved alone and cold a
 #: point lands on the same orbit within the compiled kernel's Newton tolerance.
 MU_RTOL = 1e-7
+#: A small sample for the round trips (9 x 32 compiled orbits, about a second).
+N_SMALL = 32
 FLOATS = ["amplitude_deg", "alpha_m_deg", "mu1_real", "mu1_imag", "mu2_real", "mu2_imag",
           "max_abs_mu", "mode_u_abs", "mode_w_abs", "mode_q_abs", "mode_theta_abs"]
 
@@ -48,9 +50,9 @@ def test_an_exploration_reads_back_bit_for_bit(tmp_path):
 
 
 def test_a_loaded_sensitivity_study_equals_the_computed_one(tmp_path):
-    study = gs.global_sensitivity("hawkmoth", 4, seed=3, num_resamples=20)
-    path = stored.save_global_sensitivity({"hawkmoth": study}, tmp_path / "g.npz", n_base=4,
-                                          seed=3, num_resamples=20)
+    study = gs.global_sensitivity("hawkmoth", N_SMALL, seed=3, num_resamples=20)
+    path = stored.save_global_sensitivity({"hawkmoth": study}, tmp_path / "g.npz",
+                                          n_base=N_SMALL, seed=3, num_resamples=20)
     again = stored.load_global_sensitivity(path)[0]["hawkmoth"]
     assert_frame_equal(again.samples, study.samples, check_exact=True)
     assert_frame_equal(again.table(), study.table(), check_exact=True)
@@ -63,10 +65,10 @@ def test_a_loaded_sensitivity_study_equals_the_computed_one(tmp_path):
 
 
 def test_a_stored_study_of_another_sample_size_is_refused(tmp_path):
-    study = gs.global_sensitivity("hawkmoth", 4, seed=0, num_resamples=20)
-    path = stored.save_global_sensitivity({"hawkmoth": study}, tmp_path / "g.npz", n_base=8,
-                                          seed=0, num_resamples=20)
-    with pytest.raises(ValueError, match="36 stored points, the sample of n_base = 8 has 72"):
+    study = gs.global_sensitivity("hawkmoth", N_SMALL, seed=0, num_resamples=20)
+    path = stored.save_global_sensitivity({"hawkmoth": study}, tmp_path / "g.npz",
+                                          n_base=2 * N_SMALL, seed=0, num_resamples=20)
+    with pytest.raises(ValueError, match="288 stored points, the sample of n_base = 64 has 576"):
         stored.load_global_sensitivity(path)
 
 
@@ -177,3 +179,11 @@ def test_stable_windows_read_back_bit_for_bit(tmp_path):
         assert (new.hinge_height, new.kind, new.stabilising, new.check_height) == (
             old.hinge_height, old.kind, old.stabilising, old.check_height)
         assert np.array_equal(new.multipliers, old.multipliers)
+
+
+def test_a_text_column_with_a_missing_value_is_refused(tmp_path):
+    study = gs.global_sensitivity("hawkmoth", N_SMALL, seed=0, num_resamples=20)
+    study.samples.loc[0, "message"] = None
+    with pytest.raises(ValueError, match="column 'message': text with a missing value"):
+        stored.save_global_sensitivity({"hawkmoth": study}, tmp_path / "g.npz", n_base=N_SMALL,
+                                       seed=0, num_resamples=20)

@@ -54,7 +54,9 @@ def _columns(prefix: str, frame: pandas.DataFrame) -> dict[str, np.ndarray]:
     for name in frame.columns:
         values = frame[name].to_numpy()
         if values.dtype == object or values.dtype.kind in "OUT":
-            values = np.asarray([str(v) for v in values], dtype=str)
+            if not all(isinstance(v, str) for v in values):  # a NaN would come back as "nan"
+                raise ValueError(f"column {name!r}: text with a missing value cannot be stored")
+            values = np.asarray(values.tolist(), dtype=str)
         out[f"{prefix}{name}"] = values
     return out
 
