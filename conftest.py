@@ -11,12 +11,18 @@ in the toc (except the bibliography page) this hook:
    (none are stored); cells tagged ``raises-exception`` may raise, as in the book build;
 3. starts the kernel in book/, as the Jupyter Book build does, so relative paths behave the same.
 
+The suite runs on both cores with pytest-xdist (``-n 2 --dist loadfile`` in pyproject's addopts):
+``loadfile`` hands all the cells of one chapter to one worker, which runs them in order in the
+chapter's one kernel, as without xdist. The heaviest chapters are queued first, so that the last
+chapter a worker starts is a short one and the two cores finish together.
+
 Test IDs name the chapter, e.g. ``book/intro.md::Cell 0``. A chapter listed in the toc whose file
 does not exist yet is reported as skipped (``book/_toc.yml::NAME``); the book build fails on it.
 """
 
 from __future__ import annotations
 
+import os
 import tempfile
 from pathlib import Path
 
@@ -30,9 +36,17 @@ from nbval.plugin import IPyNbFile
 BOOK = Path(__file__).parent / "book"
 TOC = BOOK / "_toc.yml"
 NOT_EXECUTED = {"references"}  # pages with no code: only the bibliography directive
-#: Chapters with a cell over 20 s (CI, 2 cores): every cell of such a chapter is marked `slow`
-#: too, since a chapter's cells run in order in one kernel (control: its passive sweep, 38 s).
-SLOW_CHAPTERS = {"control"}
+#: Chapters with a cell over 20 s (CI: each of the two workers has a core, so a cell's CPU time
+#: is about its wall time): every cell of such a chapter is marked `slow` too, since a chapter's
+#: cells run in order in one kernel. Measured 2026-12-06, CPU time of each cell: the six-dof
+#: lateral chapter's table of every preset takes 21 s (until the compiled six-dof path; drop
+#: it then if no cell stays over 20 s); every other chapter's largest cell is
+#: under 20 s (atlas 16 s, continuation 14 s, control 9 s since its windows are stored).
+SLOW_CHAPTERS = {"lateral_stability"}
+#: The chapters with the longest execution, longest first (CPU time measured 2026-12-06:
+#: continuation 38 s, atlas 30 s, control 21 s, appendix_robustness 15 s; lateral_stability
+#: 62 s on the six-dof paths of 2026-12-06), queued first (see pytest_collection_modifyitems).
+HEAVY_FIRST = ("lateral_stability", "continuation", "atlas", "control", "appendix_robustness")
 
 
 def _toc_entries(toc: dict) -> list[str]:
@@ -74,7 +88,7 @@ class MystChapter(IPyNbFile):
         notebook = jupytext.read(self.path)
         name = self.path.relative_to(BOOK).with_suffix("").as_posix().replace("/", "--")
         ipynb = _notebook_dir(self.config) / f"{name}.ipynb"
-        nbformat.write(notebook, ipynb)
+        _write_atomically(notebook, ipynb)
         self.compare_outputs = False  # lax: outputs are never compared (none are stored)
         self._read_from = ipynb
         try:
@@ -114,6 +128,24 @@ class TocFile(pytest.File):
                 item = MissingChapter.from_parent(self, name=name)
                 item.add_marker(pytest.mark.book)
                 yield item
+
+
+def _write_atomically(notebook, path: Path) -> None:
+    # Under xdist every worker collects every chapter into the same cache directory: a reader
+    # must never see another worker's half-written notebook.
+    partial = path.with_name(f"{path.name}.{os.getpid()}.part")
+    nbformat.write(notebook, partial)
+    os.replace(partial, path)
+
+
+def pytest_collection_modifyitems(config, items):
+    """The heaviest chapters first (their cells kept together, in order), then the rest as
+    collected: xdist's ``loadfile`` queues files in this order."""
+    def rank(item):
+        chapter = Path(str(item.path)).stem if Path(str(item.path)).is_relative_to(BOOK) else ""
+        return HEAVY_FIRST.index(chapter) if chapter in HEAVY_FIRST else len(HEAVY_FIRST)
+
+    items[:] = sorted(items, key=rank)  # sorted() is stable: the order within a rank is kept
 
 
 def _notebook_dir(config) -> Path:
