@@ -254,3 +254,54 @@ def boolean(name: str, value: Any) -> bool:
         raise ValueError(f"`{name}` must be True or False; got {_show(value)} "
                          f"({type(value).__name__})")
     return bool(value)
+
+
+def components(name: str, value: Any, limits: Sequence[tuple[str, float, str]]) -> np.ndarray:
+    """A finite float64 vector whose entry ``i`` lies in ``[-limit_i, limit_i]``, or a ValueError.
+
+    For states given by a user (an initial condition): an entry far outside what the system
+    can reach is a unit slip or a typo, and integrating from it may never end (a stiff, fast
+    blow-up shrinks the step forever). ``limits`` holds ``(label, limit, unit)`` per entry; the
+    message names ``name``, the entry's label and its range.
+    """
+    x = vector(name, value, size=len(limits))
+    for i, (label, limit, unit) in enumerate(limits):
+        if not abs(x[i]) <= limit:
+            raise ValueError(f"`{name}[{i}]` ({label}) must be a real number in "
+                             f"[{-limit:g}, {limit:g}] {unit}; got {x[i]!r}".rstrip())
+    return x
+
+
+def principal_moments(names: str, tensor: Any, *, rtol: float = 1e-9) -> np.ndarray:
+    """The principal moments of a body's inertia tensor (ascending), or a ValueError.
+
+    A rigid body's moments obey the triangle inequality ``I_a <= I_b + I_c`` (each is an
+    integral of a sum of two squared coordinates; a lamina reaches equality), and are positive.
+    A set that breaks it belongs to no body: most often one moment in the wrong unit (g cm^2
+    typed as kg m^2 is 1e7 times too large). ``rtol`` absorbs the rounding of a lamina's
+    equality. ``names`` names the fields the tensor is made of, for the message.
+    """
+    m = matrix(names, tensor, square=True)
+    moments = np.linalg.eigvalsh(0.5 * (m + m.T))
+    if moments[0] <= 0.0:
+        raise ValueError(f"{names}: the inertia tensor must be positive definite; its principal "
+                         f"moments are {moments.tolist()} kg m^2")
+    largest, others = moments[-1], moments[0] + moments[1]
+    if largest > others * (1.0 + rtol):
+        raise ValueError(
+            f"{names}: the principal moments {moments.tolist()} kg m^2 break the triangle "
+            f"inequality (the largest, {largest:.6g}, must not exceed the sum of the other two, "
+            f"{others:.6g}): no rigid body has them (a moment in the wrong unit? g cm^2 is "
+            "1e-7 kg m^2)")
+    return moments
+
+
+def grid_size(name: str, size: int, *, high: int, why: str = "") -> int:
+    """``size`` (points of a grid or a sample, already counted) if it is at most ``high``.
+
+    Checked before any work starts, so that a grid of 10^8 points is refused in microseconds
+    instead of running for days (or exhausting memory).
+    """
+    if size > high:
+        raise ValueError(f"`{name}` must have at most {high} points{why}; got {size}")
+    return size

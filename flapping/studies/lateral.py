@@ -84,6 +84,7 @@ from flapping.hover.sixdof import (
     SixDofStability,
     averaged_lateral,
     find_sixdof_hover_orbit,
+    require_six_dof,
     sixdof_stability,
 )
 from flapping.model import presets
@@ -723,8 +724,8 @@ class LateralScales:
 
 
 def orbit_ratios(orbit: SixDofHoverOrbit) -> dict[str, float]:
-    """m+, I_x+, I_z+, I_xz+, g+ of an orbit's insect in its own scales."""
-    ins = orbit.insect
+    """m+, I_x+, I_z+, I_xz+, g+ of an orbit's insect in its own scales (a six-dof orbit)."""
+    ins = require_six_dof(orbit).insect
     assert ins.roll_inertia is not None and ins.yaw_inertia is not None
     return LateralScales.of_orbit(orbit).ratios(ins.mass, ins.roll_inertia, ins.yaw_inertia,
                                                 ins.roll_yaw_product or 0.0)
