@@ -7,7 +7,9 @@ exits with status 130 and one line, as a Ctrl-C anywhere later does, not with a 
 ``__init__``'s to handle.)
 """
 
+import contextlib
 import os
+import signal
 import sys
 from collections.abc import Sequence
 
@@ -37,7 +39,13 @@ def main(argv: Sequence[str] | None = None) -> int:
             "python -m flapping"
         print(f"{prog}: interrupted", file=sys.stderr)
         return _INTERRUPTED
-    return cli_main(argv)
+    status = cli_main(argv)
+    if status == _INTERRUPTED:
+        # Exiting after Ctrl-C: another one while the interpreter shuts down (the user pressing
+        # again) would end the process by SIGINT (status -2) instead of 130.
+        with contextlib.suppress(ValueError):  # not the main thread: not ours to handle
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+    return status
 
 
 if __name__ == "__main__":

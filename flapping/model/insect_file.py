@@ -34,7 +34,7 @@ from pathlib import Path
 from typing import Any
 
 from flapping.errors import PlausibilityWarning
-from flapping.model.morphology import Insect, implausible_fields
+from flapping.model.morphology import Insect, _implausible, implausible_fields
 from flapping.model.presets import PRESETS
 
 __all__ = ["FILE_SUFFIXES", "INSECT_FIELDS", "MAX_FILE_BYTES", "REQUIRED_FIELDS",
@@ -118,6 +118,8 @@ def _warn_implausible(insect: Insect, given: Mapping[str, Any], where: str) -> N
     grams (or mm, or g cm^2) typed where the file wants SI. A 1.648 (g, a hawkmoth) typed as kg
     is valid for the model and plausible alone (a 1.6 kg flapping vehicle), but its wings
     cannot lift it: the hover solve would fail later with no word about the file."""
+    if _implausible(insect):
+        return  # the Insect has warned (a value outside PLAUSIBLE_RANGES): once is enough
     blamed = {name: why for name, why in implausible_fields(insect).items() if name in given}
     if blamed:
         fields = "; ".join(f"`{name}` = {given[name]!r} ({why})" for name, why in blamed.items())
