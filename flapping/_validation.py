@@ -272,28 +272,28 @@ def components(name: str, value: Any, limits: Sequence[tuple[str, float, str]]) 
     return x
 
 
-def principal_moments(names: str, tensor: Any, *, rtol: float = 1e-9) -> np.ndarray:
-    """The principal moments of a body's inertia tensor (ascending), or a ValueError.
+def triangle_inequality(names: str, moments: Sequence[float], *, max_ratio: float = 1.0,
+                        check: Sequence[int] | None = None, rtol: float = 1e-9) -> None:
+    """Refuse a body's principal moments that no rigid body has, or pass.
 
-    A rigid body's moments obey the triangle inequality ``I_a <= I_b + I_c`` (each is an
-    integral of a sum of two squared coordinates; a lamina reaches equality), and are positive.
-    A set that breaks it belongs to no body: most often one moment in the wrong unit (g cm^2
-    typed as kg m^2 is 1e7 times too large). ``rtol`` absorbs the rounding of a lamina's
-    equality. ``names`` names the fields the tensor is made of, for the message.
+    A rigid body's principal moments obey the triangle inequality ``I_a <= I_b + I_c`` (each is
+    an integral of a sum of two squared coordinates; a lamina reaches equality). A set that
+    breaks it is most often one moment in the wrong unit (g cm^2 typed as kg m^2 is 1e7 times
+    too large). Refused when a moment of ``check`` (indices; default all) exceeds
+    ``max_ratio`` times the sum of the other two (1: the inequality itself); ``rtol`` absorbs
+    the rounding of a lamina's equality. ``names`` names the fields they are made of.
     """
-    m = matrix(names, tensor, square=True)
-    moments = np.linalg.eigvalsh(0.5 * (m + m.T))
-    if moments[0] <= 0.0:
-        raise ValueError(f"{names}: the inertia tensor must be positive definite; its principal "
-                         f"moments are {moments.tolist()} kg m^2")
-    largest, others = moments[-1], moments[0] + moments[1]
-    if largest > others * (1.0 + rtol):
-        raise ValueError(
-            f"{names}: the principal moments {moments.tolist()} kg m^2 break the triangle "
-            f"inequality (the largest, {largest:.6g}, must not exceed the sum of the other two, "
-            f"{others:.6g}): no rigid body has them (a moment in the wrong unit? g cm^2 is "
-            "1e-7 kg m^2)")
-    return moments
+    m = np.asarray(moments, dtype=float)
+    total = float(m.sum())
+    for i in range(m.size) if check is None else check:
+        others = total - float(m[i])
+        if m[i] > max_ratio * others * (1.0 + rtol):
+            bound = "the sum of the other two" if max_ratio == 1.0 else \
+                f"{max_ratio:g} times the sum of the other two"
+            raise ValueError(
+                f"{names}: the principal moments {sorted(m.tolist())} kg m^2 break the triangle "
+                f"inequality ({m[i]:.6g} must not exceed {bound}, {max_ratio * others:.6g}): no "
+                "rigid body has them (a moment in the wrong unit? g cm^2 is 1e-7 kg m^2)")
 
 
 def grid_size(name: str, size: int, *, high: int, why: str = "") -> int:

@@ -101,3 +101,14 @@ def test_stop_process_pool_cancels_pending_work_and_ends_running_workers():
     assert time.monotonic() - started < 15.0  # not the 30 s of a running task
     assert all(not p.is_alive() for p in processes)
     assert all(f.cancelled() or f.done() for f in futures)
+
+
+def test_a_sweep_with_workers_that_ends_prints_every_row_and_exits_0():
+    # the pool is stopped at the end as well (its idle workers ended): same rows as in-process
+    argv = [sys.executable, "-m", "flapping", "sweep", "--quiet", "--param",
+            "frequency=20:32:5"]
+    one = subprocess.run(argv, capture_output=True, text=True, timeout=600)
+    two = subprocess.run([*argv, "--workers", "2"], capture_output=True, text=True, timeout=600)
+    assert one.returncode == two.returncode == 0, two.stderr
+    assert two.stdout == one.stdout and len(two.stdout.splitlines()) == 6
+    assert "Traceback" not in two.stderr

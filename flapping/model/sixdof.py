@@ -97,8 +97,7 @@ def body_inertia(insect: Insect) -> tuple[float, float, float, float]:
     ------
     ValueError
         If one of them is None (the planar model does not need them; six degrees of freedom
-        do), or if the four are no body's (the principal moments break the triangle
-        inequality).
+        do).
     """
     _validation.instance("insect", insect, Insect)
     missing = [name for name in ("roll_inertia", "yaw_inertia", "roll_yaw_product")
@@ -110,13 +109,8 @@ def body_inertia(insect: Insect) -> tuple[float, float, float, float]:
             "yaw_inertia=..., roll_yaw_product=...) (the presets carry sourced values)")
     assert insect.roll_inertia is not None and insect.yaw_inertia is not None
     assert insect.roll_yaw_product is not None
-    i_x, i_y, i_z, i_xz = (insect.roll_inertia, insect.pitch_inertia, insect.yaw_inertia,
-                           insect.roll_yaw_product)
-    # The Insect checks the set when the lateral moments change, not when I_y alone does
-    _validation.principal_moments("`roll_inertia`, `pitch_inertia`, `yaw_inertia`, "
-                                  "`roll_yaw_product`",
-                                  [[i_x, 0.0, -i_xz], [0.0, i_y, 0.0], [-i_xz, 0.0, i_z]])
-    return i_x, i_y, i_z, i_xz
+    return (insect.roll_inertia, insect.pitch_inertia, insect.yaw_inertia,
+            insect.roll_yaw_product)
 
 
 class SixDofDynamics:
