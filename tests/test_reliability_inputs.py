@@ -198,6 +198,36 @@ def test_leading_mode_of_a_non_finite_matrix_is_a_value_error():
         leading_mode(np.full((4, 4), np.nan))  # a LinAlgError
     with pytest.raises(ValueError, match="`monodromy` must be a real 4 x 4"):
         leading_mode(np.eye(3))
+    with pytest.raises(ValueError, match="`monodromy` must be an array of real numbers"):
+        leading_mode(np.full((4, 4), 1j))
+
+
+def test_orbit_samples_of_no_orbit_is_a_value_error():
+    pytest.importorskip("numba")
+    from flapping.studies.explorer import orbit_samples
+
+    with pytest.raises(ValueError, match="`orbit` must be a HoverOrbit"):
+        orbit_samples(None, 8)  # an AttributeError
+
+
+def test_sobol_function_and_hinge_are_checked_before_work():
+    pytest.importorskip("SALib")
+    from flapping.studies import sensitivity as sens
+
+    with pytest.raises(ValueError, match="`function` must be a callable"):
+        sens.sobol_indices(_PI, None, 64)  # a TypeError after sampling
+    with pytest.raises(ValueError, match="`body_angle`"):
+        sens.stroke_plane_hinge(1e-3, 2e-3, math.nan)  # (nan, nan), silently
+
+
+def test_cfd_reference_names_and_masses_are_checked():
+    from flapping.studies import cfd
+
+    s = cfd.study("sun2005")
+    with pytest.raises(ValueError, match="`name` must be one of"):
+        s.value("weight")  # a KeyError
+    with pytest.raises(ValueError, match=r"`mass` must be a real number in \(0, inf\) kg"):
+        s.mass_ratio(-1.0)  # a negative m+, silently
 
 
 def test_averaged_lateral_of_a_planar_orbit_says_a_six_dof_orbit_is_needed():

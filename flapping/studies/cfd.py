@@ -214,8 +214,8 @@ class CFDStudy:
     notes: tuple[str, ...] = ()
 
     def value(self, name: str) -> float:
-        """The SI value of a reference quantity."""
-        return self.reference[name].value
+        """The SI value of a reference quantity (a ValueError naming the quantities if absent)."""
+        return self.reference[_validation.choice("name", name, tuple(self.reference))].value
 
     @property
     def speed(self) -> float:
@@ -240,7 +240,7 @@ class CFDStudy:
 
     def mass_ratio(self, mass: float | None = None) -> float:
         """m+ = m / (0.5 rho U S T), of ``mass`` [kg] (default the study's)."""
-        m = self.value("mass") if mass is None else mass
+        m = self.value("mass") if mass is None else _validation.positive("mass", mass, unit="kg")
         return m / (0.5 * self.value("air_density") * self.speed * self.area * self.period)
 
     def inertia_scale(self) -> float:

@@ -220,10 +220,10 @@ def leading_mode(monodromy: np.ndarray) -> tuple[complex, str, np.ndarray]:
     ValueError
         If ``monodromy`` is not a finite real 4 x 4 matrix.
     """
-    matrix = _validation.matrix("monodromy", monodromy, square=True)  # finite: eig would raise
-    if matrix.shape != (4, 4) or np.iscomplexobj(matrix):                # LinAlgError on NaN
+    matrix = _validation.array("monodromy", monodromy)  # finite: eig raised LinAlgError on NaN
+    if matrix.shape != (4, 4):
         raise ValueError(f"`monodromy` must be a real 4 x 4 matrix (of u, w, q, theta); got "
-                         f"shape {matrix.shape}, dtype {matrix.dtype}")
+                         f"shape {matrix.shape}")
     values, vectors = np.linalg.eig(matrix)
     i = int(np.argmax(np.abs(values)))
     mu = complex(values[i])
@@ -294,6 +294,7 @@ def orbit_samples(orbit: HoverOrbit, n_samples: int) -> np.ndarray:
     ConvergenceError
         If the integration fails.
     """
+    _validation.instance("orbit", orbit, HoverOrbit)
     n = _validation.integer("n_samples", n_samples, low=1, high=1 << 20)
     model = orbit.model
     t = np.linspace(0.0, model.period, n + 1)

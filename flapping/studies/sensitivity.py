@@ -352,6 +352,9 @@ def stroke_plane_hinge(hinge_offset: float, hinge_height: float, body_angle: flo
     tuple of 2 floats
         (x', h') [m]: x_h cos(delta) - h_w sin(delta), x_h sin(delta) + h_w cos(delta).
     """
+    hinge_offset = _validation.real("hinge_offset", hinge_offset, unit="m")
+    hinge_height = _validation.real("hinge_height", hinge_height, unit="m")
+    body_angle = _validation.real("body_angle", body_angle, unit="rad")
     c, s = math.cos(body_angle), math.sin(body_angle)
     return hinge_offset * c - hinge_height * s, hinge_offset * s + hinge_height * c
 
@@ -526,6 +529,9 @@ def sobol_indices(bounds: Mapping[str, tuple[float, float]],
         If fewer than two base samples evaluate everywhere.
     """
     problem = _problem(bounds)
+    if not callable(function):  # checked before the sample is drawn (was a TypeError after)
+        raise ValueError(f"`function` must be a callable function(X) -> y; got "
+                         f"{type(function).__name__}")
     n_base = _check_base(n_base)
     seed = _validation.integer("seed", seed, low=0)
     num_resamples = _check_resamples(num_resamples, n_base)
