@@ -487,8 +487,8 @@ def inertia_sensitivity(name: str, factors: Sequence[float] = (0.5, 2.0),
                 # one ESTIMATED moment scaled alone may break the triangle inequality (x2 of
                 # I_z = I_y: 1.6 times the bound): the study's point, not the user's slip
                 warnings.simplefilter("ignore", PlausibilityWarning)
-                scaled = insect.with_(**changes)
-            orbit = replace(base.orbit, insect=scaled)
+                resized = insect.with_(**changes)
+            orbit = replace(base.orbit, insect=resized)
             rows.append(row(what, f, _lateral_multipliers(orbit)))
     return pd.DataFrame(rows)
 
