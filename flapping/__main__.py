@@ -45,7 +45,29 @@ def main(argv: Sequence[str] | None = None) -> int:
         # again) would end the process by SIGINT (status -2) instead of 130.
         with contextlib.suppress(ValueError):  # not the main thread: not ours to handle
             signal.signal(signal.SIGINT, signal.SIG_IGN)
+        _exit_if_a_thread_hangs(status)
     return status
+
+
+def _exit_if_a_thread_hangs(status: int, timeout: float = 5.0) -> None:
+    """After Ctrl-C, end the process at once if a thread would hold its exit for ever.
+
+    The interpreter joins every non-daemon thread before it exits; a process pool's manager
+    thread can block for ever on a worker killed while it wrote a result. Each gets
+    ``timeout`` seconds; then the output is flushed and the process exits with ``status``
+    without waiting (``os._exit``).
+    """
+    import threading
+
+    others = [t for t in threading.enumerate()
+              if t is not threading.current_thread() and not t.daemon]
+    for thread in others:
+        thread.join(timeout)
+    if any(thread.is_alive() for thread in others):
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(Exception):
+                stream.flush()
+        os._exit(status)
 
 
 if __name__ == "__main__":

@@ -407,7 +407,8 @@ def stop_process_pool(pool: Executor, timeout: float = 5.0) -> None:
     SIGINT, the parent's to handle) the command waited for chunks of minutes, and a second
     Ctrl-C landed in that join (a traceback from ``concurrent.futures``, the process never
     exiting, its children left behind). Here the workers are terminated (SIGTERM, then SIGKILL
-    after ``timeout`` seconds) and reaped. Another executor is shut down without waiting.
+    after ``timeout`` seconds) and reaped, and the pool's manager thread is given ``timeout``
+    seconds to end. Another executor is shut down without waiting.
 
     Parameters
     ----------
@@ -429,8 +430,11 @@ def stop_process_pool(pool: Executor, timeout: float = 5.0) -> None:
         if process.is_alive():
             process.kill()
             process.join(timeout)
-    if processes:
-        pool.shutdown(wait=True)  # the pool's manager thread sees its workers gone and ends
+    # The pool's manager thread sees its workers gone and ends; bounded, as it can hang on a
+    # worker killed while writing a result (a half message in the pipe)
+    manager = getattr(pool, "_executor_manager_thread", None)
+    if manager is not None:
+        manager.join(timeout)
 
 
 class SweepInterrupted(KeyboardInterrupt):
