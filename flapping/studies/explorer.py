@@ -421,7 +421,12 @@ def explore_hover(grid: ExplorerGrid | None = None, *, backend: FixedStep | None
         results = [_solve_line(line, heights, backend, n) for line in lines]
     else:
         futures = [executor.submit(_solve_line, line, heights, backend, n) for line in lines]
-        results = [future.result() for future in futures]
+        try:
+            results = [future.result() for future in futures]
+        except BaseException:  # Ctrl-C or a failure: the lines not started are not run
+            for future in futures:
+                future.cancel()
+            raise
     axes = [dict(zip(AXES, (s, f, m, h), strict=True))
             for (s, f, m) in lines for h in heights]
     rows = [row for result in results for row, _ in result]
