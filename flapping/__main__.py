@@ -10,6 +10,7 @@ exits with status 130 and one line, as a Ctrl-C anywhere later does, not with a 
 import contextlib
 import ctypes
 import os
+import signal
 import sys
 from collections.abc import Sequence
 
@@ -40,7 +41,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"{prog}: interrupted", file=sys.stderr)
         return _interrupted()
     status = cli_main(argv)
-    return _interrupted() if status == _INTERRUPTED else status
+    if status == _INTERRUPTED:
+        # Exiting after Ctrl-C: another one while the interpreter shuts down (the user pressing
+        # again) would end the process by SIGINT (status -2) instead of 130.
+        with contextlib.suppress(ValueError):  # not the main thread: not ours to handle
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+        _exit_if_a_thread_hangs(status)
+        return _interrupted()
+    return status
 
 
 def _interrupted() -> int:
@@ -56,6 +64,27 @@ def _interrupted() -> int:
     with contextlib.suppress(AttributeError, ValueError, OSError):
         ctypes.c_int.in_dll(ctypes.pythonapi, "_Py_UnhandledKeyboardInterrupt").value = 0
     return _INTERRUPTED
+
+
+def _exit_if_a_thread_hangs(status: int, timeout: float = 5.0) -> None:
+    """After Ctrl-C, end the process at once if a thread would hold its exit for ever.
+
+    The interpreter joins every non-daemon thread before it exits; a process pool's manager
+    thread can block for ever on a worker killed while it wrote a result. Each gets
+    ``timeout`` seconds; then the output is flushed and the process exits with ``status``
+    without waiting (``os._exit``).
+    """
+    import threading
+
+    others = [t for t in threading.enumerate()
+              if t is not threading.current_thread() and not t.daemon]
+    for thread in others:
+        thread.join(timeout)
+    if any(thread.is_alive() for thread in others):
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(Exception):
+                stream.flush()
+        os._exit(status)
 
 
 if __name__ == "__main__":

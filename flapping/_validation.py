@@ -254,3 +254,54 @@ def boolean(name: str, value: Any) -> bool:
         raise ValueError(f"`{name}` must be True or False; got {_show(value)} "
                          f"({type(value).__name__})")
     return bool(value)
+
+
+def components(name: str, value: Any, limits: Sequence[tuple[str, float, str]]) -> np.ndarray:
+    """A finite float64 vector whose entry ``i`` lies in ``[-limit_i, limit_i]``, or a ValueError.
+
+    For states given by a user (an initial condition): an entry far outside what the system
+    can reach is a unit slip or a typo, and integrating from it may never end (a stiff, fast
+    blow-up shrinks the step forever). ``limits`` holds ``(label, limit, unit)`` per entry; the
+    message names ``name``, the entry's label and its range.
+    """
+    x = vector(name, value, size=len(limits))
+    for i, (label, limit, unit) in enumerate(limits):
+        if not abs(x[i]) <= limit:
+            raise ValueError(f"`{name}[{i}]` ({label}) must be a real number in "
+                             f"[{-limit:g}, {limit:g}] {unit}; got {x[i]!r}".rstrip())
+    return x
+
+
+def triangle_inequality(names: str, moments: Sequence[float], *, max_ratio: float = 1.0,
+                        check: Sequence[int] | None = None, rtol: float = 1e-9) -> None:
+    """Refuse a body's principal moments that no rigid body has, or pass.
+
+    A rigid body's principal moments obey the triangle inequality ``I_a <= I_b + I_c`` (each is
+    an integral of a sum of two squared coordinates; a lamina reaches equality). A set that
+    breaks it is most often one moment in the wrong unit (g cm^2 typed as kg m^2 is 1e7 times
+    too large). Refused when a moment of ``check`` (indices; default all) exceeds
+    ``max_ratio`` times the sum of the other two (1: the inequality itself); ``rtol`` absorbs
+    the rounding of a lamina's equality. ``names`` names the fields they are made of.
+    """
+    m = np.asarray(moments, dtype=float)
+    total = float(m.sum())
+    for i in range(m.size) if check is None else check:
+        others = total - float(m[i])
+        if m[i] > max_ratio * others * (1.0 + rtol):
+            bound = "the sum of the other two" if max_ratio == 1.0 else \
+                f"{max_ratio:g} times the sum of the other two"
+            raise ValueError(
+                f"{names}: the principal moments {sorted(m.tolist())} kg m^2 break the triangle "
+                f"inequality ({m[i]:.6g} must not exceed {bound}, {max_ratio * others:.6g}): no "
+                "rigid body has them (a moment in the wrong unit? g cm^2 is 1e-7 kg m^2)")
+
+
+def grid_size(name: str, size: int, *, high: int, why: str = "") -> int:
+    """``size`` (points of a grid or a sample, already counted) if it is at most ``high``.
+
+    Checked before any work starts, so that a grid of 10^8 points is refused in microseconds
+    instead of running for days (or exhausting memory).
+    """
+    if size > high:
+        raise ValueError(f"`{name}` must have at most {high} points{why}; got {size}")
+    return size

@@ -52,7 +52,7 @@ from flapping.model.morphology import Insect, explain_blowup
 from flapping.model.sixdof import body_inertia
 from flapping.peers.fwuav import cli as fwuav_cli
 from flapping.studies.atlas import robust_hover_orbit
-from flapping.studies.sweep import SWEEPABLE, sweep_hover
+from flapping.studies.sweep import SWEEPABLE, stop_process_pool, sweep_hover
 
 __all__ = ["PRESETS", "UNITS", "NonFiniteResultError", "hover_report", "main"]
 
@@ -733,6 +733,12 @@ def _sigint_deferred() -> Iterator[None]:
             raise KeyboardInterrupt
 
 
+def _ignore_sigint_here() -> None:
+    """Ignore SIGINT in this (main) thread; :func:`_sigint_remembered` restores the handler."""
+    with contextlib.suppress(ValueError):  # not the main thread: not ours to handle
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _ignore_sigint() -> None:
     """Worker initializer: Ctrl-C is the parent's to handle (no traceback per worker)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -782,7 +788,7 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         return _sweep_interrupted(parser.prog, done, total)
     finally:
         if pool is not None:
-            pool.shutdown(wait=False, cancel_futures=True)
+            stop_process_pool(pool)  # running chunks too: nothing waits for them at exit
     if solved == 0 and total > 0:
         print(f"{parser.prog}: error: no point of the sweep gave an orbit ({total} of {total} "
               f"rows failed; the first: {_one_line(first_failure)[:300]})", file=sys.stderr)
@@ -791,6 +797,13 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
 
 
 def _sweep_interrupted(prog: str, done: int, total: int) -> int:
-    """The one line after Ctrl-C in a sweep, and the exit status."""
+    """The one line after Ctrl-C in a sweep, and the exit status.
+
+    A further Ctrl-C while the sweep stops (a pool's workers ended) is ignored until
+    :func:`main` returns, so that one line is printed and the exit is 130 however often the
+    user presses it (a second one used to land in the pool's shutdown or the interpreter's
+    exit, with a traceback, and the process never ended).
+    """
+    _ignore_sigint_here()
     print(f"{prog}: interrupted: {done} of {total} points written", file=sys.stderr)
     return _INTERRUPTED

@@ -150,6 +150,9 @@ CASES = [
      lambda c: control.simulate_feedback(c.wmap, (0, 0), 0, (0.0, 0.0, 0.0))),
     ("simulate_feedback", "disturbance",
      lambda c: control.simulate_feedback(c.wmap, (0, 0), 0, np.zeros((4, 1)))),
+    # issue 35: a zero disturbance returned a NaN decay rate (log 0)
+    ("simulate_feedback", "disturbance",
+     lambda c: control.simulate_feedback(c.wmap, (0, 0), 0, np.zeros(4))),
     ("simulate_feedback", "n_wingbeats",
      lambda c: control.simulate_feedback(c.wmap, (0, 0), 0, c.K, 1)),
     ("simulate_feedback", "n_wingbeats",

@@ -662,6 +662,17 @@ def _central_jacobian(f: Any, x: np.ndarray, n_out: int, step: float = 1e-6) -> 
     return out
 
 
+def require_six_dof(orbit: Any, name: str = "orbit") -> SixDofHoverOrbit:
+    """``orbit`` if it is a six-dof hover orbit, else a ValueError saying one is needed (a
+    planar orbit has no lateral state; without this check it failed deep inside, blaming
+    ``fun``)."""
+    if not isinstance(orbit, SixDofHoverOrbit):
+        raise ValueError(f"`{name}` must be a six-dof hover orbit (a SixDofHoverOrbit, from "
+                         f"find_hover_orbit(insect, dof=6)); got {type(orbit).__name__}: a "
+                         "planar orbit has no lateral motion")
+    return orbit
+
+
 def averaged_lateral(orbit: SixDofHoverOrbit, n_average: int = 32) -> LateralDerivatives:
     """The cycle-averaged lateral derivatives and the averaged lateral system of an orbit.
 
@@ -678,7 +689,14 @@ def averaged_lateral(orbit: SixDofHoverOrbit, n_average: int = 32) -> LateralDer
     Returns
     -------
     LateralDerivatives
+
+    Raises
+    ------
+    ValueError
+        If ``orbit`` is not a six-dof orbit (a planar one has no lateral motion), or for a bad
+        ``n_average``.
     """
+    require_six_dof(orbit)
     n_average = _validation.integer("n_average", n_average, low=1, high=4096)
     model = orbit.model
     T = model.period

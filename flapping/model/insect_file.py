@@ -20,7 +20,7 @@ changes only the fields it gives; ``name`` then defaults to the preset's.
 Every value goes through :class:`~.morphology.Insect`'s validation; an unknown key, a missing
 field, or a value out of range is a :class:`ValueError` whose message names the file and the key.
 
-Module order: imports :mod:`.morphology` and :mod:`.presets` only.
+Module order: imports :mod:`.morphology`, :mod:`.presets` and :mod:`flapping.errors` only.
 """
 
 from __future__ import annotations
@@ -28,11 +28,13 @@ from __future__ import annotations
 import dataclasses
 import json
 import tomllib
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from flapping.model.morphology import Insect
+from flapping.errors import PlausibilityWarning
+from flapping.model.morphology import Insect, _implausible, implausible_fields
 from flapping.model.presets import PRESETS
 
 __all__ = ["FILE_SUFFIXES", "INSECT_FIELDS", "MAX_FILE_BYTES", "REQUIRED_FIELDS",
@@ -73,6 +75,12 @@ def insect_from_mapping(data: Mapping[str, Any], *, where: str = "insect") -> In
         If ``data`` is not a mapping, has a key that is not a field (the message names it and
         lists the accepted ones), lacks a required field, names an unknown preset, or a value is
         out of its field's range (the message names the field).
+
+    Warns
+    -----
+    PlausibilityWarning
+        If a field the data gives makes the insect implausible (e.g. its wings cannot lift
+        its weight: a mass in grams typed as kilograms); the message names the field.
     """
     if not isinstance(data, Mapping):
         raise ValueError(f"{where}: must hold a table of insect fields; got {type(data).__name__}")
@@ -86,18 +94,38 @@ def insect_from_mapping(data: Mapping[str, Any], *, where: str = "insect") -> In
         if not isinstance(base, str) or base not in PRESETS:
             raise ValueError(f"{where}: `preset` must be one of {tuple(PRESETS)}; got {base!r}")
         try:
-            return PRESETS[base].insect(**values)
+            insect = PRESETS[base].insect(**values)
         except ValueError as exc:
             raise ValueError(f"{where}: {exc}") from None
+        _warn_implausible(insect, values, where)
+        return insect
     missing = [k for k in REQUIRED_FIELDS if k not in values]
     if missing:
         raise ValueError(f"{where}: missing field {', '.join(map(repr, missing))} (required: "
                          f"{', '.join(REQUIRED_FIELDS)}; or start from a preset with "
                          "preset = NAME)")
     try:
-        return Insect(**values)
+        insect = Insect(**values)
     except ValueError as exc:
         raise ValueError(f"{where}: {exc}") from None
+    _warn_implausible(insect, values, where)
+    return insect
+
+
+def _warn_implausible(insect: Insect, given: Mapping[str, Any], where: str) -> None:
+    """A :class:`~flapping.errors.PlausibilityWarning` naming the file's fields that make the
+    insect none (:func:`~.morphology.implausible_fields`), with the likeliest slip: a value in
+    grams (or mm, or g cm^2) typed where the file wants SI. A 1.648 (g, a hawkmoth) typed as kg
+    is valid for the model and plausible alone (a 1.6 kg flapping vehicle), but its wings
+    cannot lift it: the hover solve would fail later with no word about the file."""
+    if _implausible(insect):
+        return  # the Insect has warned (a value outside PLAUSIBLE_RANGES): once is enough
+    blamed = {name: why for name, why in implausible_fields(insect).items() if name in given}
+    if blamed:
+        fields = "; ".join(f"`{name}` = {given[name]!r} ({why})" for name, why in blamed.items())
+        warnings.warn(f"{where}: this insect looks like none: {fields}. The file's values are SI "
+                      "(kg, m, s, rad, kg m^2): grams typed as kg are 1000 times too large, "
+                      "g cm^2 as kg m^2 1e7 times", PlausibilityWarning, stacklevel=4)
 
 
 def load_insect(path: str | Path) -> Insect:

@@ -397,7 +397,9 @@ class Insect:
         if changed is None or "semi_span" in changed or "wing_area" in changed:
             _check_aspect_ratio(self)
         if changed is None or not _INERTIA_FIELDS.isdisjoint(changed):
-            _check_inertia_tensor(self)
+            _check_inertia_tensor(self, lateral=changed is not None
+                                  and not _LATERAL_INERTIA_FIELDS.isdisjoint(changed),
+                                  stacklevel=stacklevel + 1)
         for message in _implausible(self):
             warnings.warn(message, PlausibilityWarning, stacklevel=stacklevel)
 
@@ -793,14 +795,51 @@ _INERTIA_FIELDS = frozenset({"roll_inertia", "pitch_inertia", "yaw_inertia",
                              "roll_yaw_product"})
 
 
-def _check_inertia_tensor(insect: Insect) -> None:
-    """Refuse a body inertia tensor that is not positive definite (I_x I_z > I_xz^2)."""
+_LATERAL_INERTIA_FIELDS = frozenset({"roll_inertia", "yaw_inertia", "roll_yaw_product"})
+
+
+#: How far a lateral principal moment (roll or yaw) may exceed the sum of the other two (the
+#: triangle inequality, which every rigid body obeys) before the Insect is refused; between 1
+#: and this factor, a PlausibilityWarning when ``with_`` changes a lateral moment. The presets'
+#: lateral moments are ESTIMATES tied to their own I_y (I_z = I_y, a slender body at the
+#: bound): the book scales one at a time (x0.5, x2: up to 1.6 times the bound), and a preset
+#: built with a smaller I_y keeps them (at most 12.6 times the bound, the hawkmoth's I_z / I_x).
+#: A unit slip is far larger: a lateral moment in g cm^2 typed as kg m^2 is 1e7 times too large,
+#: 10 kg m^2 of roll on a 1.6 g moth 2e7 times the bound.
+TRIANGLE_SLACK = 1000.0
+
+_INERTIA_NAMES = "`roll_inertia`, `pitch_inertia`, `yaw_inertia`, `roll_yaw_product`"
+
+
+def _check_inertia_tensor(insect: Insect, lateral: bool = True, stacklevel: int = 2) -> None:
+    """Refuse a body inertia tensor that is not positive definite (I_x I_z > I_xz^2), or whose
+    principal moments break the triangle inequality by more than :data:`TRIANGLE_SLACK` (no
+    rigid body has them); warn if they break it by less and ``with_`` changes a lateral one."""
     i_x, i_z, i_xz = insect.roll_inertia, insect.yaw_inertia, insect.roll_yaw_product
     if i_x is not None and i_z is not None and i_xz is not None and i_x * i_z <= i_xz * i_xz:
         raise ValueError(
             f"`roll_yaw_product` = {i_xz:.6g} kg m^2 must satisfy I_xz^2 < I_x I_z "
             f"(roll_inertia {i_x:.6g}, yaw_inertia {i_z:.6g}): the body's inertia tensor must "
             "be positive definite")
+    if i_x is None or i_z is None:
+        return
+    # principal moments: the two of the x-z block (roll and yaw, coupled by I_xz), and I_y
+    moments = [*np.linalg.eigvalsh([[i_x, -(i_xz or 0.0)], [-(i_xz or 0.0), i_z]]),
+               insect.pitch_inertia]
+    # A roll inertia of 10 kg m^2 on a 1.6 g moth, or a lateral moment in g cm^2, is refused.
+    # Only a lateral moment too large: a preset built with another I_y keeps the lateral
+    # ESTIMATES made for its own, which no I_y in range breaks by the slack from below.
+    _validation.triangle_inequality(_INERTIA_NAMES, moments, max_ratio=TRIANGLE_SLACK,
+                                    check=(0, 1))
+    # The warning only when with_() changes a lateral moment (a full construction cannot tell
+    # the presets' estimates from moments the user gave)
+    if not lateral:
+        return
+    try:
+        _validation.triangle_inequality(_INERTIA_NAMES, moments)
+    except ValueError as exc:
+        warnings.warn(f"{exc}; kept, as it is within {TRIANGLE_SLACK:g} times the bound",
+                      PlausibilityWarning, stacklevel=stacklevel)
 
 
 _WING_MASS_FIELDS = frozenset({"wing_mass", "wing_mass_r1", "wing_mass_r2", "r1", "r2"})

@@ -61,6 +61,7 @@ __all__ = [
     "trivial_multiplier",
     "nontrivial_multipliers",
     "CLOSURE_TOL",
+    "TRIVIAL_TOL",
 ]
 
 _EPS = np.finfo(float).eps
@@ -269,13 +270,27 @@ def _trivial_index(mu: np.ndarray) -> int:
     return int(np.argmin(np.abs(mu - 1.0)))
 
 
-def nontrivial_multipliers(multipliers: Any) -> np.ndarray:
+#: Largest ``|mu - 1|`` of the multiplier :func:`nontrivial_multipliers` drops as the trivial one.
+#: The trivial multiplier of an autonomous orbit is 1 up to the monodromy's error: the closure
+#: (below :data:`CLOSURE_TOL`, 1e-6, on an orbit) times the eigenvalue's condition; the book's
+#: orbits give 1 within ~1e-8. 1e-3 leaves that three orders or more, while a set with no
+#: multiplier near 1 (``[5.0]``: a forced orbit's, or a point on no orbit) has no trivial one
+#: to drop.
+TRIVIAL_TOL = 1e-3
+
+
+def nontrivial_multipliers(multipliers: Any, *, tol: float = TRIVIAL_TOL) -> np.ndarray:
     """The multipliers without the trivial one (closest to 1), in the same order.
+
+    The trivial multiplier is the 1 of an autonomous orbit (the flow's direction, eq. 47's
+    neutral perturbation along the orbit); it is dropped only if it is there, within ``tol``.
 
     Parameters
     ----------
     multipliers : array_like or Monodromy
         Multipliers, or a :class:`Monodromy`.
+    tol : float
+        Largest ``|mu - 1|`` of a trivial multiplier, in (0, 1] (default :data:`TRIVIAL_TOL`).
 
     Returns
     -------
@@ -285,11 +300,21 @@ def nontrivial_multipliers(multipliers: Any) -> np.ndarray:
     Raises
     ------
     ValueError
-        For empty multipliers, NaN, or values that are not numbers.
+        For empty multipliers, NaN, or values that are not numbers; or if no multiplier lies
+        within ``tol`` of 1 (a forced orbit has no trivial multiplier: use all of them).
     """
+    tol = check.real("tol", tol, low=0.0, high=1.0, low_open=True)
     mu = (multipliers.multipliers if isinstance(multipliers, Monodromy)
           else _multipliers_array(multipliers))
-    return np.delete(mu, _trivial_index(mu))
+    i = _trivial_index(mu)
+    distance = float(abs(mu.flat[i] - 1.0))
+    if not distance <= tol:
+        raise ValueError(
+            f"`multipliers` have no trivial multiplier: the closest to 1, {complex(mu.flat[i])}, "
+            f"is {distance:.3g} from it (a trivial one lies within `tol` = {tol:g}). An "
+            "autonomous orbit has one; a forced orbit's multipliers, or a point on no orbit's, "
+            "have none to drop")
+    return np.delete(mu, i)
 
 
 def _periodic_qr(factors: Sequence[np.ndarray], M: np.ndarray,

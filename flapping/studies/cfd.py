@@ -114,6 +114,7 @@ if TYPE_CHECKING:  # pandas is the optional ``sweep`` extra, imported when a tab
 
 __all__ = [
     "DERIVATIVES",
+    "MU_RANGE",
     "STATUSES",
     "Number",
     "PublishedModes",
@@ -213,8 +214,8 @@ class CFDStudy:
     notes: tuple[str, ...] = ()
 
     def value(self, name: str) -> float:
-        """The SI value of a reference quantity."""
-        return self.reference[name].value
+        """The SI value of a reference quantity (a ValueError naming the quantities if absent)."""
+        return self.reference[_validation.choice("name", name, tuple(self.reference))].value
 
     @property
     def speed(self) -> float:
@@ -239,7 +240,7 @@ class CFDStudy:
 
     def mass_ratio(self, mass: float | None = None) -> float:
         """m+ = m / (0.5 rho U S T), of ``mass`` [kg] (default the study's)."""
-        m = self.value("mass") if mass is None else mass
+        m = self.value("mass") if mass is None else _validation.positive("mass", mass, unit="kg")
         return m / (0.5 * self.value("air_density") * self.speed * self.area * self.period)
 
     def inertia_scale(self) -> float:
@@ -800,6 +801,19 @@ def physics_table(study: str | CFDComparison = "sun2005", **hover_options: Any
     return pandas.DataFrame(rows)
 
 
+#: The M_u+ values the functions of this section accept. The studies print |M_u+| up to ~2.4
+#: (Sun & Xiong's 2.389); by the linear law of :func:`hinge_height_for` (h moves M_u+ by
+#: -h X_u+ / c) M_u+ = +-10 puts the bumblebee's hinge ~5 cm (three body lengths) from its
+#: centre of gravity, beyond which no insect lies, and the law, linear in small heights,
+#: is no longer evidence (1e6 gave a 13 km hinge).
+MU_RANGE: tuple[float, float] = (-10.0, 10.0)
+
+
+def _mu(name: str, value: Any) -> float:
+    """A target M_u+ in :data:`MU_RANGE`."""
+    return _validation.real(name, value, low=MU_RANGE[0], high=MU_RANGE[1])
+
+
 def hinge_height_for(comparison: CFDComparison, mu: float | None = None) -> float:
     """The hinge height [m] above the CG at which our M_u+ would equal ``mu``.
 
@@ -812,17 +826,22 @@ def hinge_height_for(comparison: CFDComparison, mu: float | None = None) -> floa
     ----------
     comparison : CFDComparison
     mu : float, optional
-        The target M_u+; default theirs. ``0.0`` gives the neutral height where our real mode
-        gives way to an oscillation.
+        The target M_u+ in :data:`MU_RANGE`; default theirs. ``0.0`` gives the neutral height
+        where our real mode gives way to an oscillation.
 
     Returns
     -------
     float
         The height [m] (it may lie far outside any insect: compare with the body length).
+
+    Raises
+    ------
+    ValueError
+        If ``mu`` is outside :data:`MU_RANGE`.
     """
     _validation.instance("comparison", comparison, CFDComparison)
     target = (comparison.study.derivatives["Mu"].value if mu is None
-              else _validation.real("mu", mu))
+              else _mu("mu", mu))
     ours = comparison.table["ours"]
     chord = comparison.study.value("mean_chord")
     return float(comparison.insect.hinge_height - (target - ours["Mu"]) * chord / ours["Xu"])
@@ -857,7 +876,7 @@ def mu_sweep(comparison: CFDComparison, values: ArrayLike, base: str = "ours"
     ----------
     comparison : CFDComparison
     values : array_like of float
-        The M_u+ values.
+        The M_u+ values, each in :data:`MU_RANGE`.
     base : {"ours", "theirs"}
         Whose other eight derivatives the system keeps (at the published m+, I+, g+).
 
@@ -870,9 +889,12 @@ def mu_sweep(comparison: CFDComparison, values: ArrayLike, base: str = "ours"
     """
     import pandas
 
+    mus = np.atleast_1d(_validation.array("values", values)).ravel()  # NaN: a LinAlgError
+    for mu in mus.tolist():
+        _mu("values", mu)
     d, mp, ip, s = _base(comparison, base)
     rows = []
-    for mu in np.atleast_1d(np.asarray(values, dtype=float)):
+    for mu in mus.tolist():
         lead = _leading(d, float(mu), mp, ip, s)
         freq = 0.0 if lead["type"] == "real" else 2.0 * math.pi / lead["period"]
         rows.append({"Mu": float(mu), **lead, "frequency": freq})
@@ -943,7 +965,19 @@ class MuLaw:
 
     def value_for(self, mu: float) -> float:
         """The field's value at which the line reaches ``mu`` (an extrapolation if outside)."""
-        return (_validation.real("mu", mu) - self.intercept) / self.slope
+        return (_mu("mu", mu) - self.intercept) / self.slope
+
+
+def _check_physics(physics: Any) -> None:
+    """A table of :func:`physics_table` (its columns), or a ValueError (not a KeyError later)."""
+    import pandas
+
+    needed = ("changes", "Mu", "message")
+    if not isinstance(physics, pandas.DataFrame) or not set(needed) <= set(physics.columns):
+        got = (list(physics.columns) if isinstance(physics, pandas.DataFrame)
+               else type(physics).__name__)
+        raise ValueError(f"`physics` must be a table of physics_table() (columns {needed}); "
+                         f"got {got}")
 
 
 def mu_law(physics: pandas.DataFrame, comparison: CFDComparison, field: str) -> MuLaw:
@@ -972,8 +1006,9 @@ def mu_law(physics: pandas.DataFrame, comparison: CFDComparison, field: str) -> 
         If fewer than three cases vary the field (a line through two points is no evidence).
     """
     _validation.instance("comparison", comparison, CFDComparison)
+    _check_physics(physics)
     insect = comparison.insect
-    if not hasattr(insect, field):
+    if not isinstance(field, str) or not hasattr(insect, field):
         raise ValueError(f"field must be an Insect field; got {field!r}")
     xs, ys = [], []
     for _, row in physics.iterrows():

@@ -1003,6 +1003,12 @@ def _one_wingbeat(model: LongitudinalDynamics, x: np.ndarray, period: float) -> 
     return x
 
 
+#: Smallest scaled norm of :func:`simulate_feedback`'s disturbance: the hover orbit closes to
+#: ~1e-10 of its range (shooting's tolerance), so a smaller start would measure that error, and
+#: a zero one has no decay at all (it returned a NaN rate). The book starts at 1e-3.
+MIN_DISTURBANCE = 1e-9
+
+
 def simulate_feedback(wmap: WingbeatMap, gains: Any, delay: int, disturbance: Any,
                       n_wingbeats: int = 20,
                       states: tuple[int, ...] = SPEED_PITCH) -> FeedbackSimulation:
@@ -1017,7 +1023,8 @@ def simulate_feedback(wmap: WingbeatMap, gains: Any, delay: int, disturbance: An
     delay : int
         d >= 0 wingbeats (the controller sees no deviation before wingbeat 0).
     disturbance : array_like, shape (4,)
-        Added to x* at the start.
+        Added to x* at the start; its scaled norm (each state over its largest magnitude on the
+        orbit) at least :data:`MIN_DISTURBANCE`.
     n_wingbeats : int
     states : (int, int)
         The states two gains act on.
@@ -1030,7 +1037,8 @@ def simulate_feedback(wmap: WingbeatMap, gains: Any, delay: int, disturbance: An
     ------
     ValueError
         If ``wmap`` is not a WingbeatMap, ``gains`` not 2 or 4 finite numbers, the delay not an
-        integer in [0, MAX_DELAY], ``disturbance`` not 4 finite numbers, ``n_wingbeats`` not an
+        integer in [0, MAX_DELAY], ``disturbance`` not 4 finite numbers (or below
+        :data:`MIN_DISTURBANCE` in the scaled norm), ``n_wingbeats`` not an
         integer in [2, MAX_WINGBEATS], or ``states`` not two different indices in [0, 3].
     """
     _validation.instance("wmap", wmap, WingbeatMap)
@@ -1047,6 +1055,11 @@ def simulate_feedback(wmap: WingbeatMap, gains: Any, delay: int, disturbance: An
     model, x_star = orbit.model, orbit.x0
     phi_bar = model.insect.stroke_mean
     scale = np.abs(orbit.x).max(axis=1)
+    size = float(np.linalg.norm(push / scale))
+    if not size >= MIN_DISTURBANCE:  # a zero start has no decay to fit (log 0: a NaN rate)
+        raise ValueError(f"`disturbance` must have a scaled norm in [{MIN_DISTURBANCE:g}, inf) "
+                         f"(each state over its largest magnitude on the orbit); got {size:.3g}: "
+                         "below it the run measures the orbit's own integration error")
     xs = [x_star + push]
     us = []
     for k in range(n):
@@ -1068,7 +1081,10 @@ def simulate_feedback(wmap: WingbeatMap, gains: Any, delay: int, disturbance: An
 
 
 def _decay(deviation: np.ndarray) -> float:
-    """exp of the least-squares slope of log(deviation) over the second half of the run."""
+    """exp of the least-squares slope of log(deviation) over the second half of the run; 0 if
+    the deviation reaches exactly zero there (a deadbeat loop: gone, not a NaN rate)."""
     n = len(deviation) - 1
     half = np.arange(n // 2, n + 1)
+    if np.any(deviation[half] <= 0.0):
+        return 0.0
     return float(math.exp(np.polyfit(half, np.log(deviation[half]), 1)[0]))

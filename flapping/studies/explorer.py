@@ -48,9 +48,9 @@ from flapping.results import status_of
 if TYPE_CHECKING:  # pragma: no cover
     import pandas
 
-__all__ = ["ExplorerGrid", "Exploration", "DEFAULT_GRID", "POINT_COLUMNS", "ORBIT_COLUMNS",
-           "MODE_TYPES", "SAMPLE_RTOL", "SAMPLE_ATOL", "explorer_insect", "explore_hover",
-           "leading_mode", "orbit_samples"]
+__all__ = ["ExplorerGrid", "Exploration", "DEFAULT_GRID", "MAX_POINTS", "POINT_COLUMNS",
+           "ORBIT_COLUMNS", "MODE_TYPES", "SAMPLE_RTOL", "SAMPLE_ATOL", "explorer_insect",
+           "explore_hover", "leading_mode", "orbit_samples"]
 
 #: The state components, in the order of the state vector (u, w, q, theta).
 _STATES = ("u", "w", "q", "theta")
@@ -76,6 +76,12 @@ POINT_COLUMNS: tuple[str, ...] = (
     "multiplier_error", "n_steps", "nit", "backend",
 )
 
+#: Most points an :class:`ExplorerGrid` may hold: at a few tenths of a second a point (the
+#: fixed-step blade-element solve), 10,000 points are about an hour of one core and ~40 MB of
+#: orbit samples at 48 a period; the book's grid has 450. A 10^8-point grid (a year of CPU)
+#: is refused when the grid is built, before any work.
+MAX_POINTS = 10_000
+
 #: Columns of :attr:`Exploration.orbits`.
 ORBIT_COLUMNS: tuple[str, ...] = ("point", "phase", "state", "value")
 
@@ -95,6 +101,11 @@ class ExplorerGrid:
     wing_mass_percent : tuple of float
         The wing pair's mass, 2 m_w / m in percent, in [0, 25] (:data:`~flapping.model.
         morphology.PLAUSIBLE_RANGES`' ``wing_mass_ratio``).
+
+    Raises
+    ------
+    ValueError
+        For an axis out of its range, or more than :data:`MAX_POINTS` points in all.
     """
 
     species: tuple[str, ...]
@@ -118,6 +129,9 @@ class ExplorerGrid:
             if np.any(np.diff(values) <= 0.0):
                 raise ValueError(f"`{name}` must be strictly increasing; got {values.tolist()}")
             object.__setattr__(self, name, tuple(values.tolist()))
+        _validation.grid_size("grid", self.size, high=MAX_POINTS,
+                              why=f" (MAX_POINTS; its axes give {' x '.join(map(str, self.shape))}"
+                                  " points)")
 
     @property
     def shape(self) -> tuple[int, int, int, int]:
@@ -200,8 +214,17 @@ def leading_mode(monodromy: np.ndarray) -> tuple[complex, str, np.ndarray]:
     vector : ndarray, complex, shape (4,)
         Its eigenvector in SI components (m/s, m/s, rad/s, rad), scaled so that its component of
         largest modulus is 1 (real for a real multiplier).
+
+    Raises
+    ------
+    ValueError
+        If ``monodromy`` is not a finite real 4 x 4 matrix.
     """
-    values, vectors = np.linalg.eig(np.asarray(monodromy, dtype=float))
+    matrix = _validation.array("monodromy", monodromy)  # finite: eig raised LinAlgError on NaN
+    if matrix.shape != (4, 4):
+        raise ValueError(f"`monodromy` must be a real 4 x 4 matrix (of u, w, q, theta); got "
+                         f"shape {matrix.shape}")
+    values, vectors = np.linalg.eig(matrix)
     i = int(np.argmax(np.abs(values)))
     mu = complex(values[i])
     v = vectors[:, i]
@@ -271,6 +294,7 @@ def orbit_samples(orbit: HoverOrbit, n_samples: int) -> np.ndarray:
     ConvergenceError
         If the integration fails.
     """
+    _validation.instance("orbit", orbit, HoverOrbit)
     n = _validation.integer("n_samples", n_samples, low=1, high=1 << 20)
     model = orbit.model
     t = np.linspace(0.0, model.period, n + 1)
@@ -397,7 +421,12 @@ def explore_hover(grid: ExplorerGrid | None = None, *, backend: FixedStep | None
         results = [_solve_line(line, heights, backend, n) for line in lines]
     else:
         futures = [executor.submit(_solve_line, line, heights, backend, n) for line in lines]
-        results = [future.result() for future in futures]
+        try:
+            results = [future.result() for future in futures]
+        except BaseException:  # Ctrl-C or a failure: the lines not started are not run
+            for future in futures:
+                future.cancel()
+            raise
     axes = [dict(zip(AXES, (s, f, m, h), strict=True))
             for (s, f, m) in lines for h in heights]
     rows = [row for result in results for row, _ in result]

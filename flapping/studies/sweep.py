@@ -56,7 +56,7 @@ if TYPE_CHECKING:  # pragma: no cover
     import pandas
 
 __all__ = ["SWEEPABLE", "COLUMNS", "LATERAL_COLUMNS", "MAX_GRID_POINTS", "SEGMENT",
-           "SweepInterrupted", "sweep_hover", "grid_points"]
+           "SweepInterrupted", "sweep_hover", "grid_points", "stop_process_pool"]
 
 #: Insect fields a grid may vary (the numeric ones).
 SWEEPABLE: tuple[str, ...] = tuple(
@@ -386,10 +386,55 @@ def _run(tasks: list[tuple[list[int], list[list[Any]]]], base: Insect | None,
         else:
             futures = {executor.submit(_solve_chunk, base, points, settings): idx
                        for idx, points in tasks}
-            for future in as_completed(futures):
-                idx = futures[future]
-                rows.update(zip(idx, future.result(), strict=True))
-                bar.update(len(idx))
+            try:
+                for future in as_completed(futures):
+                    idx = futures[future]
+                    rows.update(zip(idx, future.result(), strict=True))
+                    bar.update(len(idx))
+            except BaseException:
+                # Ctrl-C or a failure: the chunks not started are not run for nothing (the
+                # executor is the caller's: its workers are its owner's to stop)
+                for future in futures:
+                    future.cancel()
+                raise
+
+
+def stop_process_pool(pool: Executor, timeout: float = 5.0) -> None:
+    """Stop a ``ProcessPoolExecutor`` now: cancel its pending work, end its workers, and wait.
+
+    ``shutdown(cancel_futures=True)`` cancels the chunks not started but leaves the running
+    ones running, and the interpreter's exit then joins them: after Ctrl-C (the workers ignore
+    SIGINT, the parent's to handle) the command waited for chunks of minutes, and a second
+    Ctrl-C landed in that join (a traceback from ``concurrent.futures``, the process never
+    exiting, its children left behind). Here the workers are terminated (SIGTERM, then SIGKILL
+    after ``timeout`` seconds) and reaped, and the pool's manager thread is given ``timeout``
+    seconds to end. Another executor is shut down without waiting.
+
+    Parameters
+    ----------
+    pool : concurrent.futures.Executor
+        The pool to stop (its results are abandoned).
+    timeout : float
+        Seconds to wait for each worker after SIGTERM, in (0, 60].
+    """
+    timeout = _validation.real("timeout", timeout, low=0.0, high=60.0, low_open=True, unit="s")
+    # ProcessPoolExecutor keeps its workers in `_processes` (pid -> Process); Python 3.14 adds
+    # terminate_workers(), 3.11-3.13 have no public way to end a running task.
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        if process.is_alive():
+            process.terminate()
+    for process in processes:
+        process.join(timeout)
+        if process.is_alive():
+            process.kill()
+            process.join(timeout)
+    # The pool's manager thread sees its workers gone and ends; bounded, as it can hang on a
+    # worker killed while writing a result (a half message in the pipe)
+    manager = getattr(pool, "_executor_manager_thread", None)
+    if manager is not None:
+        manager.join(timeout)
 
 
 class SweepInterrupted(KeyboardInterrupt):

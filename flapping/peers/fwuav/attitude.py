@@ -526,8 +526,8 @@ def pitch_free_floquet(name: str, *, body_rate_term: str = "fwuav", rtol: float 
         the last iterate, its residual norm and the iteration count.
     """
     FwuavPitchFree(name, body_rate_term=body_rate_term)  # checks both
-    if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-12 <= rtol <= 1e-6:
-        raise ValueError(f"`rtol` must be a number in [1e-12, 1e-6]; got {rtol!r}")
+    # any real type (float32, int, 0-d array) is accepted and converted to float
+    rtol = check.real("rtol", rtol, low=1e-12, high=1e-6)
     parameters = _check_trim(trim)
     if parameters:
         return _trimmed(name, body_rate_term, float(rtol), parameters)

@@ -44,6 +44,7 @@ position enters nothing, so its three multipliers are exactly one and left out).
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
@@ -53,13 +54,14 @@ from scipy.integrate import solve_ivp
 
 import flapping._validation as check
 from flapping._numdiff import central_jacobian
-from flapping.errors import ConvergenceError
+from flapping.errors import ClosureWarning, ConvergenceError
 from flapping.peers.fwuav.attitude import FwuavPitchFree, pitch_free_floquet
 from flapping.peers.fwuav.data import Species
 from flapping.peers.fwuav.model import Motion, _cross, _rot, prescribed_motion
+from flapping.periodic.floquet import CLOSURE_TOL
 
 __all__ = ["FwuavAttitudeFree", "AttitudeFreeFloquet", "attitude_free_floquet",
-           "LONGITUDINAL", "LATERAL"]
+           "LONGITUDINAL", "LATERAL", "Y0_LIMITS", "MAX_NFEV"]
 
 #: Indices of the longitudinal ``(xi_2, v_1, v_3, W_2)`` and lateral ``(xi_1, xi_3, v_2, W_1,
 #: W_3)`` perturbations in ``(xi, v, W)`` (9 entries).
@@ -333,12 +335,33 @@ def _by_modulus(mu: np.ndarray) -> np.ndarray:
     return out
 
 
+#: Bounds of ``y0`` = (theta, v_1, v_3, q) of :func:`attitude_free_floquet` with a model: any
+#: attitude, 10 m/s (a hovering insect's orbit moves at centimetres a second; the presets' at
+#: t = 0 are below 0.2 m/s) and 100 rad/s (their pitch rates are below 1 rad/s). From
+#: ``[1e6] * 4`` the integration never returned; from these bounds it takes ~1200 evaluations
+#: (~14 s, against ~480 on the hawkmoth's orbit).
+Y0_LIMITS: tuple[tuple[str, float, str], ...] = (
+    ("theta", math.pi, "rad"), ("v_1", 10.0, "m/s"), ("v_3", 10.0, "m/s"), ("q", 100.0, "rad/s"))
+
+#: Most evaluations of the variational right-hand side one period may take (400 times the
+#: hawkmoth's orbit's): beyond, the integration is stuck and is stopped with an error.
+MAX_NFEV = 200_000
+
+
 def _variational(model: FwuavAttitudeFree, state0: np.ndarray, period: float, rtol: float
                  ) -> tuple[np.ndarray, np.ndarray, float, int]:
     """Reference orbit (R, v, W) and transition matrix of ``(xi, v, W)`` over ``[0, period]``;
     returns the final reference (15), ``M`` (9 x 9), ``int trace A`` and the evaluation count."""
 
+    calls = [0]
+
     def fun(t: float, y: np.ndarray) -> np.ndarray:
+        calls[0] += 1
+        if calls[0] > MAX_NFEV:  # bounded: a state the step size collapses at never returns
+            raise ConvergenceError(
+                f"the attitude-free variational equations took more than {MAX_NFEV} "
+                f"evaluations (reached t = {t:.6g} of {period:.6g} s): the integration is "
+                "stuck; is y0 on the orbit?")
         state = np.concatenate([np.zeros(3), y[:15]])
         f = model.rhs(t, state)
         A = model.local_jacobian(t, state)
@@ -368,7 +391,7 @@ def attitude_free_floquet(model: str | FwuavPitchFree, y0: Any = None, period: A
         (e.g. a trimmed one), whose periodic orbit ``y0`` must be given.
     y0 : array_like, shape (4,), optional
         ``(theta, v_1, v_3, q)`` at ``t = 0`` on the model's periodic orbit (rad, m/s, m/s,
-        rad/s); required with a model, not allowed with a name.
+        rad/s), within :data:`Y0_LIMITS`; required with a model, not allowed with a name.
     period : float, optional
         The orbit's period (s), in (0, 1]; default the model's wingbeat period.
     body_rate_term : {"fwuav", "rotated"}, optional
@@ -388,10 +411,17 @@ def attitude_free_floquet(model: str | FwuavPitchFree, y0: Any = None, period: A
     ValueError
         For an unknown name or an argument out of range.
     ConvergenceError
-        If an integration fails (or, with a name, the planar shooting does not converge).
+        If an integration fails or is stuck (more than :data:`MAX_NFEV` evaluations), or, with
+        a name, the planar shooting does not converge.
+
+    Warns
+    -----
+    ClosureWarning
+        If the reference orbit from ``y0`` does not close after ``period``: ``y0`` is on no
+        periodic orbit, and the multipliers are not an orbit's.
     """
-    if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-12 <= rtol <= 1e-6:
-        raise ValueError(f"`rtol` must be a number in [1e-12, 1e-6]; got {rtol!r}")
+    # any real type (float32, int, 0-d array) is accepted and converted to float
+    rtol = check.real("rtol", rtol, low=1e-12, high=1e-6)
     if isinstance(model, str):
         if y0 is not None or period is not None:
             raise ValueError("`y0` and `period` are taken from pitch_free_floquet when `model` "
@@ -404,7 +434,7 @@ def attitude_free_floquet(model: str | FwuavPitchFree, y0: Any = None, period: A
     if y0 is None:
         raise ValueError("`y0` (the planar orbit's (theta, v_1, v_3, q) at t = 0) is required "
                          "with a model")
-    y0 = check.vector("y0", y0, size=4)
+    y0 = check.components("y0", y0, Y0_LIMITS)
     T = model.period if period is None else check.real("period", period, low=0.0, high=1.0,
                                                        low_open=True, unit="s")
     return _floquet(FwuavAttitudeFree(model), y0, T, float(rtol))
@@ -417,6 +447,24 @@ def _named(name: str, body_rate_term: str, rtol: float) -> AttitudeFreeFloquet:
     return _floquet(FwuavAttitudeFree(model), orbit.y0, orbit.period, rtol)
 
 
+def _warn_if_open(end: np.ndarray, start: np.ndarray, rtol: float) -> None:
+    """A :class:`~flapping.errors.ClosureWarning` if the reference does not close: ``y0`` is on
+    no orbit of the period, and the multipliers are a transition matrix's.
+
+    The relative closure ``max |y(T) - y(0)| / max(1, max |y(0)|)`` against the package's
+    :data:`~flapping.periodic.floquet.CLOSURE_TOL`, or 100 rtol where the integration's own
+    error may reach it (the hawkmoth's orbit closes to 4e-8 at rtol 1e-8).
+    """
+    size = max(1.0, float(np.abs(start).max()))
+    closure = float(np.abs(end - start).max()) / size
+    tol = max(CLOSURE_TOL, 100.0 * rtol)
+    if closure > tol:
+        warnings.warn(f"the reference orbit does not close: relative closure {closure:.3g} > "
+                      f"{tol:.1g}; `y0` is on no periodic orbit of this period, and the "
+                      "multipliers are those of a transition matrix, not an orbit's",
+                      ClosureWarning, stacklevel=4)
+
+
 def _floquet(model: FwuavAttitudeFree, y0: np.ndarray, period: float, rtol: float
              ) -> AttitudeFreeFloquet:
     state0 = FwuavAttitudeFree.from_planar(y0)
@@ -424,6 +472,7 @@ def _floquet(model: FwuavAttitudeFree, y0: np.ndarray, period: float, rtol: floa
     lon, lat = list(LONGITUDINAL), list(LATERAL)
     coupling = max(np.abs(M[np.ix_(lon, lat)]).max(), np.abs(M[np.ix_(lat, lon)]).max())
     liouville = abs(np.linalg.det(M) / math.exp(trace) - 1.0)
+    _warn_if_open(end, state0[3:], rtol)
     M.flags.writeable = False
     y0 = y0.copy()
     y0.flags.writeable = False

@@ -220,8 +220,8 @@ def hover_floquet(name: str, *, backend: Adaptive | str = Adaptive.name,
         raise ValueError(f"hover_floquet runs FWUAV's model on the adaptive path only; got "
                          f"backend={backend!r}")
     rtol = spec.rtol if rtol is None else rtol
-    if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-13 <= rtol <= 1e-3:
-        raise ValueError(f"`rtol` must be a number in [1e-13, 1e-3]; got {rtol!r}")
+    # any real type (float32, int, 0-d array) is accepted and converted to float
+    rtol = check.real("rtol", rtol, low=1e-13, high=1e-3)
     FwuavHover(name, n_strips=n_strips, quadrature=quadrature,
                body_rate_term=body_rate_term)  # checks the three
     return _cached(name, float(rtol), quadrature, int(n_strips), body_rate_term)
@@ -258,8 +258,8 @@ def fwuav_procedure(name: str, *, rtol: float = 1e-6, start: Any = None) -> np.n
         If the integration fails.
     """
     sp = species(name)
-    if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-12 <= rtol <= 1e-3:
-        raise ValueError(f"`rtol` must be a number in [1e-12, 1e-3]; got {rtol!r}")
+    # any real type (float32, int, 0-d array) is accepted and converted to float
+    rtol = check.real("rtol", rtol, low=1e-12, high=1e-3)
     model = FwuavHover(sp)
     v0 = np.array(sp.velocity_guess) if start is None else check.vector("start", start, size=3)
     f = sp.kinematics.f
