@@ -162,9 +162,8 @@ def wing_resultants(U0, U1, W0, W1, omega, s, data, variational, res, jac, sums,
             _section_small(U, W, sigma, sin_2ag, cos_2am, sin_am2, cos_am2, _TINY, sec)
         elif U * U + W * W > _V2_FLOOR:
             _section_exact(U, W, sigma, sin_2ag, cos_2am, sin_am2, cos_am2, _TINY, sec)
-        else:  # still air at this strip: the law (degree two in (U, W)) and its gradient are 0
-            for k in range(6):  # (its gradient's formula is 0/0 here: (|V|^2 + tiny)^1.5 = 0)
-                sec[k] = 0.0
+        else:  # still air: the law (degree two in U, W) and its gradient are 0 (formula: 0/0)
+            sec[:6] = 0.0
         row = i_w + 6 * i
         w0, w1, w3 = data[row], data[row + 1], data[row + 3]
         a, b = sec[0], sec[1]

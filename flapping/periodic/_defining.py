@@ -139,9 +139,13 @@ class Defining:
         """``1 + |x|``: the size of the state, for relative tolerances."""
         return 1.0 + float(np.linalg.norm(self.x(U)))
 
-    def effective(self, mu: np.ndarray) -> np.ndarray:
-        """The multipliers without the trivial one of an autonomous orbit."""
-        return nontrivial_multipliers(mu) if self.auto else mu
+    def effective(self, mu: np.ndarray, *, near_orbit: bool = True) -> np.ndarray:
+        """The multipliers without the trivial one of an autonomous orbit (``near_orbit``
+        False: the start's guess, off the orbit, where the trivial one is only near 1)."""
+        if not self.auto:
+            return mu
+        return nontrivial_multipliers(mu) if near_orbit else nontrivial_multipliers(
+            mu, tol=1.0)
 
     # ---- the phase condition (autonomous) ----------------------------------------------
     def set_reference(self, point: Point) -> None:

@@ -610,7 +610,8 @@ def _fixed_orbit(system: OrbitSystem, u0: np.ndarray, opts: CurveOptions) -> boo
 
 
 def _initial_theta(problem: Defining, u0: np.ndarray, p0: float, q0: float) -> float:
-    mu = problem.effective(_multipliers(problem.flow(u0)[1]))
+    # x0 is a guess, not yet on the orbit: its trivial multiplier is only near 1
+    mu = problem.effective(_multipliers(problem.flow(u0)[1]), near_orbit=False)
     pairs = mu[_is_complex(mu) & (mu.imag > 0)]
     if not pairs.size:
         raise ValueError(f"no complex pair of multipliers at (p0, q0) = ({p0!r}, {q0!r}) "
