@@ -100,6 +100,12 @@ def test_stop_process_pool_cancels_pending_work_and_ends_running_workers():
     stop_process_pool(pool)
     assert time.monotonic() - started < 15.0  # not the 30 s of a running task
     assert all(not p.is_alive() for p in processes)
+    # the running futures are failed by the pool's manager thread once it sees its workers gone
+    # (it may lag the return under load): done within seconds, never the 30 s of the task
+    # (futures.wait would not do: it counts a future cancelled but not yet notified as pending)
+    deadline = time.monotonic() + 10.0
+    while not all(f.cancelled() or f.done() for f in futures) and time.monotonic() < deadline:
+        time.sleep(0.05)
     assert all(f.cancelled() or f.done() for f in futures)
 
 
