@@ -227,7 +227,8 @@ def test_the_kernel_s_codes_are_the_one_table_s():
              "AMPLITUDE_OUT_OF_RANGE": Status.LEFT_DOMAIN, "NOT_FINITE": Status.NON_FINITE,
              "SINGULAR": Status.SINGULAR}
     for name, status in codes.items():
-        assert getattr(_compiled, name) == int(status), name
+        assert getattr(_compiled, name) == status.code, name
+        assert Status(getattr(_compiled, name)) is status, name
 
 
 def test_a_failed_kernel_solve_carries_its_status(monkeypatch):

@@ -29,7 +29,6 @@ Conventions: SI units inside (angles in rad); sampled trajectories have time alo
 
 from __future__ import annotations
 
-import enum
 import logging
 import math
 import time
@@ -38,7 +37,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from dataclasses import fields as dataclass_fields
 from functools import cached_property
-from typing import Any, Literal, TypeVar, cast, overload
+from typing import Any, ClassVar, Literal, TypeVar, cast, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -55,6 +54,7 @@ from flapping.backends import (
 )
 from flapping.errors import ConvergenceError, HoverDriftWarning, NonFiniteError, require_success
 from flapping.fast import kernel as _kernel
+from flapping.hover._schema import HOVER_SPEED_ATOL, HOVER_SPEED_RTOL, OrbitViews
 from flapping.hover.problem import (
     DEFAULT_BACKEND,
     TRIMS,
@@ -77,7 +77,7 @@ from flapping.periodic.fixedstep import (
 from flapping.periodic.integrate import flow, variational_flow
 from flapping.periodic.settings import SolverSettings
 from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
-from flapping.results import Floquet, Stats, Status
+from flapping.results import Floquet, HoverStatus, Stats, Status
 
 __all__ = [
     "ANALYSIS_ATOL",
@@ -100,17 +100,6 @@ _LOG = logging.getLogger("flapping")
 #: x(t + T/2) = S x(t) for the symmetric stroke (x_h = 0): u, q, theta change sign, w does not.
 HALF_PERIOD_SYMMETRY = np.diag([-1.0, 1.0, -1.0, -1.0])
 
-#: Largest cycle-mean inertial speed (horizontal and vertical) of an orbit still called hover,
-#: relative to the mean wingtip speed 4 Phi f R (~5.8 m/s for the hawkmoth, so ~6 um/s). A hover
-#: orbit with the half-period symmetry (x_h = 0) drifts only at round-off (~1e-12 m/s); a hinge
-#: 1 mm off the centre of gravity makes it fly at ~0.4 m/s.
-HOVER_SPEED_RTOL = 1e-6
-
-#: Largest cycle-mean inertial speed of an orbit still called hover, in absolute terms [m/s]
-#: (10 um/s, under a body length an hour for any insect): the relative test alone would call an
-#: orbit hover whatever its speed for an absurd wingtip speed.
-HOVER_SPEED_ATOL = 1e-5
-
 #: Default tolerances (relative; absolute in the states' SI units) of the integrations that
 #: analyse a found orbit (its force budget here; its averaged Jacobian, Floquet modes and
 #: perturbations in :mod:`flapping.hover.stability`): :class:`~flapping.backends.Adaptive`'s
@@ -120,25 +109,7 @@ ANALYSIS_RTOL: float = Adaptive.analysis_rtol
 ANALYSIS_ATOL: float = Adaptive.analysis_atol
 
 
-
 # =========================================================================== results
-class HoverStatus(enum.IntEnum):
-    """What a solved orbit is (a failed solve raises :class:`~flapping.errors.ConvergenceError`).
-
-    ``HOVER`` (0): periodic and in place on average. ``DRIFTING`` (1): periodic, holds its
-    altitude, but flies horizontally (a hinge off the centre of gravity with the amplitude as the
-    only trim). ``CLIMBING`` (2): periodic but climbs or sinks (:func:`forced_orbit` away from the
-    hover amplitude).
-    """
-
-    HOVER = 0
-    DRIFTING = 1
-    CLIMBING = 2
-
-    def __str__(self) -> str:
-        return self.name.lower()
-
-
 @dataclass(frozen=True)
 class _Sampled:
     """Samples computed with the orbit (the adaptive path integrates them anyway)."""
@@ -183,7 +154,7 @@ class _AdaptiveSamples:
 
 
 @dataclass(frozen=True, eq=False)
-class HoverOrbit:
+class HoverOrbit(OrbitViews):
     """A periodic orbit of the insect (the hovering one, or one at a prescribed amplitude).
 
     Whatever backend produced it, the orbit has the same attributes; arrays are read-only.
@@ -268,6 +239,9 @@ class HoverOrbit:
     multiplier_error: float = field(default=math.nan, repr=False)
     solve_status: Status = field(default=Status.SUCCESS, repr=False)
 
+    state_names: ClassVar[tuple[str, ...]] = STATE_NAMES
+    half_period_symmetry: ClassVar[np.ndarray] = HALF_PERIOD_SYMMETRY
+
     def __post_init__(self) -> None:
         freeze(self)  # an analysis of the orbit must be an analysis of what was solved
 
@@ -332,22 +306,6 @@ class HoverOrbit:
                                      multiplier_error=self.multiplier_error)
         return None
 
-    @property
-    def amplitude_deg(self) -> float:
-        """Stroke amplitude in degrees."""
-        return math.degrees(self.amplitude)
-
-    @property
-    def mean_state(self) -> dict[str, float]:
-        """Cycle mean of each state."""
-        return {k: float(np.mean(self.x[i, :-1])) for i, k in enumerate(STATE_NAMES)}
-
-    @property
-    def state_range(self) -> dict[str, tuple[float, float]]:
-        """(min, max) of each state over the period."""
-        return {k: (float(self.x[i].min()), float(self.x[i].max()))
-                for i, k in enumerate(STATE_NAMES)}
-
     @cached_property
     def mean_inertial_velocity(self) -> dict[str, float]:
         """Cycle means of the inertial velocities [m/s]: ``forward`` and ``climb`` (up positive).
@@ -363,68 +321,25 @@ class HoverOrbit:
                 "climb": float(np.mean(u * np.sin(th) - w * np.cos(th)))}
 
     @property
-    def mean_horizontal_speed(self) -> float:
-        """Magnitude of the cycle-mean inertial horizontal velocity [m/s]: 0 on a hover orbit."""
-        return abs(self.mean_inertial_velocity["forward"])
+    def insect(self) -> Insect:
+        """The insect (its mean stroke angle the orbit's where that is a trim)."""
+        return self.model.insect
 
     @property
-    def wingtip_speed(self) -> float:
-        """Mean wingtip speed 4 Phi f R [m/s], the scale of :attr:`is_hover`'s tolerance."""
-        insect = self.model.insect if self.problem is None else self.problem.insect
-        return 4.0 * self.amplitude * insect.frequency * insect.semi_span
+    def aerodynamics(self) -> str:
+        """The loads model (:data:`~flapping.model.dynamics.AERODYNAMIC_MODELS`)."""
+        return self.model.aerodynamics
 
     @property
-    def status(self) -> HoverStatus:
-        """:class:`HoverStatus`: hover, drifting horizontally, or climbing/sinking.
-
-        A mean speed counts if it exceeds :data:`HOVER_SPEED_RTOL` times the
-        :attr:`wingtip_speed` or :data:`HOVER_SPEED_ATOL`.
-        """
-        v = self.mean_inertial_velocity
-        limit = self.hover_speed_tol
-        if abs(v["climb"]) > limit:
-            return HoverStatus.CLIMBING
-        return HoverStatus.DRIFTING if abs(v["forward"]) > limit else HoverStatus.HOVER
+    def dof(self) -> int:
+        """4: the planar (longitudinal) orbit (6 for a
+        :class:`~flapping.hover.sixdof.SixDofHoverOrbit`)."""
+        return 4
 
     @property
-    def hover_speed_tol(self) -> float:
-        """The largest cycle-mean speed of a hover orbit [m/s]: :data:`HOVER_SPEED_RTOL` times
-        the :attr:`wingtip_speed`, at most :data:`HOVER_SPEED_ATOL`."""
-        return min(HOVER_SPEED_RTOL * self.wingtip_speed, HOVER_SPEED_ATOL)
-
-    @property
-    def is_hover(self) -> bool:
-        """True if the orbit stays in place on average (:attr:`status` is ``HOVER``).
-
-        That is, if both cycle-mean inertial speeds (:attr:`mean_inertial_velocity`) are at most
-        :attr:`hover_speed_tol`. False for an orbit that drifts
-        horizontally (a hinge offset, see :class:`~flapping.errors.HoverDriftWarning`) or climbs
-        or sinks (an orbit of :func:`forced_orbit` away from the hover amplitude).
-        """
-        return self.status == HoverStatus.HOVER
-
-    @property
-    def message(self) -> str:
-        """What :attr:`status` means for this orbit, in words."""
-        v = self.mean_inertial_velocity
-        if self.status == HoverStatus.HOVER:
-            return "hover: periodic, in place on average"
-        if self.status == HoverStatus.CLIMBING:
-            return (f"not hover: {'climbs' if v['climb'] > 0 else 'sinks'} at a mean "
-                    f"{abs(v['climb']):.3g} m/s")
-        return (f"not hover: flies {'forwards' if v['forward'] > 0 else 'backwards'} at a "
-                f"mean {abs(v['forward']):.3g} m/s; trims=('amplitude', 'stroke_mean') finds a "
-                "true hover orbit")
-
-    @property
-    def half_period_symmetry_error(self) -> float:
-        """``max |x(t + T/2) - S x(t)| / max |x|`` over the period: 0 with the symmetry."""
-        n = self.x.shape[1] - 1
-        if n % 2:
-            raise ValueError("needs an even number of samples per period")
-        first, second = self.x[:, : n // 2], self.x[:, n // 2 : n]
-        scale = np.abs(self.x).max(axis=1, keepdims=True)
-        return float(np.max(np.abs(second - HALF_PERIOD_SYMMETRY @ first) / scale))
+    def success(self) -> bool:
+        """True: a returned orbit solved its equations (a failed solve raises)."""
+        return self.solve_status.success
 
 
 def _sample(model: LongitudinalDynamics, x0: np.ndarray, n_samples: int, method: str, **tol):

@@ -25,6 +25,7 @@ from flapping import _validation
 from flapping.backends import Backend, Compiled, FixedStep
 from flapping.errors import HoverDriftWarning, require_success
 from flapping.fast import kernel as _kernel
+from flapping.hover._schema import StabilityViews
 from flapping.hover.orbit import (
     ANALYSIS_ATOL,
     ANALYSIS_RTOL,
@@ -75,7 +76,7 @@ MAX_PERIODS, MAX_SAMPLES_PER_PERIOD = 10_000, 1 << 14
 
 
 @dataclass(frozen=True)
-class HoverStability:
+class HoverStability(StabilityViews):
     """Floquet stability of a periodic orbit (eqs. 42-49, 66-67) and the averaged approximation.
 
     Attributes
@@ -150,27 +151,12 @@ class HoverStability:
         return math.inf if log_ratio > 700.0 else abs(math.expm1(log_ratio))
 
     @property
-    def is_stable(self) -> bool:
-        """True if every multiplier lies inside the unit circle."""
-        return bool(np.all(np.abs(self.multipliers) < 1.0))
-
-    @property
     def floquet(self) -> Floquet:
         """The monodromy and its multipliers as the package's one type
         (:class:`~flapping.results.Floquet`), with :attr:`multiplier_error`."""
         return Floquet.of_matrix(self.monodromy, self.orbit.period, multipliers=self.multipliers,
                                  multiplier_error=self.multiplier_error,
                                  trace_integral=self.trace_integral)
-
-    @property
-    def unstable_mode(self) -> np.ndarray:
-        """Eigenvector of the largest multiplier scaled so its largest component is 1.
-
-        Real (float) when that multiplier is real; complex when it belongs to a complex pair.
-        """
-        v = self.eigenvectors[:, 0]
-        v = v / v[np.argmax(np.abs(v))]
-        return np.real(v) if abs(self.multipliers[0].imag) == 0.0 else v
 
 
 @dataclass(frozen=True)

@@ -350,14 +350,14 @@ class _Solve:
         """One step count: Newton, the last pass, the estimate; True if more steps are needed."""
         newton = _newton(self.problem, self.z, self.n, self.J)
         self.z, self.nit, self.step = newton.z, self.nit + newton.nit, newton.step
-        if newton.status:
+        if not newton.status.success:
             self.status = newton.status
             return False
         self.estimate = est = _estimate(self.problem, self.z, self.n)
         ratio = self.ratio(est)
         if ratio <= 1.0 or self.n >= MAX_STEPS:
             self.status = Status.SUCCESS if ratio <= 1.0 else Status.TOLERANCE_NOT_MET
-            if not self.status and float(np.linalg.norm(est.residual)) > self.tols.residual:
+            if self.status.success and float(np.linalg.norm(est.residual)) > self.tols.residual:
                 self.status = Status.RESIDUAL_ABOVE_TOL
             return False
         self.n, self.J = _next_steps(self.n, ratio), est.J
@@ -381,7 +381,7 @@ class _Solve:
         residual = np.full(d, math.nan) if est is None else est.residual
         message = STATUS[self.status] + f" ({self.n} steps per segment)"
         return FixedStepOrbit(
-            x0=x, period=period, params=params, success=self.status == 0, status=self.status,
+            x0=x, period=period, params=params, success=self.status.success, status=self.status,
             message=message, residual=residual, residual_norm=float(np.linalg.norm(residual)),
             nit=self.nit, nfev=problem.map.nfev, njev=problem.map.njev, n_steps=self.n,
             jacobian="variational" if problem.map.variational else "finite-difference",
