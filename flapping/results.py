@@ -22,7 +22,10 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["MESSAGES", "STATUS_WORDS", "Floquet", "HoverStatus", "Status", "Stats", "status_of"]
+from flapping.errors import DomainError
+
+__all__ = ["MESSAGES", "STATUS_WORDS", "Floquet", "HoverStatus", "Status", "Stats", "exponents_of",
+           "status_of"]
 
 
 class _Word(enum.StrEnum):
@@ -125,8 +128,6 @@ def status_of(error: BaseException) -> Status:
     LinAlgError a singular matrix, an ArithmeticError a non-finite value, KeyboardInterrupt an
     interruption.
     """
-    from flapping.errors import DomainError  # errors imports nothing of this module's users
-
     status = getattr(error, "status", None)
     if isinstance(status, Status):
         return status
@@ -141,6 +142,19 @@ def status_of(error: BaseException) -> Status:
     if isinstance(error, ArithmeticError):
         return Status.NON_FINITE
     return Status.FAILED
+
+
+def exponents_of(multipliers: np.ndarray, period: float) -> np.ndarray:
+    """Floquet exponents ``log(mu) / T`` of checked multipliers (complex, no NaN) and period
+    (> 0): principal branch; a zero multiplier gives ``-inf`` (real part; imaginary part its
+    argument over T), an infinite one ``+inf``."""
+    mu = np.asarray(multipliers, dtype=complex)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        exponents = np.asarray(np.log(mu) / period)
+        bad = ~np.isfinite(exponents)
+        if np.any(bad):  # log(0) = -inf and log(inf) = inf: real and imaginary parts apart
+            exponents[bad] = np.log(np.abs(mu[bad])) / period + 1j * (np.angle(mu[bad]) / period)
+    return exponents
 
 
 @dataclass(frozen=True)
@@ -203,11 +217,10 @@ class Floquet:
 
     @property
     def exponents(self) -> Any:
-        """Floquet exponents log(mu) / T [1/s]
-        (:func:`flapping.periodic.floquet.floquet_exponents`: principal branch, -inf for 0)."""
-        from flapping.periodic.floquet import floquet_exponents  # that layer imports this one
-
-        return floquet_exponents(self.multipliers, self.period)
+        """Floquet exponents log(mu) / T [1/s] (principal branch, -inf for 0; as
+        :func:`flapping.periodic.floquet.floquet_exponents`, which checks its input and
+        calls :func:`exponents_of`)."""
+        return exponents_of(self.multipliers, self.period)
 
     @property
     def max_modulus(self) -> float:

@@ -43,3 +43,25 @@ def test_a_status_is_truthy_whatever_it_says():
     # An IntEnum's SUCCESS was falsy: code that read `if status:` for a failure now reads
     # status.success, and a word is never falsy.
     assert all(bool(s) for s in Status) and not Status.FAILED.success
+
+
+def test_every_monodromy_is_offered_as_the_one_floquet_type():
+    # Reproducer (issue 35): the monodromy lived in 8 types; each that carries one now gives it
+    # as flapping.results.Floquet (.floquet), with the same multipliers.
+    import numpy as np
+
+    from flapping.periodic.fixedstep import find_periodic_orbit_fixed_step
+    from flapping.periodic.floquet import monodromy
+    from flapping.results import Floquet
+
+    def field(t, x):
+        return np.array([-x[0] + np.cos(t)])
+
+    mon = monodromy(field, [0.5], 2 * np.pi)
+    orbit = find_periodic_orbit_fixed_step(field, [0.5], 2 * np.pi)
+    for source in (mon, orbit):
+        assert type(source.floquet) is Floquet
+        np.testing.assert_array_equal(source.floquet.multipliers, source.multipliers)
+    # x' = -x + cos t: the one multiplier is exp(-2 pi), the exponent -1.
+    assert mon.floquet.exponents[0] == pytest.approx(-1.0, abs=1e-9)
+    assert orbit.floquet.exponents[0] == pytest.approx(-1.0, abs=1e-6)

@@ -407,14 +407,23 @@ class ModeSet:
         The diagonal block of the full monodromy.
     multipliers : ndarray, complex, shape (4,)
         The block's eigenvalues, by descending modulus.
+    period : float
+        T [s] (NaN where it was not given).
     """
 
     names: tuple[str, ...]
     monodromy: np.ndarray
     multipliers: np.ndarray
+    period: float = math.nan
 
     def __post_init__(self) -> None:
         freeze(self)
+
+    @property
+    def floquet(self) -> Floquet:
+        """The block and its multipliers as the package's one type
+        (:class:`flapping.results.Floquet`)."""
+        return Floquet.of_matrix(self.monodromy, self.period, multipliers=self.multipliers)
 
 
 @dataclass(frozen=True)
@@ -509,9 +518,11 @@ class SixDofStability(StabilityViews):
         return readonly(eig[np.argsort(-eig.real, kind="stable")])
 
 
-def _block(matrix: np.ndarray, index: tuple[int, ...], names: tuple[str, ...]) -> ModeSet:
+def _block(matrix: np.ndarray, index: tuple[int, ...], names: tuple[str, ...],
+           period: float) -> ModeSet:
     block = readonly(np.array(matrix[np.ix_(index, index)]))
-    return ModeSet(names=names, monodromy=block, multipliers=readonly(floquet_multipliers(block)))
+    return ModeSet(names=names, monodromy=block, multipliers=readonly(floquet_multipliers(block)),
+                   period=period)
 
 
 def _compiled_monodromy(orbit: SixDofHoverOrbit, n_steps: int) -> Monodromy:
@@ -617,8 +628,8 @@ def _stability_of(orbit: SixDofHoverOrbit, result: Monodromy, error: float) -> S
         multipliers=readonly(np.asarray(result.multipliers)),
         floquet=Floquet.of_matrix(matrix, orbit.period, multipliers=result.multipliers,
                                   trace_integral=float(result.trace_integral)),
-        longitudinal=_block(matrix, LONGITUDINAL, ("u", "w", "q", "theta")),
-        lateral=_block(matrix, LATERAL, ("v", "p", "r", "roll")),
+        longitudinal=_block(matrix, LONGITUDINAL, ("u", "w", "q", "theta"), orbit.period),
+        lateral=_block(matrix, LATERAL, ("v", "p", "r", "roll"), orbit.period),
         coupling=float(off / np.max(np.abs(matrix))), multiplier_error=error,
         liouville_error=float(result.liouville_error), details=result)
 

@@ -45,7 +45,7 @@ from flapping.periodic import settings as opt
 from flapping.periodic._checks import probe_fields
 from flapping.periodic._fixedmap import NonFinite, OutOfWork, PeriodMap
 from flapping.periodic._readonly import freeze
-from flapping.results import MESSAGES, Status
+from flapping.results import MESSAGES, Floquet, Status
 
 __all__ = [
     "DEFAULT_STEPS",
@@ -166,6 +166,14 @@ class FixedStepOrbit:
 
     def __post_init__(self) -> None:
         freeze(self)
+
+    @property
+    def floquet(self) -> Floquet:
+        """The monodromy (of the state and the parameters' sensitivity rows as solved) and its
+        multipliers as the package's one type (:class:`flapping.results.Floquet`), with
+        :attr:`multiplier_error`."""
+        return Floquet.of_matrix(self.monodromy, self.period, multipliers=self.multipliers,
+                                 multiplier_error=self.multiplier_error)
 
     @property
     def x0_error(self) -> np.ndarray:
