@@ -32,6 +32,9 @@ from flapping.hover.orbit import (
 )
 from flapping.hover.problem import BACKENDS, DEFAULT_BACKEND, TRIMS, HoverProblem, choose_backend
 
+# Each path's strategy registers itself with its backend class (flapping.backends).
+from flapping.hover import adaptive_path, compiled_path, fixed_step_path  # noqa: E402, F401  isort: skip
+
 __all__ = [
     "ANALYSIS_ATOL",
     "ANALYSIS_RTOL",

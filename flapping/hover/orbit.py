@@ -71,8 +71,6 @@ from flapping.model.morphology import Insect, explain_blowup
 from flapping.periodic._readonly import freeze, readonly
 from flapping.periodic.fixedstep import (
     FixedStepOrbit,
-    find_periodic_orbit_fixed_step,
-    fixed_step_flow,
 )
 from flapping.periodic.integrate import flow, variational_flow
 from flapping.periodic.settings import SolverSettings
@@ -496,6 +494,46 @@ def find_hover_orbit(
     OptionWarning
         If an option was given for a path that does not run.
     """
+    _warn_deprecated_routes(method=method, jacobian=jacobian, rtol=rtol, atol=atol, tol=tol,
+                            kernel_options=kernel_options,
+                            fixed_step_options=fixed_step_options)
+    return _find_hover_orbit(
+        insect, aerodynamics=aerodynamics, alpha_m=alpha_m, amplitude_guess=amplitude_guess,
+        x0_guess=x0_guess, backend=backend, trims=trims, n_samples=n_samples, method=method,
+        jacobian=jacobian, rtol=rtol, atol=atol, tol=tol, kernel_options=kernel_options,
+        fixed_step_options=fixed_step_options, settings=settings, dof=dof)
+
+
+#: The keyword routes to the backends' options that forward to ``backend=`` and warn.
+_DEPRECATED_ROUTES = {"method": "Adaptive", "jacobian": "Adaptive", "rtol": "Adaptive",
+                      "atol": "Adaptive", "tol": "Adaptive or FixedStep",
+                      "kernel_options": "Compiled", "fixed_step_options": "FixedStep"}
+
+
+def _warn_deprecated_routes(**given: Any) -> None:
+    """A DeprecationWarning for the flat and mapping routes to the backends' options: one route
+    remains, ``backend=`` with an object (:mod:`flapping.backends`)."""
+    used = [name for name, value in given.items() if value is not None]
+    if used:
+        objects = sorted({_DEPRECATED_ROUTES[name] for name in used})
+        warnings.warn(
+            f"find_hover_orbit's {', '.join(used)} keyword(s) are deprecated and forward to the "
+            f"backend object: pass backend={' or '.join(objects)}(...) "
+            "(flapping.backends) instead", DeprecationWarning, stacklevel=3)
+
+
+def _find_hover_orbit(insect: Any, *, aerodynamics: str | None = None,
+                      alpha_m: float | None = None, amplitude_guess: float | None = None,
+                      x0_guess: ArrayLike | None = None,
+                      backend: Backend | str = DEFAULT_BACKEND,
+                      trims: Sequence[str] = ("amplitude",), n_samples: int = 512,
+                      method: str | None = None, jacobian: str | None = None,
+                      rtol: float | None = None, atol: float | None = None,
+                      tol: float | None = None, kernel_options: Mapping[str, Any] | None = None,
+                      fixed_step_options: Mapping[str, Any] | None = None,
+                      settings: SolverSettings | None = None, dof: int = 4) -> Any:
+    """:func:`find_hover_orbit` without the deprecation of its keyword routes (the package's
+    own callers that forward a caller's options)."""
     dof = _validation.choice("dof", dof, (4, 6))
     if dof == 6:
         if not isinstance(insect, Insect):
@@ -527,21 +565,18 @@ def find_hover_orbit(
 
 def _solve(problem: HoverProblem, path: Backend, options: Options, guess: np.ndarray,
            x0: np.ndarray, n_samples: int) -> HoverOrbit:
-    """The orbit on ``path``; under "auto" a compiled or fixed-step failure hands over to the
+    """The orbit on ``path`` (its strategy's :meth:`~flapping.backends.Compiled.solve`); under
+    "auto" a failure of a path that hands over (compiled, fixed-step) hands over to the
     adaptive path."""
-    started = time.perf_counter()
-    if not isinstance(path, Adaptive):
-        try:
-            if isinstance(path, Compiled):
-                return _kernel_orbit(problem, path, float(guess[0]), x0, n_samples, started)
-            return _fixed_step_orbit(problem, path, guess, x0, n_samples, started)
-        except ConvergenceError as exc:
-            if not options.auto:
-                raise
-            # "auto" promises an answer where either path has one: the adaptive path's
-            # step control survives insects the fixed-step paths do not.
-            _LOG.info("the %s path failed (%s); trying the adaptive path", path.name, exc)
-    return _adaptive_orbit(problem, options.adaptive, guess, x0, n_samples, started)
+    try:
+        return cast(HoverOrbit, path.solve(problem, guess, x0, n_samples))
+    except ConvergenceError as exc:
+        if not (options.auto and path.hands_over):
+            raise
+        # "auto" promises an answer where either path has one: the adaptive path's step
+        # control survives insects the fixed-step paths do not.
+        _LOG.info("the %s path failed (%s); trying the adaptive path", path.name, exc)
+    return cast(HoverOrbit, options.adaptive.solve(problem, guess, x0, n_samples))
 
 
 def _attribute(error: BaseException, insect: Insect) -> None:
@@ -569,6 +604,12 @@ class Options:
     given: Mapping[str, Mapping[str, Any]]
 
     @property
+    def candidates(self) -> dict[str, Backend]:
+        """The candidate object of every path, by name."""
+        return {Adaptive.name: self.adaptive, Compiled.name: self.compiled,
+                FixedStep.name: self.fixed_step}
+
+    @property
     def auto(self) -> bool:
         """True if the caller let :func:`~flapping.hover.problem.choose_backend` decide."""
         return self.requested == AUTO
@@ -589,7 +630,9 @@ class Options:
             fixed = {**fixed, "tol": tol}
         given = {Adaptive.name: adaptive, Compiled.name: compiled, FixedStep.name: fixed}
         def built(kind: type[_B]) -> _B:
-            base = requested if isinstance(requested, kind) else _default(kind)
+            base = _default(kind)
+            if not isinstance(requested, str) and requested.name == kind.name:
+                base = cast(_B, requested)  # the caller's object of this path
             return base.with_options(**given[kind.name]) if given[kind.name] else base
 
         return cls(requested, built(Adaptive), built(Compiled), built(FixedStep), given)
@@ -602,8 +645,7 @@ class Options:
         if self.auto and self.adaptive.chosen_by_options:
             requested = self.adaptive
         path = choose_backend(problem, requested, solved=solved)
-        chosen: Backend = (self.adaptive if isinstance(path, Adaptive) else
-                           self.compiled if isinstance(path, Compiled) else self.fixed_step)
+        chosen: Backend = self.candidates[path.name]
         if path is not solved:
             path = chosen
         elif self.given[path.name]:
@@ -690,69 +732,6 @@ def explicit_method(path: Adaptive) -> Adaptive:
     return path
 
 
-def _adaptive_orbit(problem: HoverProblem, path: Adaptive, guess: np.ndarray, x0: np.ndarray,
-                    n_samples: int, started: float) -> HoverOrbit:
-    """find_hover_orbit on the scipy path: LM shooting with the trims free."""
-    explicit_method(path)
-    rhs, jac, pjac = problem.fields()
-    extra = problem.n_conditions
-    jacobian = path.jacobian or ("variational" if problem.aerodynamics == "linear"
-                                 else "finite-difference")
-    result = find_periodic_orbit(
-        rhs, np.concatenate([x0, np.zeros(extra)]), problem.period, autonomous=False, jac=jac,
-        param_jac=pjac, free_params=list(guess), fixed=tuple(range(4, 4 + extra)),
-        breakpoints=problem.model.breakpoints, method=path.method, jacobian=jacobian,
-        rtol=path.rtol, atol=path.atol, tol=path.tol, rk4_steps=path.rk4_steps,
-        max_steps=path.max_steps, max_nfev=path.max_nfev)
-    trims = _checked_trims(problem, result)
-    model = _model_at(problem, trims)
-    return _orbit_of(problem, result, trims, model, path, started, shooting=result,
-                     samples=_AdaptiveSamples(model, np.array(result.x0[:4], dtype=float),
-                                              n_samples, path.method, path.rtol, path.atol),
-                     njev=int(result.njev))
-
-
-def _fixed_step_orbit(problem: HoverProblem, path: FixedStep, guess: np.ndarray,
-                      x0: np.ndarray, n_samples: int, started: float) -> HoverOrbit:
-    """find_hover_orbit on the fixed-step path: Newton on the graded fixed-step period map."""
-    funs, switches = problem.graded_fields()
-    extra = problem.n_conditions
-    result = find_periodic_orbit_fixed_step(
-        funs, np.concatenate([x0, np.zeros(extra)]), 2.0, free_params=list(guess),
-        fixed=tuple(range(4, 4 + extra)), breakpoints=(0.5,), switches=switches,
-        **path.fixed_step_options())
-    trims = _checked_trims(problem, result)
-    model = _model_at(problem, trims)
-    x_start = np.array(result.x0[:4], dtype=float)
-    # The samples are a by-product, integrated on first use at the adaptive path's tolerances.
-    samples = _AdaptiveSamples(model, x_start, n_samples, "DOP853", Adaptive.rtol, Adaptive.atol)
-    error = np.asarray(result.unknowns_error)
-    return _orbit_of(problem, result, trims, model, path, started, fixed_step=result,
-                     samples=samples,
-                     mean_velocity=readonly(_fixed_step_mean_velocity(problem, model, result,
-                                                                      trims)),
-                     njev=int(result.njev), amplitude_error=float(error[4]),
-                     x0_error=float(np.max(error[:4])),
-                     multiplier_error=float(result.multiplier_error))
-
-
-def _fixed_step_mean_velocity(problem: HoverProblem, model: LongitudinalDynamics,
-                              solved: FixedStepOrbit, trims: list[float]) -> np.ndarray:
-    """(forward, climb) cycle means of a fixed-step orbit: x_e(T) / T and -z(T) / T on the solve's
-    mesh (the two-trim field carries x_e), instead of sampling the orbit adaptively."""
-    full = problem
-    if problem.n_conditions == 1:  # the two-trim field carries x_e; on the problem's own model
-        full = HoverProblem(problem.insect, problem.aerodynamics, problem.alpha_m, TRIMS[1],
-                            trim_check=False)
-        full.__dict__["model"] = problem.model  # the cached_property's slot (of_model's models)
-    funs, switches = full.graded_fields()
-    phi_bar = trims[1] if len(trims) == 2 else problem.insect.stroke_mean
-    end = fixed_step_flow(funs, np.concatenate([solved.x0[:4], [0.0, 0.0]]), 2.0,
-                          n_steps=solved.n_steps, free_params=[trims[0], phi_bar],
-                          breakpoints=(0.5,), switches=switches)
-    return np.array([end[5], -end[4]]) / problem.period
-
-
 def _model_at(problem: HoverProblem, trims: list[float]) -> LongitudinalDynamics:
     """The dynamics at the solved trims."""
     model = problem.model
@@ -830,26 +809,6 @@ def use_kernel(backend: Backend | str, model: LongitudinalDynamics,
     return problem.backend(backend, adaptive_options=not default_settings) == "compiled"
 
 
-def _kernel_orbit(problem: HoverProblem, path: Compiled, amplitude: float, x0: np.ndarray,
-                  n_samples: int, started: float) -> HoverOrbit:
-    """find_hover_orbit on the compiled kernel: the orbit, its monodromy, its mean velocities."""
-    kp = problem.kernel_problem
-    # x0 (state_guess) and the amplitude (problem.guess) are checked already
-    options = _kernel.checked_options(n_steps=path.n_steps,
-                                      amplitude_tol_deg=path.amplitude_tol_deg,
-                                      multiplier_tol=path.multiplier_tol)
-    sol = _kernel.solve_checked(kp, np.append(x0, amplitude), *options)
-    x_start = sol.x0  # read-only already
-    return HoverOrbit(problem, x_start, sol.amplitude, problem.insect.stroke_mean, sol.z_drift,
-                      "compiled", sol.nit, sol.nfev, sol.residual_norm, kernel=sol,
-                      mean_velocity=sol.mean_velocity,
-                      samples=_KernelSamples(kp, x_start, sol.amplitude, n_samples),
-                      solver=path, stats=Stats(sol.nit, sol.nfev, 0,
-                                               time.perf_counter() - started),
-                      amplitude_error=sol.amplitude_error, x0_error=sol.x0_error,
-                      multiplier_error=sol.multiplier_error)
-
-
 def forced_orbit(
     insect: Insect,
     amplitude: float | None = None,
@@ -918,12 +877,7 @@ def forced_orbit(
 def adaptive_only(function: str, backend: Any, **keywords: Any) -> Adaptive:
     """The Adaptive backend of a function that runs on the adaptive path only, with its keyword
     shorthands laid over it (a ValueError for another path)."""
-    spec = as_backend(backend)
-    if spec == AUTO:
-        spec = Adaptive()
-    if not isinstance(spec, Adaptive):
-        raise ValueError(f"{function} runs on the adaptive path only; got backend="
-                         f"{_validation._show(backend)}")
+    spec = Adaptive.required_by(function, backend)
     return spec.with_options(**{k: v for k, v in keywords.items() if v is not None})
 
 

@@ -25,7 +25,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from flapping import _validation
-from flapping.backends import AUTO, Adaptive, Backend, Compiled
+from flapping.backends import AUTO, Adaptive, Backend, Compiled, as_backend
 from flapping.errors import ConvergenceError
 from flapping.hover._schema import OrbitViews, StabilityViews
 from flapping.model import _sixdof_generated
@@ -307,7 +307,8 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
     ConvergenceError
         If either solve fails.
     """
-    from flapping.hover.orbit import find_hover_orbit  # the planar entry (same layer)
+    # the planar entry (same layer), without the deprecation of the options it forwards
+    from flapping.hover.orbit import _find_hover_orbit as find_hover_orbit
 
     started = time.perf_counter()
     body_inertia(insect)  # refuse an insect without its lateral inertia before any work
@@ -315,8 +316,8 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
         raise ValueError(
             f"`aerodynamics` must be one of {SIXDOF_AERODYNAMIC_MODELS} with dof=6; got "
             f"{aerodynamics!r}")
-    compiled = aerodynamics == "linear" and (
-        isinstance(backend, Compiled) or backend in (AUTO, "compiled"))
+    spec = as_backend(backend)
+    compiled = aerodynamics == "linear" and (isinstance(spec, str) or spec.sixdof_compiled)
     if tol is not None:
         planar["tol"] = tol
     if planar_orbit is None:

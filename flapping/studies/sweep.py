@@ -41,8 +41,11 @@ import numpy as np
 import flapping._validation as _validation
 from flapping.backends import Backend, OptionWarning, backend_name
 from flapping.errors import ConvergenceError, HoverDriftWarning, caused_by_interrupt
-from flapping.hover import DEFAULT_BACKEND, HoverOrbit, HoverProblem, HoverStatus, find_hover_orbit
+from flapping.hover import DEFAULT_BACKEND, HoverOrbit, HoverProblem, HoverStatus
 from flapping.hover.orbit import Options
+
+# the hover entry without the deprecation of the option routes the sweep forwards
+from flapping.hover.orbit import _find_hover_orbit as find_hover_orbit
 from flapping.hover.sixdof import find_sixdof_hover_orbit
 from flapping.hover.stability import hover_stability
 from flapping.model.dynamics import AERODYNAMIC_MODELS
