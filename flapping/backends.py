@@ -37,6 +37,15 @@ from dataclasses import dataclass, fields, replace
 from typing import Any, ClassVar, Self, Union
 
 import flapping._validation as check
+from flapping.periodic import settings
+from flapping.periodic.settings import (
+    FIXED_STEP_ERROR_TOL,
+    MONODROMY_ATOL,
+    MONODROMY_RTOL,
+    ORBIT_ATOL,
+    ORBIT_RTOL,
+    ORBIT_TOL,
+)
 
 __all__ = ["AUTO", "BACKEND_NAMES", "Adaptive", "Backend", "Compiled", "FixedStep",
            "OptionWarning", "as_backend", "backend_name"]
@@ -72,8 +81,6 @@ def _tol(name: str, value: Any, *, residual: bool = False, floor: float | None =
     """A tolerance in (0, ceiling] (or [floor, ceiling]), or a ValueError naming ``name`` and the
     range (the ceiling: the periodic layer's residual one for a residual tolerance, its accuracy
     one otherwise)."""
-    from flapping.periodic import settings  # loaded with the first solve, not with the package
-
     high = settings.RESIDUAL_CEILING if residual else settings.TOL_CEILING
     if floor is not None:
         return check.real(name, value, low=floor, high=high)
@@ -83,8 +90,6 @@ def _tol(name: str, value: Any, *, residual: bool = False, floor: float | None =
 def _rtol(name: str, value: Any) -> float:
     """A relative tolerance in (0, 1e-3], raised to 100 eps with a warning below it (as scipy's
     solve_ivp does)."""
-    from flapping.periodic import settings
-
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         rtol = settings.check_rtol(name, value)
@@ -225,9 +230,9 @@ class FixedStep(_Backend):
     name: ClassVar[str] = "fixed-step"
     sixdof_analyses: ClassVar[bool] = False
     n_steps: int = 64
-    error_tol: float = 1e-10
+    error_tol: float = FIXED_STEP_ERROR_TOL
     multiplier_tol: float | None = None
-    tol: float = 1e-10
+    tol: float = ORBIT_TOL
     max_nfev: int | None = None
 
     def __post_init__(self) -> None:
@@ -285,20 +290,18 @@ class Adaptive(_Backend):
     name: ClassVar[str] = "adaptive"
     hands_over: ClassVar[bool] = False
     method: str = "DOP853"
-    rtol: float = 1e-11
-    atol: float = 1e-12
-    analysis_rtol: float = 1e-12
-    analysis_atol: float = 1e-12
-    tol: float = 1e-10
+    rtol: float = ORBIT_RTOL
+    atol: float = ORBIT_ATOL
+    analysis_rtol: float = MONODROMY_RTOL
+    analysis_atol: float = MONODROMY_ATOL
+    tol: float = ORBIT_TOL
     jacobian: str | None = None
     rk4_steps: int = 1024
     max_steps: int | None = None
     max_nfev: int | None = None
 
     def __post_init__(self) -> None:
-        from flapping.periodic.settings import check_method
-
-        object.__setattr__(self, "method", check_method(self.method))
+        object.__setattr__(self, "method", settings.check_method(self.method))
         for name in ("rtol", "analysis_rtol"):
             object.__setattr__(self, name, _rtol(name, getattr(self, name)))
         for name in ("atol", "analysis_atol"):

@@ -38,7 +38,6 @@ from typing import Any
 import numpy as np
 
 import flapping._validation as check
-from flapping.backends import FixedStep
 from flapping.errors import ConvergenceError, DomainError
 from flapping.periodic import _segments as seg
 from flapping.periodic import settings as opt
@@ -418,9 +417,9 @@ def find_periodic_orbit_fixed_step(
     switches: Sequence[Any] = (),
     args: tuple[Any, ...] = (),
     n_steps: int | None = None,
-    error_tol: float = FixedStep.error_tol,
+    error_tol: float = opt.FIXED_STEP_ERROR_TOL,
     multiplier_tol: float | None = None,
-    tol: float = FixedStep.tol,
+    tol: float = opt.ORBIT_TOL,
     max_nfev: int | None = None,
 ) -> FixedStepOrbit:
     """Periodic orbit of a forced system by Newton's method on a fixed-step DOP853 period map.

@@ -571,7 +571,8 @@ def monodromy(
 
 #: What a call uses for each :class:`~flapping.periodic.settings.SolverSettings` field it
 #: reads when neither the keyword nor ``settings`` gives it (the signature shows None).
-DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-12, "rk4_steps": 1024,
+DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": opt.MONODROMY_RTOL,
+                             "atol": opt.MONODROMY_ATOL, "rk4_steps": 1024,
                              "max_steps": None}
 
 

@@ -41,7 +41,14 @@ from scipy.integrate import solve_ivp
 from flapping import _validation
 from flapping.backends import AUTO, Backend, as_backend
 from flapping.errors import ConvergenceError, HoverDriftWarning
-from flapping.hover import DEFAULT_BACKEND, HoverOrbit, HoverProblem, find_hover_orbit
+from flapping.hover import (
+    ANALYSIS_ATOL,
+    ANALYSIS_RTOL,
+    DEFAULT_BACKEND,
+    HoverOrbit,
+    HoverProblem,
+    find_hover_orbit,
+)
 from flapping.hover.problem import choose_backend
 from flapping.hover.stability import hover_stability
 from flapping.model.dynamics import LongitudinalDynamics
@@ -595,8 +602,8 @@ class WingbeatMap:
         object.__setattr__(self, "B", B)
 
 
-def linear_wingbeat_map(orbit: HoverOrbit, *, rtol: float = 1e-12,
-                        atol: float = 1e-12) -> WingbeatMap:
+def linear_wingbeat_map(orbit: HoverOrbit, *, rtol: float = ANALYSIS_RTOL,
+                        atol: float = ANALYSIS_ATOL) -> WingbeatMap:
     """M and B = dx(T)/dphi_bar of a hover orbit, from the variational equations.
 
     Parameters
