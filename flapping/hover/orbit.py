@@ -33,11 +33,11 @@ import logging
 import math
 import time
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from dataclasses import fields as dataclass_fields
 from functools import cached_property
-from typing import Any, ClassVar, Literal, TypeVar, cast, overload
+from typing import TYPE_CHECKING, Any, ClassVar, Literal, TypeVar, cast, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -64,7 +64,6 @@ from flapping.hover.problem import (
     even_samples,
     state_guess,
 )
-from flapping.hover.sixdof import SixDofHoverOrbit, find_sixdof_hover_orbit
 from flapping.model.dynamics import STATE_NAMES, LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect, explain_blowup
@@ -76,6 +75,20 @@ from flapping.periodic.integrate import flow, variational_flow
 from flapping.periodic.settings import SolverSettings
 from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
 from flapping.results import Floquet, HoverStatus, Stats, Status
+
+if TYPE_CHECKING:  # annotations only: the six-degree-of-freedom module lies above this one
+    from flapping.hover.sixdof import SixDofHoverOrbit
+
+#: The six-degree-of-freedom solve behind ``find_hover_orbit(..., dof=6)``: registered by
+#: :mod:`flapping.hover.sixdof` (which builds on this module) when the hover layer is imported.
+_SIXDOF_SOLVE: list[Callable[..., Any]] = []
+
+
+def register_sixdof(solve: Callable[..., Any]) -> None:
+    """Register the six-degree-of-freedom solve (:func:`~flapping.hover.sixdof.
+    find_sixdof_hover_orbit`): this module does not import the module above it."""
+    _SIXDOF_SOLVE[:] = [solve]
+
 
 __all__ = [
     "ANALYSIS_ATOL",
@@ -542,7 +555,7 @@ def _find_hover_orbit(insect: Any, *, aerodynamics: str | None = None,
                       n_samples=n_samples, trims=trims, method=method, jacobian=jacobian,
                       rtol=rtol, atol=atol, kernel_options=kernel_options,
                       fixed_step_options=fixed_step_options, settings=settings)
-        return find_sixdof_hover_orbit(
+        return _SIXDOF_SOLVE[0](
             insect, aerodynamics="small-angle" if aerodynamics is None else aerodynamics,
             backend=backend, tol=tol, **{k: v for k, v in planar.items() if v is not None})
     problem = _problem(insect, "linear" if aerodynamics is None else aerodynamics, alpha_m,

@@ -28,6 +28,7 @@ from flapping import _validation
 from flapping.backends import AUTO, Adaptive, Backend, Compiled, as_backend
 from flapping.errors import ConvergenceError
 from flapping.hover._schema import OrbitViews, StabilityViews
+from flapping.hover.orbit import _find_hover_orbit, register_sixdof
 from flapping.model import _sixdof_generated
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
@@ -307,9 +308,6 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
     ConvergenceError
         If either solve fails.
     """
-    # the planar entry (same layer), without the deprecation of the options it forwards
-    from flapping.hover.orbit import _find_hover_orbit as find_hover_orbit
-
     started = time.perf_counter()
     body_inertia(insect)  # refuse an insect without its lateral inertia before any work
     if aerodynamics not in SIXDOF_AERODYNAMIC_MODELS:
@@ -321,7 +319,9 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
     if tol is not None:
         planar["tol"] = tol
     if planar_orbit is None:
-        flat = find_hover_orbit(insect, aerodynamics=aerodynamics, backend=backend, **planar)
+        # the planar entry (below this module), without the deprecation of the options it
+        # forwards
+        flat = _find_hover_orbit(insect, aerodynamics=aerodynamics, backend=backend, **planar)
     else:
         flat = planar_orbit
         # The planar orbit does not depend on the lateral inertia: compare the rest.
@@ -395,6 +395,9 @@ def _compiled_orbit(model: SixDofDynamics, flat: Any, tol: float,
                             backend="compiled", n_steps=COMPILED_STEPS,
                             newton_monodromy=readonly(end[9:81].reshape(9, 8)[:8].copy()))
 
+
+
+register_sixdof(find_sixdof_hover_orbit)  # find_hover_orbit(..., dof=6)
 
 @dataclass(frozen=True)
 class ModeSet:
