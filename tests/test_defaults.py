@@ -37,6 +37,10 @@ def _defaults(tree: ast.AST):
         elif (isinstance(node, ast.Assign) and len(node.targets) == 1
               and isinstance(node.targets[0], ast.Name)):
             yield node.targets[0].id, node.value
+        elif isinstance(node, ast.Dict):  # a table of defaults, {"rtol": ...}
+            yield from ((key.value, value) for key, value in zip(node.keys, node.values,
+                                                                 strict=True)
+                        if isinstance(key, ast.Constant) and isinstance(key.value, str))
 
 
 def test_no_default_tolerance_is_typed_twice():
@@ -56,9 +60,11 @@ def test_no_default_tolerance_is_typed_twice():
 
 
 def test_the_checker_finds_a_typed_default():
-    tree = ast.parse("def f(x, *, rtol=1e-11, tol: float = 1e-10):\n    pass\n")
+    tree = ast.parse("def f(x, *, rtol=1e-11, tol: float = 1e-10):\n    pass\n"
+                     "DEFAULTS = {'atol': 1e-12}\n")
     assert {name for name, value in _defaults(tree)
-            if isinstance(value, ast.Constant) and value.value in VALUES} == {"rtol", "tol"}
+            if isinstance(value, ast.Constant) and value.value in VALUES} == {"rtol", "tol",
+                                                                               "atol"}
 
 
 def test_the_backends_and_the_layer_share_their_defaults():
