@@ -125,8 +125,7 @@ class _Backend:
     #: Whether a failed solve under ``"auto"`` hands over to the adaptive path (whose step
     #: control survives insects the fixed-step paths do not).
     hands_over: ClassVar[bool] = True
-    #: Whether the six-degree-of-freedom solve and analysis run compiled on this path (the
-    #: linear loads only).
+    #: Whether the six-degree-of-freedom solve and analysis run compiled on this path.
     sixdof_compiled: ClassVar[bool] = False
     #: Whether the path solves the one-trim problem only (the compiled kernel).
     one_trim_only: ClassVar[bool] = False

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 import flapping
-from flapping.hover.sixdof import SixDofHoverOrbit, SixDofStability
+from flapping.fast.kernel import numba_available
+from flapping.hover.sixdof import SixDofHoverOrbit, SixDofStability, find_sixdof_hover_orbit
 from flapping.model.sixdof import LATERAL
 
 
@@ -81,9 +82,9 @@ def test_six_dof_refuses_what_it_cannot_do(moth):
         flapping.find_hover_orbit(moth, dof=5)
 
 
-def test_a_six_dof_orbit_is_analysed_on_the_adaptive_path_only(orbit):
-    with pytest.raises(ValueError, match="adaptive"):
-        flapping.hover_stability(orbit, backend="compiled")
+def test_a_six_dof_orbit_refuses_another_backend(orbit):
+    with pytest.raises(ValueError, match="compiled"):
+        flapping.hover_stability(orbit, backend="fixed-step")
 
 
 @pytest.mark.slow
@@ -163,11 +164,105 @@ def test_the_compiled_path_with_wing_mass_agrees_with_the_python_path(moth):
     assert ours.liouville_error < 1e-8
 
 
-def test_the_compiled_analysis_is_refused_for_the_blade_element_loads(orbit):
-    from flapping.hover.sixdof import sixdof_stability
+# --------------------------------------------------------------------------- blade-element loads
+needs_numba = pytest.mark.skipif(not numba_available(), reason="the compiled path needs numba")
 
-    with pytest.raises(ValueError, match="linear loads only"):
-        sixdof_stability(orbit, backend="compiled")
+
+@needs_numba
+def test_the_compiled_path_is_the_default_for_the_blade_element_loads(orbit, stability):
+    assert orbit.backend == "compiled"
+    assert stability.details.nfev > 0 and stability.multiplier_error < 1e-8
+    # Liouville on the compiled path: det M (the product of the factors' determinants) against
+    # exp of the trace's integral, integrated apart.
+    assert stability.liouville_error < 1e-8
+
+
+@pytest.fixture(scope="module")
+def python_path(moth):
+    """The Python path (adaptive shooting, central-difference Jacobians): the cross-check."""
+    orbit = flapping.find_hover_orbit(moth, dof=6, backend="adaptive")
+    return orbit, flapping.hover_stability(orbit)
+
+
+@needs_numba
+@pytest.mark.slow
+def test_the_compiled_blade_element_path_agrees_with_the_python_path(orbit, stability,
+                                                                     python_path):
+    python_orbit, python = python_path
+    assert python_orbit.backend == "adaptive"
+    np.testing.assert_allclose(orbit.x0, python_orbit.x0, rtol=0, atol=1e-9)
+    assert abs(orbit.amplitude - python_orbit.amplitude) < 1e-10
+    # To the two paths' stated errors (each ~2e-9 to 5e-9 for the hawkmoth).
+    bound = stability.multiplier_error + python.multiplier_error
+    np.testing.assert_allclose(np.sort_complex(stability.multipliers),
+                               np.sort_complex(python.multipliers), rtol=0, atol=bound)
+    # The compiled analysis of the Python orbit.
+    again = flapping.hover_stability(python_orbit, backend="compiled")
+    np.testing.assert_allclose(np.sort_complex(again.multipliers),
+                               np.sort_complex(python.multipliers), rtol=0, atol=bound)
+
+
+@needs_numba
+@pytest.mark.parametrize("aerodynamics", ["small-angle", "exact"])
+def test_the_compiled_path_with_wing_mass_and_hinge(moth, aerodynamics):
+    """Wing mass (a phase-dependent mass matrix) and the hinge off the centre of gravity: the
+    compiled orbit closes to the tolerance on the compiled map at four times the steps (its
+    integration error of the residual), and on the Python field integrated adaptively at
+    rtol 1e-13 (whose own error, crossing the loads' kinks, is ~1e-9: 5e-8 at rtol 1e-11), and
+    its multipliers are the Python analysis's to the stated errors."""
+    from flapping.fast import _sixdof_loads
+    from flapping.hover.sixdof import _fields
+    from flapping.periodic.integrate import flow
+
+    insect = moth.with_(wing_mass=4.7e-5, hinge_height=2e-3, hinge_offset=1e-3)
+    with pytest.warns(flapping.HoverDriftWarning):  # x_h breaks the symmetry: it drifts
+        orbit = flapping.find_hover_orbit(insect, dof=6, aerodynamics=aerodynamics)
+    assert orbit.backend == "compiled"
+    model = orbit.model
+    y0 = np.append(orbit.x0, 0.0)
+    finer = _sixdof_loads.Flow(model)(orbit.x0, orbit.amplitude, 4 * orbit.n_steps, False)
+    assert np.linalg.norm(finer - y0) < 1e-9
+    end = flow(_fields(model), (0.0, model.period), y0, breakpoints=model.breakpoints,
+               period=model.period, rtol=1e-13, atol=1e-13, args=(orbit.amplitude,))
+    assert np.linalg.norm(np.asarray(end.x)[:, -1] - y0) < 1e-8
+    ours = flapping.hover_stability(orbit)
+    python = flapping.hover_stability(orbit, backend="adaptive")
+    bound = ours.multiplier_error + python.multiplier_error
+    np.testing.assert_allclose(np.sort_complex(ours.multipliers),
+                               np.sort_complex(python.multipliers), rtol=0, atol=bound)
+    assert ours.liouville_error < 1e-8
+
+
+# --------------------------------------------------------------------------- the tolerance
+@pytest.mark.parametrize("path", ["auto", pytest.param("adaptive", marks=pytest.mark.slow)])
+def test_the_hinge_10_mm_above_the_centre_of_gravity_converges_at_the_defaults(moth, path):
+    insect = moth.with_(hinge_height=0.01)
+    orbit = flapping.find_hover_orbit(insect, dof=6, backend=path)
+    assert orbit.residual_norm <= 1e-10
+    assert np.max(np.abs(orbit.x0[list(LATERAL)])) < 1e-12
+
+
+@needs_numba
+@pytest.mark.slow
+def test_every_hinge_height_of_the_stabilisation_chapter_converges(moth):
+    """book/control.md's passive sweep: 25 hinge heights from 0 to one body length."""
+    from flapping.studies.control import BODY_LENGTHS
+
+    for height in np.linspace(0.0, BODY_LENGTHS["hawkmoth"], 25):
+        orbit = flapping.find_hover_orbit(moth.with_(hinge_height=float(height)), dof=6)
+        assert orbit.backend == "compiled" and orbit.residual_norm <= 1e-10
+        # The plane of symmetry is invariant: Phi is the planar orbit's to the tolerances.
+        assert abs(orbit.amplitude_change) < 1e-10
+
+
+@pytest.mark.slow
+def test_a_tolerance_below_the_integrations_error_is_raised_to_it(moth):
+    """The adaptive path's residual cannot be resolved below its flow's error: a tolerance
+    asked below it is met at that error (it raised ConvergenceError before)."""
+    insect = moth.with_(hinge_height=0.01)
+    flat = flapping.find_hover_orbit(insect, aerodynamics="small-angle")
+    orbit = find_sixdof_hover_orbit(insect, backend="adaptive", planar_orbit=flat, tol=1e-13)
+    assert orbit.residual_norm < 1e-9
 
 
 # --------------------------------------------------------------------------- one schema

@@ -231,8 +231,9 @@ def hover_stability(
     ----------
     orbit : HoverOrbit or SixDofHoverOrbit
         A six-degree-of-freedom orbit (``find_hover_orbit(insect, dof=6)``) gets its eight
-        multipliers from :func:`~flapping.hover.sixdof.sixdof_stability` (adaptive path; only
-        ``rtol`` and ``atol`` apply), a :class:`~flapping.hover.sixdof.SixDofStability` with
+        multipliers from :func:`~flapping.hover.sixdof.sixdof_stability` (on the orbit's path,
+        compiled or adaptive; ``rtol`` and ``atol`` apply to the adaptive one only), a
+        :class:`~flapping.hover.sixdof.SixDofStability` with
         ``.longitudinal`` and ``.lateral`` views.
     backend : "auto", "compiled", "fixed-step", "adaptive", or a backend object
         The integration path of the monodromy (:mod:`flapping.backends`). ``"auto"`` (the

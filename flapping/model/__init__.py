@@ -13,7 +13,9 @@ freedom, strip kinematics, load assembly and equations of motion: the package's 
 of the mechanics) -> ``inertia_derivation`` (its planar case, with and without wing mass,
 generated into ``_inertia_generated``, which every planar path runs) / ``inertia`` (the wings'
 inertial loads, planar) -> ``dynamics`` (eq. 2/29 as ``rhs(t, x)`` and ``jac(t, x)``) ->
-``_sixdof_generated`` -> ``sixdof`` (:class:`~flapping.model.sixdof.SixDofDynamics`).
+``_sixdof_generated`` and ``_sixdof_jacobian_generated`` (the Jacobians of the blade-element
+loads' geometry and section law, for the compiled six-degree-of-freedom path) -> ``sixdof``
+(:class:`~flapping.model.sixdof.SixDofDynamics`).
 
 Conventions: SI units and radians throughout; degrees and millimetres only at the edges (tables,
 CLI). Public functions and constructors check their arguments once, through

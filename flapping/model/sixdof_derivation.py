@@ -51,6 +51,7 @@ Layering: imports nothing of the model (SymPy only).
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -58,7 +59,8 @@ import sympy as sp
 
 __all__ = ["STATE_NAMES", "CONSTANT_NAMES", "RESULTANT_NAMES", "SixDofSymbols", "sixdof_symbols",
            "strip_kinematics", "wing_loads", "equations_of_motion", "euler_rates",
-           "earth_velocity", "wing_integral", "generate_source"]
+           "earth_velocity", "wing_integral", "generate_source", "section_coefficients",
+           "load_jacobians", "generate_jacobian_source"]
 
 #: The eight states that feed back, in order (heading and position do not).
 STATE_NAMES: tuple[str, ...] = ("u", "v", "w", "p", "q", "r", "roll", "theta")
@@ -353,5 +355,129 @@ def generate_source() -> str:
     return "\n".join(out).rstrip() + "\n"
 
 
+# --------------------------------------------------------------------------- Jacobians
+#: The section-law symbols of :func:`section_coefficients`: the strip's chordwise and effective
+#: normal speeds, the sign taken for ``|U|`` (small-angle), the load constants of
+#: :func:`flapping.model.aerodynamics._lev_coefficients`, and a tiny offset of ``|V|^2``.
+SECTION_SYMBOLS: tuple[str, ...] = ("U", "W", "sigma", "sin_2ag", "cos_2am", "sin_am2",
+                                    "cos_am2", "tiny")
+
+
+def section_coefficients(variant: str) -> tuple[sp.Expr, ...]:
+    """The leading-edge-vortex coefficients (a, b) of a section and their gradients in (U, W).
+
+    The section law of :func:`flapping.model.aerodynamics._lev_coefficients` (F_t = rho A c a,
+    F_n = rho A c b per unit span), restated in SymPy for its derivatives: in the small-angle
+    variant ``|U|`` is sigma U (the compiled span integration corrects the piece where the sign
+    differs, as the Python one does); the exact variant's ``|V|`` is sqrt(U^2 + W^2 + tiny).
+
+    Parameters
+    ----------
+    variant : {"small-angle", "exact"}
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        (a, b, da/dU, da/dW, db/dU, db/dW) in the symbols :data:`SECTION_SYMBOLS`.
+    """
+    U, W, sigma, sin_2ag, cos_2am, sin_am2, cos_am2, tiny = sp.symbols(
+        " ".join(SECTION_SYMBOLS), real=True)
+    if variant == "small-angle":
+        abs_u = sigma * U
+        a = -(U * abs_u * sin_am2 + sin_2ag / 2 * abs_u * W)
+        b = -(sin_2ag / 2 * U * abs_u + cos_am2 * abs_u * W)
+    else:
+        diff, v2 = U**2 - W**2, U**2 + W**2
+        lift = sin_2ag * diff + 2 * cos_2am * U * W
+        drag = v2 - cos_2am * diff + 2 * sin_2ag * U * W
+        half_inv_v = 1 / (2 * sp.sqrt(v2 + tiny))
+        a = (lift * W - drag * U) * half_inv_v
+        b = -(lift * U + drag * W) * half_inv_v
+    return (a, b, sp.diff(a, U), sp.diff(a, W), sp.diff(b, U), sp.diff(b, W))
+
+
+@lru_cache(maxsize=1)
+def load_jacobians() -> tuple[sp.Matrix, sp.Matrix]:
+    """The geometry's Jacobians for the variational equations of the blade-element loads.
+
+    Returns
+    -------
+    kinematics : sympy.Matrix, 10 x 8
+        d(strip speeds of :func:`strip_kinematics`, right then left)/d(the eight states).
+    assembly : sympy.Matrix, 6 x 14
+        d(X, Y, Z, L, M, N)/d(T0_R ... Q_L): the coefficients of :func:`wing_loads`, which is
+        linear in the wings' span integrals.
+    """
+    s = sixdof_symbols()
+    kin = strip_kinematics()
+    speeds = sp.Matrix([*kin["R"], *kin["L"]])
+    resultants = [x for name, _ in SIDES for x in _resultant_symbols(name)]
+    return speeds.jacobian(list(s.states)), wing_loads().jacobian(resultants)
+
+
+def _printed_into(name: str, args: str, doc: str, exprs: list[sp.Expr],
+                  unpack: str = "") -> list[str]:
+    """Lines of one generated function writing ``exprs`` into the float64 array ``out``."""
+    replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("c"))
+    lines = [f"def {name}({args}, out):", f'    """{doc}"""']
+    if unpack:
+        lines.append(f"    {unpack}")
+    for symbol, expr in replacements:
+        lines.append(f"    {symbol} = {sp.pycode(expr, fully_qualified_modules=True)}")
+    for i, e in enumerate(reduced):
+        value = sp.pycode(sp.Float(e) if e.is_Number else e, fully_qualified_modules=True)
+        lines.append(f"    out[{i}] = {value}")
+    return lines
+
+
+def generate_jacobian_source() -> str:
+    """The text of ``flapping/model/_sixdof_jacobian_generated.py`` (scalar functions, math only).
+
+    Returns
+    -------
+    str
+        Python source that numba compiles (outputs written into float64 arrays):
+        ``kinematics_jacobian`` (80 values, 10 x 8 row-major), ``assembly_jacobian`` (84 values,
+        6 x 14) of :func:`load_jacobians`, and ``section_small_angle`` and ``section_exact`` (6
+        values: a, b and their derivatives in U and W) of :func:`section_coefficients`.
+    """
+    s = sixdof_symbols()
+    states = ", ".join(str(x) for x in s.states)
+    constants = ", ".join(CONSTANT_NAMES) + " = k"
+    kinematics, assembly = load_jacobians()
+    section = ", ".join(SECTION_SYMBOLS)
+    functions = [
+        ("kinematics_jacobian", f"phi, phi_dot, {states}, k",
+         "d(U0, U1, W0, W1, Omega_k; right then left)/d(states), row-major into out[:80].",
+         [kinematics[i, j] for i in range(10) for j in range(8)], constants),
+        ("assembly_jacobian", "phi, s, alpha_m, x_hat, k",
+         "d(X, Y, Z, L, M, N)/d(T0_R ... Q_L), row-major into out[:84].",
+         [assembly[i, j] for i in range(6) for j in range(14)], constants),
+        ("section_small_angle", section,
+         "(a, b, a_U, a_W, b_U, b_W) of the small-angle section law into out[:6].",
+         list(section_coefficients("small-angle")), ""),
+        ("section_exact", section,
+         "(a, b, a_U, a_W, b_U, b_W) of the exact section law into out[:6].",
+         list(section_coefficients("exact")), ""),
+    ]
+    out = ['"""Generated by flapping.model.sixdof_derivation.generate_jacobian_source(): do not '
+           "edit.", "",
+           "The Jacobians of the six-degree-of-freedom blade-element loads: strip kinematics,",
+           "load assembly and the section law. Regenerate with",
+           "`python -m flapping.model.sixdof_derivation jacobians > "
+           "flapping/model/_sixdof_jacobian_generated.py`",
+           "(a test checks that the committed file equals a fresh generation).", '"""', "",
+           "# ruff: noqa", "import math", ""]
+    for name, args, doc, exprs, unpack in functions:
+        out += ["", *_printed_into(name, args, doc, exprs, unpack), ""]
+    # SymPy prints a float 1 as 1.00000000000000: shorten such literals.
+    return re.sub(r"\b(\d+)\.0{14}\b", r"\1.0", "\n".join(out).rstrip() + "\n")
+
+
 if __name__ == "__main__":  # pragma: no cover - the regeneration command
-    print(generate_source(), end="")
+    import sys
+
+    if sys.argv[1:] == ["jacobians"]:
+        print(generate_jacobian_source(), end="")
+    else:
+        print(generate_source(), end="")

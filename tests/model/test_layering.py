@@ -11,7 +11,8 @@ import flapping.model
 ORDER = ["kinematics", "morphology", "presets", "insect_file", "aerodynamics", "derivation",
          "_derivatives_generated", "derivatives", "sixdof_derivation", "inertia_derivation",
          "_inertia_generated", "inertia", "dynamics", "_sixdof_generated",
-         "sixdof_linear_derivation", "_sixdof_linear_generated", "sixdof"]
+         "_sixdof_jacobian_generated", "sixdof_linear_derivation", "_sixdof_linear_generated",
+         "sixdof"]
 PACKAGE = Path(flapping.model.__file__).parent
 
 

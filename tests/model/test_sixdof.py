@@ -35,6 +35,38 @@ def test_the_generated_code_is_what_the_derivation_prints():
     assert GENERATED.read_text() == sixdof_derivation.generate_source()
 
 
+def test_the_generated_jacobians_are_what_the_derivation_prints():
+    assert (GENERATED.with_name("_sixdof_jacobian_generated.py").read_text()
+            == sixdof_derivation.generate_jacobian_source())
+
+
+@pytest.mark.parametrize("variant", ["small-angle", "exact"])
+def test_the_generated_section_law_is_the_models(variant):
+    """The SymPy section law (for its derivatives) against aerodynamics._lev_coefficients, and
+    its derivatives against central differences of that law."""
+    from flapping.model import _sixdof_jacobian_generated as jac
+
+    law = jac.section_small_angle if variant == "small-angle" else jac.section_exact
+    rng = np.random.default_rng(11)
+    out = np.empty(6)
+    for _ in range(20):
+        U, W = rng.normal(size=2) * 3.0
+        s, am = rng.choice([-1.0, 1.0]), rng.uniform(0.2, 1.3)
+        consts = (s * math.sin(2 * am), math.cos(2 * am), math.sin(am) ** 2, math.cos(am) ** 2)
+        sigma = math.copysign(1.0, U)
+        law(U, W, sigma, *consts, 1e-300, out)
+        a, b = _lev_coefficients(np.array([U]), np.array([W]), *consts, variant)
+        np.testing.assert_allclose(out[:2], [a[0], b[0]], rtol=1e-13, atol=1e-15)
+        h = 1e-6
+        for k, (dU, dW) in enumerate(((h, 0.0), (0.0, h))):
+            plus = _lev_coefficients(np.array([U + dU]), np.array([W + dW]), *consts, variant)
+            minus = _lev_coefficients(np.array([U - dU]), np.array([W - dW]), *consts, variant)
+            numeric = [(plus[i][0] - minus[i][0]) / (2 * h) for i in range(2)]
+            # central differences: truncation ~h^2, rounding ~1e-16/h relative
+            np.testing.assert_allclose([out[2 + k], out[4 + k]], numeric, rtol=1e-8,
+                                       atol=1e-8 * (U * U + W * W))
+
+
 @pytest.mark.parametrize("aerodynamics", ["small-angle", "exact"])
 @pytest.mark.parametrize("geometry", list(GEOMETRIES))
 def test_the_plane_of_symmetry_is_the_planar_model(geometry, aerodynamics):
