@@ -13,7 +13,9 @@ PACKAGE = Path(flapping.__file__).parent
 
 #: The modules where ``p`` is the continuation parameter (so it may appear there).
 CONTINUATION = {"periodic/continuation.py", "periodic/_branchflow.py", "periodic/_bifurcation.py",
-                "periodic/_branchplot.py", "hover/branch.py"}
+                "periodic/_branchplot.py", "hover/branch.py",
+                # the two parameters of a bifurcation curve are p and q (issue 37's interface)
+                "periodic/bifurcation_curves.py", "periodic/_defining.py"}
 
 CHECKED = ["hover", "periodic", "studies/sweep.py", "studies/_path.py", "cli.py"]
 

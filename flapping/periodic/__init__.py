@@ -11,6 +11,8 @@
 - :mod:`~flapping.periodic.floquet`: monodromy matrices and Floquet multipliers;
 - :mod:`~flapping.periodic.continuation`: branches of orbits as a parameter changes
   (pseudo-arclength), with folds, period doublings and Neimark-Sacker points located;
+- :mod:`~flapping.periodic.bifurcation_curves`: curves of those bifurcations in two parameters
+  (:func:`continue_bifurcation`), with their codimension-two points;
 - :mod:`~flapping.periodic.testproblems`: Lorenz, Roessler and a forced oscillator;
 - :mod:`~flapping.periodic.settings`: :class:`SolverSettings`, the options shared by shooting,
   Floquet analysis and continuation (``settings=``), and the checks and caps of those options.
@@ -24,12 +26,13 @@ problem fails with a message instead of hanging. Result arrays are read-only
 (``writeable=False``).
 
 This subpackage imports nothing from :mod:`flapping.model`; other projects can reuse it alone.
-(``_segments``, ``_problem``, ``_fixedmap``, ``_tableau``, ``_branchflow``, ``_bifurcation`` and
-``_branchplot`` are package-internal modules: the integration driver, the shooting problem, the
-fixed-step period map, the DOP853 coefficients, the continuation's shooting map, its bifurcation
-tests and its plot.)
+(``_segments``, ``_problem``, ``_fixedmap``, ``_tableau``, ``_branchflow``, ``_bifurcation``,
+``_branchplot`` and ``_defining`` are package-internal modules: the integration driver, the
+shooting problem, the fixed-step period map, the DOP853 coefficients, the continuation's shooting
+map, its bifurcation tests, its plot, and the defining systems of bifurcation curves.)
 """
 
+from flapping.periodic.bifurcation_curves import BifurcationCurve, continue_bifurcation
 from flapping.periodic.continuation import Bifurcation, Branch, continue_orbit
 from flapping.periodic.fixedstep import FixedStepOrbit, find_periodic_orbit_fixed_step
 from flapping.periodic.floquet import Monodromy, monodromy
@@ -42,4 +45,5 @@ __all__ = [
     "find_periodic_orbit", "PeriodicOrbit", "monodromy", "Monodromy", "flow", "FlowResult",
     "variational_flow", "VariationalFlow", "RK4", "continue_orbit", "Branch", "Bifurcation",
     "SolverSettings", "find_periodic_orbit_fixed_step", "FixedStepOrbit",
+    "continue_bifurcation", "BifurcationCurve",
 ]
