@@ -65,7 +65,7 @@ __all__ = ["SolverSettings", "METHODS", "MAX_STEPS", "RTOL_FLOOR", "RTOL_CEILING
            "RESIDUAL_CEILING", "TOL_CEILING", "CAPS", "check_field", "check_rtol", "check_atol",
            "check_method", "check_scaled", "check_times", "capped", "resolve", "ORBIT_RTOL",
            "ORBIT_ATOL", "ORBIT_TOL", "MONODROMY_RTOL", "MONODROMY_ATOL", "CONTINUATION_RTOL",
-           "CONTINUATION_ATOL", "FIXED_STEP_ERROR_TOL"]
+           "CONTINUATION_ATOL", "FIXED_STEP_ERROR_TOL", "CURVE_TOL", "CURVE_RTOL", "CURVE_ATOL"]
 
 #: Integration methods by name: scipy's and the fixed-step ``"RK4"``.
 METHODS: dict[str, type[OdeSolver]] = {
@@ -95,6 +95,13 @@ MONODROMY_ATOL = 1e-12
 #: max(1, |value|)): :data:`ORBIT_TOL`'s number, so that the fixed-step and the adaptive paths'
 #: orbits are equally accurate by default.
 FIXED_STEP_ERROR_TOL = ORBIT_TOL
+#: Defaults of a bifurcation curve's continuation (:func:`~flapping.periodic.bifurcation_curves.
+#: continue_bifurcation`): the defining system's residual relative to 1 + |x| at the orbit's
+#: number (its corrector converges to ~1e-10, which places the special points to ~1e-5), and the
+#: integrations at the orbit's relative tolerance with an absolute one of the same size.
+CURVE_TOL = ORBIT_TOL
+CURVE_RTOL = ORBIT_RTOL
+CURVE_ATOL = ORBIT_RTOL
 #: Default tolerances of a continuation's integrations: a decade looser than the orbit's, as
 #: each point is a predictor-corrector step whose residual is relative (1e-8) and the branch's
 #: bifurcations are located again at :data:`MONODROMY_RTOL`.
