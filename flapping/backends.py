@@ -37,6 +37,15 @@ from dataclasses import dataclass, fields, replace
 from typing import Any, ClassVar, Self, Union
 
 import flapping._validation as check
+from flapping.periodic import settings
+from flapping.periodic.settings import (
+    FIXED_STEP_ERROR_TOL,
+    MONODROMY_ATOL,
+    MONODROMY_RTOL,
+    ORBIT_ATOL,
+    ORBIT_RTOL,
+    ORBIT_TOL,
+)
 
 __all__ = ["AUTO", "BACKEND_NAMES", "Adaptive", "Backend", "Compiled", "FixedStep",
            "OptionWarning", "as_backend", "backend_name"]
@@ -50,29 +59,37 @@ AUTO = "auto"
 #: every error target at most 1e-2. A coarse, quick solve is possible; ``rtol=1`` or ``1e300`` is
 #: a typo, refused whichever path runs.
 
-#: Largest step count per half-stroke a fixed-step solve may start with (the fixed-step and
-#: kernel paths refine at most to 4096).
+#: Largest step count per half-stroke a fixed-step solve may start with (the fixed-step path
+#: refines at most to 4096).
 MAX_START_STEPS = 4096
+
+#: The compiled kernel's range of starting steps per half-stroke (:mod:`flapping.fast.kernel`
+#: refines at most to 1024: its Newton state is sized for it); a test holds them equal.
+COMPILED_STEPS_RANGE = (4, 1024)
+#: Smallest targets of the compiled kernel's error estimates: the float64 limit of its
+#: fixed-step solve (:data:`flapping.fast.kernel.AMPLITUDE_TOL_FLOOR_DEG`,
+#: :data:`~flapping.fast.kernel.MULTIPLIER_TOL_FLOOR`; a test holds them equal).
+COMPILED_AMPLITUDE_TOL_FLOOR_DEG = 1e-11
+COMPILED_MULTIPLIER_TOL_FLOOR = 1e-12
 
 
 class OptionWarning(UserWarning):
     """An option was given for an integration path that does not run, and is ignored."""
 
 
-def _tol(name: str, value: Any, *, residual: bool = False) -> float:
-    """A tolerance in (0, ceiling], or a ValueError naming ``name`` and the range (the ceiling:
-    the periodic layer's residual one for a residual tolerance, its accuracy one otherwise)."""
-    from flapping.periodic import settings  # loaded with the first solve, not with the package
-
+def _tol(name: str, value: Any, *, residual: bool = False, floor: float | None = None) -> float:
+    """A tolerance in (0, ceiling] (or [floor, ceiling]), or a ValueError naming ``name`` and the
+    range (the ceiling: the periodic layer's residual one for a residual tolerance, its accuracy
+    one otherwise)."""
     high = settings.RESIDUAL_CEILING if residual else settings.TOL_CEILING
+    if floor is not None:
+        return check.real(name, value, low=floor, high=high)
     return check.real(name, value, low=0.0, high=high, low_open=True)
 
 
 def _rtol(name: str, value: Any) -> float:
     """A relative tolerance in (0, 1e-3], raised to 100 eps with a warning below it (as scipy's
     solve_ivp does)."""
-    from flapping.periodic import settings
-
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         rtol = settings.check_rtol(name, value)
@@ -85,11 +102,57 @@ def _steps(name: str, value: Any, low: int) -> int:
     return check.integer(name, value, low=low, high=MAX_START_STEPS)
 
 
+#: Each path's code, by name: the hover layer registers its modules
+#: (:mod:`flapping.hover.compiled_path`, :mod:`~flapping.hover.fixed_step_path`,
+#: :mod:`~flapping.hover.adaptive_path`) when it is imported, which a hover problem or orbit
+#: implies. This layer imports none of them (it lies below).
+_PATHS: dict[str, Any] = {}
+
+
+def register(name: str, path: Any) -> None:
+    """Register the code of the path ``name``: an object with ``check(backend, problem)``,
+    ``solve(backend, problem, guess, x0, n_samples)`` and ``analyse(backend, orbit, problem,
+    n_average, rtol, atol)``."""
+    _PATHS[name] = path
+
+
 @dataclass(frozen=True)
 class _Backend:
-    """What every backend object has: its name and the options a caller gave explicitly."""
+    """What every backend object has: its name, the options a caller gave explicitly, and its
+    path's code (a strategy: :meth:`solve`, :meth:`analyse`)."""
 
     name: ClassVar[str]
+    #: Whether a failed solve under ``"auto"`` hands over to the adaptive path (whose step
+    #: control survives insects the fixed-step paths do not).
+    hands_over: ClassVar[bool] = True
+    #: Whether the six-degree-of-freedom solve and analysis run compiled on this path.
+    sixdof_compiled: ClassVar[bool] = False
+    #: Whether the path solves the one-trim problem only (the compiled kernel).
+    one_trim_only: ClassVar[bool] = False
+    #: Whether a six-degree-of-freedom orbit is analysed on this path (the compiled and the
+    #: adaptive ones; the six-degree-of-freedom solve has no fixed-step path).
+    sixdof_analyses: ClassVar[bool] = True
+
+    def _path(self) -> Any:
+        return _PATHS[self.name]
+
+    def check(self, problem: Any) -> None:
+        """Refuse this path for ``problem`` where it does not apply (a ValueError or an
+        ImportError saying why)."""
+        self._path().check(self, problem)
+
+    def solve(self, problem: Any, guess: Any, x0: Any, n_samples: int) -> Any:
+        """The hover orbit of ``problem`` on this path from the trims' ``guess`` and the state
+        guess ``x0``, with ``n_samples`` samples per period
+        (:class:`~flapping.hover.orbit.HoverOrbit`)."""
+        return self._path().solve(self, problem, guess, x0, n_samples)
+
+    def analyse(self, orbit: Any, problem: Any, n_average: int, rtol: float,
+                atol: float) -> Any:
+        """The Floquet stability of ``orbit`` on this path
+        (:class:`~flapping.hover.stability.HoverStability`); ``rtol`` and ``atol`` are the
+        analysis's integrations' where the path integrates adaptively."""
+        return self._path().analyse(self, orbit, problem, n_average, rtol, atol)
 
     def given(self) -> dict[str, Any]:
         """The options that differ from the defaults (what a caller chose)."""
@@ -115,24 +178,32 @@ class Compiled(_Backend):
     ----------
     n_steps : int, optional
         Steps per half-stroke to start with (refined until the tolerances hold); None: the
-        kernel's own start (12), in [4, 4096].
+        kernel's own start (12), in [4, 1024] (:data:`COMPILED_STEPS_RANGE`).
     amplitude_tol_deg : float
-        Target of the stroke amplitude's Richardson error estimate [deg], in (0, 1e-2].
+        Target of the stroke amplitude's Richardson error estimate [deg], in [1e-11, 1e-2].
     multiplier_tol : float
-        Target of every Floquet multiplier's error estimate (absolute), in (0, 1e-2].
+        Target of every Floquet multiplier's error estimate (absolute), in [1e-12, 1e-2].
     """
 
     name: ClassVar[str] = "compiled"
+    sixdof_compiled: ClassVar[bool] = True
+    one_trim_only: ClassVar[bool] = True
     n_steps: int | None = None
     amplitude_tol_deg: float = 1e-9
     multiplier_tol: float = 1e-8
 
     def __post_init__(self) -> None:
+        # The ranges the kernel's solve refuses outside: checked once, here.
         if self.n_steps is not None:
-            object.__setattr__(self, "n_steps", _steps("n_steps", self.n_steps, 4))
+            low, high = COMPILED_STEPS_RANGE
+            object.__setattr__(self, "n_steps",
+                               check.integer("n_steps", self.n_steps, low=low, high=high))
         object.__setattr__(self, "amplitude_tol_deg",
-                           _tol("amplitude_tol_deg", self.amplitude_tol_deg))
-        object.__setattr__(self, "multiplier_tol", _tol("multiplier_tol", self.multiplier_tol))
+                           _tol("amplitude_tol_deg", self.amplitude_tol_deg,
+                                floor=COMPILED_AMPLITUDE_TOL_FLOOR_DEG))
+        object.__setattr__(self, "multiplier_tol",
+                           _tol("multiplier_tol", self.multiplier_tol,
+                                floor=COMPILED_MULTIPLIER_TOL_FLOOR))
 
 
 @dataclass(frozen=True)
@@ -156,10 +227,11 @@ class FixedStep(_Backend):
     """
 
     name: ClassVar[str] = "fixed-step"
+    sixdof_analyses: ClassVar[bool] = False
     n_steps: int = 64
-    error_tol: float = 1e-10
+    error_tol: float = FIXED_STEP_ERROR_TOL
     multiplier_tol: float | None = None
-    tol: float = 1e-10
+    tol: float = ORBIT_TOL
     max_nfev: int | None = None
 
     def __post_init__(self) -> None:
@@ -215,21 +287,20 @@ class Adaptive(_Backend):
     """
 
     name: ClassVar[str] = "adaptive"
+    hands_over: ClassVar[bool] = False
     method: str = "DOP853"
-    rtol: float = 1e-11
-    atol: float = 1e-12
-    analysis_rtol: float = 1e-12
-    analysis_atol: float = 1e-12
-    tol: float = 1e-10
+    rtol: float = ORBIT_RTOL
+    atol: float = ORBIT_ATOL
+    analysis_rtol: float = MONODROMY_RTOL
+    analysis_atol: float = MONODROMY_ATOL
+    tol: float = ORBIT_TOL
     jacobian: str | None = None
     rk4_steps: int = 1024
     max_steps: int | None = None
     max_nfev: int | None = None
 
     def __post_init__(self) -> None:
-        from flapping.periodic.settings import check_method
-
-        object.__setattr__(self, "method", check_method(self.method))
+        object.__setattr__(self, "method", settings.check_method(self.method))
         for name in ("rtol", "analysis_rtol"):
             object.__setattr__(self, name, _rtol(name, getattr(self, name)))
         for name in ("atol", "analysis_atol"):
@@ -245,6 +316,19 @@ class Adaptive(_Backend):
         if self.max_nfev is not None:
             object.__setattr__(self, "max_nfev",
                                check.integer("max_nfev", self.max_nfev, low=1, high=10**5))
+
+    @classmethod
+    def required_by(cls, function: str, backend: Any, default: Adaptive | None = None
+                    ) -> Adaptive:
+        """The Adaptive object of a function that runs on the adaptive path only (``default``,
+        or the defaults, for ``"auto"`` or ``"adaptive"``); a ValueError for another path."""
+        spec = as_backend(backend)
+        if isinstance(spec, Adaptive):
+            return default if default is not None and backend in (AUTO, cls.name) else spec
+        if spec == AUTO:
+            return cls() if default is None else default
+        raise ValueError(f"{function} runs on the adaptive path only; got backend="
+                         f"{check._show(backend)}")
 
     @property
     def chosen_by_options(self) -> bool:

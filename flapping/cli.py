@@ -32,6 +32,7 @@ import math
 import os
 import signal
 import sys
+import time
 import warnings
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
@@ -51,6 +52,7 @@ from flapping.model.insect_file import resolve_insect
 from flapping.model.morphology import Insect, explain_blowup
 from flapping.model.sixdof import body_inertia
 from flapping.peers.fwuav import cli as fwuav_cli
+from flapping.results import HoverStatus
 from flapping.studies.atlas import robust_hover_orbit
 from flapping.studies.sweep import SWEEPABLE, stop_process_pool, sweep_hover
 
@@ -82,6 +84,15 @@ _STABILITY_UNITS: dict[str, str | None] = {
     "method": None, "rtol": _COUNT, "atol": _ATOL_UNIT, "rk4_steps": _COUNT, "n_average": _COUNT,
     "backend": None,
 }
+#: What ran (``solver.ran``): the path, its backend object's options, its error estimates (null
+#: where the path has none: the adaptive path) and the wall-clock times.
+_RAN_UNITS: dict[str, str | None] = {
+    "backend": None, "options": "each option's own (flapping.backends: tolerances relative, "
+    "atol in SI units of the states, amplitude_tol_deg in deg)", "n_steps": _COUNT,
+    "amplitude_error_deg": "deg", "x0_error": "SI units of each state",
+    "multiplier_error": _COUNT, "stability_multiplier_error": _COUNT, "solve_time_s": "s",
+    "stability_time_s": "s",
+}
 #: Unit of every key of the JSON report (nested like the report; ``None``: not a quantity;
 #: ``"1"``: dimensionless). Lists of complex numbers ``{"re", "im"}`` share one unit.
 UNITS: dict[str, Any] = {
@@ -110,7 +121,7 @@ UNITS: dict[str, Any] = {
     "liouville_error": _COUNT,
     "averaged_eigenvalues": "1/s",
     "stable": None,
-    "solver": {"shooting": _SHOOTING_UNITS, "stability": _STABILITY_UNITS},
+    "solver": {"shooting": _SHOOTING_UNITS, "stability": _STABILITY_UNITS, "ran": _RAN_UNITS},
 }
 
 _DESCRIPTION = """\
@@ -146,7 +157,8 @@ residual_norm, mean_inertial_velocity, multipliers, floquet_exponents, det_monod
 liouville_det, averaged_eigenvalues, stable, and version, insect, insect_parameters,
 aerodynamics, mean_horizontal_velocity, mean_vertical_velocity, is_hover, liouville_error,
 status (hover, drifting or climbing), backend (compiled or adaptive: the path that solved it),
-solver (settings and iteration counts), trims (amplitude, and stroke_mean where the hinge is off
+solver (settings asked for, iteration counts, and under "ran" the path that ran with its options,
+error estimates and times), trims (amplitude, and stroke_mean where the hinge is off
 the centre of gravity), stroke_mean_deg, continued_from (null, or the insect a continuation
 started from when the default guess failed); `units` gives the unit of every key. Complex
 numbers are {{"re": ..., "im": ...}}. NaN and infinity are never printed: a non-finite result
@@ -250,9 +262,31 @@ def _defaults(function: Callable, *names: str) -> dict[str, Any]:
     return {name: parameters[name].default for name in names}
 
 
-def _solver_report(orbit: HoverOrbit, shooting: dict, stability: dict) -> dict[str, dict]:
-    """The settings asked for and what the solve did (``jacobian`` and ``njev`` are null on the
-    compiled path, which has no scipy shooting result; ``solved_by`` names the path)."""
+def _finite_or_none(value: float) -> float | None:
+    """A number, or None (JSON null) for an estimate the path does not have (NaN)."""
+    return float(value) if math.isfinite(value) else None
+
+
+def _ran(orbit: HoverOrbit, stab: HoverStability, stability_time: float) -> dict[str, Any]:
+    """What ran: the keys of :data:`_RAN_UNITS`."""
+    steps = (orbit.kernel.n_steps if orbit.kernel is not None
+             else orbit.fixed_step.n_steps if orbit.fixed_step is not None else None)
+    options = {} if orbit.solver is None else dataclasses.asdict(orbit.solver)
+    return {"backend": orbit.backend, "options": options, "n_steps": steps,
+            "amplitude_error_deg": _finite_or_none(math.degrees(orbit.amplitude_error)),
+            "x0_error": _finite_or_none(orbit.x0_error),
+            "multiplier_error": _finite_or_none(orbit.multiplier_error),
+            "stability_multiplier_error": _finite_or_none(stab.multiplier_error),
+            "solve_time_s": None if orbit.stats is None else orbit.stats.time,
+            "stability_time_s": stability_time}
+
+
+def _solver_report(orbit: HoverOrbit, shooting: dict, stability: dict,
+                   ran: dict[str, Any]) -> dict[str, dict]:
+    """The settings asked for (``shooting``, ``stability``: the adaptive path's, whatever ran)
+    and what the solve did (``jacobian`` and ``njev`` are null on the compiled path, which has
+    no scipy shooting result; ``solved_by`` names the path); ``ran``: the path that ran, its
+    options, error estimates and times (:data:`_RAN_UNITS`)."""
     result = orbit.shooting if orbit.shooting is not None else orbit.fixed_step
     return {
         "shooting": {**shooting, "jacobian": None if result is None else result.jacobian,
@@ -261,6 +295,7 @@ def _solver_report(orbit: HoverOrbit, shooting: dict, stability: dict) -> dict[s
                      "njev": None if result is None else int(result.njev),
                      "solved_by": orbit.backend},
         "stability": dict(stability),
+        "ran": ran,
     }
 
 
@@ -280,7 +315,7 @@ def _orbit_report(orbit: HoverOrbit) -> dict[str, Any]:
         "mean_horizontal_velocity": velocity["forward"],
         "mean_vertical_velocity": velocity["climb"],
         "is_hover": orbit.is_hover,
-        "status": orbit.status.name.lower(),
+        "status": str(orbit.status),
         "backend": orbit.backend,
     }
 
@@ -393,14 +428,16 @@ def hover_report(insect: str | Insect = "hawkmoth", aerodynamics: str | None = N
                              hinge_offset=0.0, hinge_height=0.0, wing_mass=0.0, stroke_mean=0.0)
     orbit, homotopy = robust_hover_orbit(insect, start=plain, aerodynamics=aerodynamics,
                                          trims=trims, backend=shooting["backend"])
+    started = time.perf_counter()
     stab = hover_stability(orbit, n_average=stability["n_average"],
                            backend=stability["backend"])
+    ran = _ran(orbit, stab, time.perf_counter() - started)
     report = {"version": __version__, "insect": insect.name,
               "insect_parameters": _insect_parameters(insect), "aerodynamics": aerodynamics,
               "trims": list(trims), "stroke_mean_deg": math.degrees(orbit.stroke_mean),
               "continued_from": None if homotopy is None else homotopy.start,
               **_orbit_report(orbit), **_stability_report(stab),
-              "solver": _solver_report(orbit, shooting, stability), "units": UNITS}
+              "solver": _solver_report(orbit, shooting, stability, ran), "units": UNITS}
     if dof == 6:
         report.update(_sixdof_report(insect, orbit, aerodynamics))
     bad = _non_finite(report)
@@ -606,6 +643,9 @@ MAX_SWEEP_POINTS = 1_000_000
 #: one-parameter sweep is solved exactly as by a single call.
 _BLOCK_POINTS = 200
 
+#: A sweep row's status words of a point that solved (an orbit, hover or not).
+_SOLVED = [str(status) for status in HoverStatus]
+
 _CLI_HELP = """\
 Evaluate the hover orbit and its Floquet multipliers (compiled kernel, eq. 29's linear loads) over
 a grid of insect parameters and print one row per point: the swept parameters (SI units), the
@@ -772,7 +812,7 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
                         return 1
                     done += len(table)
                 bar.update(len(table))
-                solved += int((table["status"] >= 0).sum())
+                solved += int(table["status"].isin(_SOLVED).sum())
                 if not first_failure and solved == 0 and len(table):
                     first_failure = str(table["message"].iloc[0])
     except KeyboardInterrupt:

@@ -16,11 +16,12 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from flapping.results import Status
+if TYPE_CHECKING:  # an annotation only: results imports this module, not the reverse
+    from flapping.results import Status
 
 __all__ = ["ConvergenceError", "NonFiniteError", "DomainError", "HoverDriftWarning",
            "ClosureWarning", "AliasedPeriodWarning", "ToleranceWarning", "PlausibilityWarning",

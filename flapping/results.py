@@ -4,8 +4,13 @@ the one type of a monodromy with its Floquet multipliers (:class:`Floquet`).
 After scipy's integer ``status`` beside ``message`` and diffrax's ``RESULTS``: the compiled
 kernel, the fixed-step solver, the adaptive shooting and the sweeps' rows all report a
 :class:`Status` from this one table, so a batch can record a failure row by row and a single
-call can raise. ``str(status)`` reads as a word (``"success"``, ``"singular"``), and
-``status.message`` says what it means.
+call can raise. A status is a word (a :class:`enum.StrEnum`): ``str(status)``, its JSON and
+its value are ``"success"``, ``"singular"``..., it equals that word and nothing else (not an
+integer, not a member of another enumeration), and ``status.message`` says what it means.
+
+What a *returned* orbit is (hover, drifting, climbing) is another question with its own words,
+:class:`HoverStatus`; the two tables share no word, so a sweep's one ``status`` column holds
+either (:data:`STATUS_WORDS`).
 """
 
 from __future__ import annotations
@@ -17,27 +22,53 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["MESSAGES", "Floquet", "Status", "Stats", "status_of"]
+from flapping.errors import DomainError
+
+__all__ = ["MESSAGES", "STATUS_WORDS", "Floquet", "HoverStatus", "Status", "Stats", "exponents_of",
+           "status_of"]
 
 
-class Status(enum.IntEnum):
-    """The outcome of a solve (one table for every path; :attr:`message` says it in words)."""
+class _Word(enum.StrEnum):
+    """A status that is a word: it prints, compares and serialises as its value, so it equals
+    its word and no member of another table (the tables share no word)."""
 
-    SUCCESS = 0
-    MAX_ITERATIONS = 1
-    LEFT_DOMAIN = 2
-    NON_FINITE = 3
-    SINGULAR = 4
-    TOLERANCE_NOT_MET = 5
-    MAX_EVALUATIONS = 6
-    RESIDUAL_ABOVE_TOL = 7
-    INTEGRATION_FAILED = 8
-    INVALID_INPUT = 9
-    INTERRUPTED = 10
-    FAILED = 11
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}.{self.name}"
 
-    def __str__(self) -> str:
-        return self.name.lower()
+
+class Status(_Word):
+    """The outcome of a solve (one table for every path; :attr:`message` says it in words).
+
+    :attr:`code` is the member's integer code, the one the compiled kernel returns (scipy's
+    integer ``status``); ``Status(code)`` looks a member up by it.
+    """
+
+    SUCCESS = "success"
+    MAX_ITERATIONS = "max_iterations"
+    LEFT_DOMAIN = "left_domain"
+    NON_FINITE = "non_finite"
+    SINGULAR = "singular"
+    TOLERANCE_NOT_MET = "tolerance_not_met"
+    MAX_EVALUATIONS = "max_evaluations"
+    RESIDUAL_ABOVE_TOL = "residual_above_tol"
+    INTEGRATION_FAILED = "integration_failed"
+    INVALID_INPUT = "invalid_input"
+    INTERRUPTED = "interrupted"
+    FAILED = "failed"
+
+    @classmethod
+    def _missing_(cls, value: object) -> Status | None:
+        # The compiled kernel returns an integer code (numba has no enumerations of words).
+        if isinstance(value, int | np.integer) and not isinstance(value, bool):
+            members = list(cls)
+            if 0 <= int(value) < len(members):
+                return members[int(value)]
+        return None
+
+    @property
+    def code(self) -> int:
+        """The integer code (the order of the table: ``SUCCESS`` is 0)."""
+        return list(type(self)).index(self)
 
     @property
     def message(self) -> str:
@@ -48,6 +79,25 @@ class Status(enum.IntEnum):
     def success(self) -> bool:
         """True for :attr:`SUCCESS`."""
         return self is Status.SUCCESS
+
+
+class HoverStatus(_Word):
+    """What a solved orbit is (a failed solve raises :class:`~flapping.errors.ConvergenceError`).
+
+    ``HOVER``: periodic and in place on average. ``DRIFTING``: periodic, holds its altitude, but
+    flies horizontally (a hinge off the centre of gravity with the amplitude as the only trim).
+    ``CLIMBING``: periodic but climbs or sinks (an orbit forced away from the hover amplitude).
+    """
+
+    HOVER = "hover"
+    DRIFTING = "drifting"
+    CLIMBING = "climbing"
+
+
+#: Every status word: what a sweep row's one ``status`` column can hold (the orbit's
+#: :class:`HoverStatus` where a point solved, the solve's :class:`Status` where it failed).
+STATUS_WORDS: frozenset[str] = frozenset(map(str, [*HoverStatus, *Status]))
+assert len(STATUS_WORDS) == len(HoverStatus) + len(Status), "the two tables share a word"
 
 
 #: The one message table.
@@ -78,8 +128,6 @@ def status_of(error: BaseException) -> Status:
     LinAlgError a singular matrix, an ArithmeticError a non-finite value, KeyboardInterrupt an
     interruption.
     """
-    from flapping.errors import DomainError  # errors imports nothing of this module's users
-
     status = getattr(error, "status", None)
     if isinstance(status, Status):
         return status
@@ -94,6 +142,19 @@ def status_of(error: BaseException) -> Status:
     if isinstance(error, ArithmeticError):
         return Status.NON_FINITE
     return Status.FAILED
+
+
+def exponents_of(multipliers: np.ndarray, period: float) -> np.ndarray:
+    """Floquet exponents ``log(mu) / T`` of checked multipliers (complex, no NaN) and period
+    (> 0): principal branch; a zero multiplier gives ``-inf`` (real part; imaginary part its
+    argument over T), an infinite one ``+inf``."""
+    mu = np.asarray(multipliers, dtype=complex)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        exponents = np.asarray(np.log(mu) / period)
+        bad = ~np.isfinite(exponents)
+        if np.any(bad):  # log(0) = -inf and log(inf) = inf: real and imaginary parts apart
+            exponents[bad] = np.log(np.abs(mu[bad])) / period + 1j * (np.angle(mu[bad]) / period)
+    return exponents
 
 
 @dataclass(frozen=True)
@@ -156,11 +217,10 @@ class Floquet:
 
     @property
     def exponents(self) -> Any:
-        """Floquet exponents log(mu) / T [1/s]
-        (:func:`flapping.periodic.floquet.floquet_exponents`: principal branch, -inf for 0)."""
-        from flapping.periodic.floquet import floquet_exponents  # that layer imports this one
-
-        return floquet_exponents(self.multipliers, self.period)
+        """Floquet exponents log(mu) / T [1/s] (principal branch, -inf for 0; as
+        :func:`flapping.periodic.floquet.floquet_exponents`, which checks its input and
+        calls :func:`exponents_of`)."""
+        return exponents_of(self.multipliers, self.period)
 
     @property
     def max_modulus(self) -> float:

@@ -10,6 +10,7 @@ import pytest
 import flapping
 from flapping import cli
 from flapping.hover import find_hover_orbit
+from flapping.hover.stability import hover_stability
 
 # The keys of `hover --json` before the report grew (checked from outside: names and meanings
 # must not change), and the ones added with it.
@@ -68,7 +69,11 @@ def test_json_in_process_is_strict_and_complete(capsys, report):
     out = capsys.readouterr()
     parsed = strict_loads(out.out)
     assert set(parsed) == ORIGINAL_KEYS | ADDED_KEYS
-    assert parsed == strict_loads(json.dumps(report))  # what hover_report returns, exactly
+    expected = strict_loads(json.dumps(report))
+    for times in (parsed, expected):  # the wall-clock times differ from run to run
+        assert times["solver"]["ran"].pop("solve_time_s") > 0.0
+        assert times["solver"]["ran"].pop("stability_time_s") > 0.0
+    assert parsed == expected  # what hover_report returns, exactly (times aside)
 
 
 def test_json_report_agrees_with_the_library(report):
@@ -96,6 +101,19 @@ def test_json_states_the_solver_settings_it_ran_with(report):
     assert (stability["method"], stability["rtol"], stability["atol"]) == ("DOP853", 1e-12, 1e-12)
     assert shooting["success"] is True
     assert shooting["nit"] >= 1 and shooting["nfev"] > shooting["nit"]
+
+
+def test_json_says_what_ran_with_its_options_estimates_and_times(report):
+    # Reproducer (issue 35): the solver block printed Adaptive()'s DOP853 tolerances whatever
+    # ran; the compiled path ran (the default for the linear loads).
+    ran = report["solver"]["ran"]
+    assert ran["backend"] == report["backend"] == "compiled"
+    assert set(ran["options"]) == {"n_steps", "amplitude_tol_deg", "multiplier_tol"}
+    assert ran["n_steps"] >= 4 and 0.0 < ran["amplitude_error_deg"] <= 1e-9
+    assert 0.0 < ran["multiplier_error"] <= 1e-8 and ran["solve_time_s"] > 0.0
+    adaptive = cli._ran(find_hover_orbit(flapping.hawkmoth(), backend="adaptive"),
+                        hover_stability(find_hover_orbit(flapping.hawkmoth())), 0.1)
+    assert adaptive["options"]["method"] == "DOP853" and adaptive["x0_error"] is None
 
 
 def test_every_key_has_a_unit(report):

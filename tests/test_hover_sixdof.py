@@ -263,3 +263,58 @@ def test_a_tolerance_below_the_integrations_error_is_raised_to_it(moth):
     flat = flapping.find_hover_orbit(insect, aerodynamics="small-angle")
     orbit = find_sixdof_hover_orbit(insect, backend="adaptive", planar_orbit=flat, tol=1e-13)
     assert orbit.residual_norm < 1e-9
+
+
+# --------------------------------------------------------------------------- one schema
+def _public(obj) -> set[str]:
+    return {name for name in dir(obj) if not name.startswith("_")}
+
+
+#: What the six-degree-of-freedom results add to the planar schema (their own views).
+SIXDOF_ORBIT_VIEWS = {"planar", "amplitude_change", "n_steps", "newton_monodromy"}
+SIXDOF_STABILITY_VIEWS = {"longitudinal", "lateral", "coupling", "details"}
+
+
+def test_planar_and_six_dof_orbits_have_one_schema(compiled):
+    # Reproducer (issue 35): SixDofHoverOrbit lacked 29 of HoverOrbit's public attributes
+    # (status, is_hover, solver, floquet, amplitude_deg, the error estimates...).
+    orbit, stability = compiled
+    planar = orbit.planar
+    assert _public(orbit) - _public(planar) == SIXDOF_ORBIT_VIEWS
+    assert _public(planar) <= _public(orbit)
+    assert _public(stability) - _public(flapping.hover_stability(planar)) == (
+        SIXDOF_STABILITY_VIEWS)
+
+
+def test_the_six_dof_orbit_s_views_mean_the_planar_ones(compiled):
+    orbit, stability = compiled
+    planar = orbit.planar
+    assert orbit.status == planar.status == "hover" and orbit.is_hover and orbit.success
+    assert orbit.dof == 6 and planar.dof == 4
+    assert orbit.amplitude_deg == pytest.approx(planar.amplitude_deg, rel=1e-9)
+    assert orbit.x.shape == (8, planar.x.shape[1]) and orbit.t[-1] == planar.t[-1]
+    # The plane of symmetry is invariant: the states and speeds are the planar ones to the
+    # integrations' tolerance (rtol 1e-11 over one period).
+    lon = np.asarray([0, 2, 4, 7])
+    np.testing.assert_allclose(orbit.x[lon], planar.x, atol=1e-8)
+    assert abs(orbit.mean_inertial_velocity["side"]) < 1e-12
+    assert abs(orbit.z_drift) < 1e-9 and orbit.half_period_symmetry_error < 1e-6
+    assert orbit.solver.n_steps == orbit.n_steps and orbit.nit == orbit.stats.nit
+    assert np.isnan(orbit.amplitude_error) and orbit.kernel is None
+    assert orbit.floquet is not None and orbit.floquet.matrix.shape == (8, 8)
+    assert stability.is_stable == stability.stable and stability.exponents.shape == (8,)
+    assert stability.det == pytest.approx(stability.liouville_det, rel=1e-7)
+    v = stability.unstable_mode
+    assert np.max(np.abs(v)) == pytest.approx(1.0)
+    np.testing.assert_allclose(stability.monodromy @ stability.eigenvectors,
+                               stability.eigenvectors * stability.multipliers, atol=1e-9)
+
+
+def test_the_six_dof_averaged_jacobian_holds_the_planar_one(compiled):
+    orbit, stability = compiled
+    lon = np.ix_([0, 2, 4, 7], [0, 2, 4, 7])
+    planar = flapping.hover_stability(orbit.planar)
+    # Central differences (step 1e-6) against the planar path's analytic Jacobian.
+    np.testing.assert_allclose(stability.averaged_jacobian[lon], planar.averaged_jacobian,
+                               rtol=1e-5, atol=1e-5)
+    assert stability.averaged_eigenvalues.shape == (8,)

@@ -32,9 +32,20 @@ def _modules(subpackage: str = "") -> list[Path]:
     return sorted(p for p in root.rglob("*.py") if p.name not in GENERATED)
 
 
+def _runtime_nodes(tree: ast.AST):
+    """Every node of ``tree`` but those under ``if TYPE_CHECKING:`` (annotations only: no import
+    happens at run time)."""
+    for node in ast.iter_child_nodes(tree):
+        if isinstance(node, ast.If) and getattr(node.test, "id", None) == "TYPE_CHECKING":
+            yield from (n for child in node.orelse for n in [child, *_runtime_nodes(child)])
+            continue
+        yield node
+        yield from _runtime_nodes(node)
+
+
 def _imported_modules(path: Path) -> set[str]:
     names: set[str] = set()
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+    for node in _runtime_nodes(ast.parse(path.read_text(encoding="utf-8"))):
         if isinstance(node, ast.Import):
             names.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
@@ -44,26 +55,39 @@ def _imported_modules(path: Path) -> set[str]:
     return names
 
 
-# The shared top-level modules every layer may import: errors, validation, numerical helpers,
-# how a solve runs (backends) and what it returns (results).
-SHARED = ("flapping.errors", "flapping._validation", "flapping._numdiff", "flapping.backends",
-          "flapping.results")
+# The shared top-level modules every layer may import: errors, validation, numerical helpers and
+# what a solve returns (results). How a solve runs (backends) takes the periodic layer's defaults
+# and ranges: it lies above that layer, below the ones that run solves.
+SHARED = ("flapping.errors", "flapping._validation", "flapping._numdiff", "flapping.results")
+BACKENDS = ("flapping.backends",)
 
 # Which flapping modules each layer may import (besides its own subpackage).
 ALLOWED = {
     "periodic": ("flapping.periodic", "flapping.errors", "flapping._validation", "flapping._numdiff"),
     "model": ("flapping.model", "flapping.errors", "flapping._validation", "flapping._numdiff"),
     "fast": ("flapping.fast", "flapping.model", "flapping.periodic", "flapping.errors",
-             "flapping._validation", "flapping._numdiff"),
+             "flapping._validation", "flapping._numdiff", *BACKENDS),
     "hover": ("flapping.hover", "flapping.fast", "flapping.model", "flapping.periodic",
-              "flapping.errors", "flapping._validation", "flapping._numdiff"),
+              "flapping.errors", "flapping._validation", "flapping._numdiff", *BACKENDS),
     # flapping.peers: a study that joins two models (ours and FWUAV's, flapping.studies.fwuav)
     # sits above both.
     "studies": ("flapping.studies", "flapping.hover", "flapping.fast", "flapping.model",
                 "flapping.peers", "flapping.periodic", "flapping.errors", "flapping._validation",
-                "flapping._numdiff"),
+                "flapping._numdiff", *BACKENDS),
     "peers": ("flapping.peers", "flapping.periodic", "flapping.errors", "flapping._validation",
-              "flapping._numdiff"),
+              "flapping._numdiff", *BACKENDS),
+}
+
+#: What each shared top-level module may import: the layering holds for them too (issue 35: the
+#: exemption hid a results -> periodic.floquet -> errors -> results circle). The namespace, the
+#: command line, ``__main__`` and the forwarding modules sit on top and may import anything.
+TOP_ALLOWED = {
+    "errors": (),
+    "_numdiff": (),
+    "_validation": ("flapping.errors",),
+    "results": ("flapping.errors",),
+    "backends": ("flapping._validation", "flapping.errors", "flapping.periodic",
+                 "flapping.results"),
 }
 
 #: The modules at the top of the package: the namespace, the command line and the shared
@@ -83,6 +107,86 @@ def test_a_layer_imports_only_what_lies_below_it(layer):
             if name.startswith("flapping") and not name.startswith(allowed):
                 offending.append(f"{path.relative_to(PACKAGE)} imports {name}")
     assert not offending, "\n".join(offending)
+
+
+@pytest.mark.parametrize("module", sorted(TOP_ALLOWED))
+def test_a_shared_module_imports_only_what_lies_below_it(module):
+    path = PACKAGE / f"{module}.py"
+    offending = [name for name in _imported_modules(path)
+                 if name.startswith("flapping") and name != f"flapping.{module}"
+                 and not name.startswith(TOP_ALLOWED[module])]
+    assert not offending, offending
+
+
+#: A circle another change removes (issue 35, item 5: the compile policy of flapping.fast).
+KNOWN_CIRCLES: list[set[str]] = [{"flapping.fast._background", "flapping.fast.kernel"}]
+
+
+def _module_name(path: Path) -> str:
+    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _import_graph() -> dict[str, set[str]]:
+    """Module -> the package's modules it imports at run time (functions' imports too)."""
+    modules = {_module_name(path): path for path in _modules()}
+    graph = {}
+    for name, path in modules.items():
+        targets = set()
+        for imported in _imported_modules(path):
+            while imported and imported not in modules:  # `from a.b import c`: c or a.b
+                imported = imported.rpartition(".")[0]
+            if imported and imported != name:
+                targets.add(imported)
+        graph[name] = targets
+    return graph
+
+
+def _circles(graph: dict[str, set[str]]) -> list[set[str]]:
+    """The strongly connected components of more than one module (Tarjan)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    found: list[set[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = set()
+            while True:
+                w = stack.pop()
+                component.add(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                found.append(component)
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+def test_no_module_imports_itself_through_others():
+    # Reproducers (issue 35): results -> periodic.floquet -> errors -> results, and
+    # hover.orbit <-> hover.sixdof. A package's __init__ importing its own modules is no circle
+    # (the modules are below it): edges into a package's __init__ from inside it are left out.
+    graph = _import_graph()
+    for name, targets in graph.items():
+        graph[name] = {t for t in targets if not name.startswith(f"{t}.")}
+    circles = [c for c in _circles(graph) if c not in KNOWN_CIRCLES]
+    assert not circles, circles
+
+
+def test_the_circle_finder_finds_a_circle():
+    assert _circles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [{"a", "b", "c"}]
 
 
 def test_the_book_helpers_are_not_in_the_package_nor_imported_by_it():

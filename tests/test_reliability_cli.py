@@ -282,13 +282,13 @@ def test_a_sweep_whose_every_point_is_invalid_exits_1_with_one_line(capsys, para
     rows = out.out.splitlines()
     assert len(rows) == int(param.rsplit(":", 1)[1]) + (form == "--csv")  # every row printed
     if form == "--json":
-        assert all(strict_loads(r)["status"] == -1 for r in rows)
+        assert all(strict_loads(r)["status"] == "invalid_input" for r in rows)
 
 
 def test_a_sweep_with_some_invalid_points_exits_0(capsys):
     assert cli.main(["sweep", "--quiet", "--param", "frequency=-10:26:2"]) == 0
     rows = capsys.readouterr().out.splitlines()
-    assert len(rows) == 3 and ",-1," in rows[1] and ",-1," not in rows[2]
+    assert len(rows) == 3 and ",invalid_input," in rows[1] and ",hover," in rows[2]
 
 
 def test_the_exit_status_table_names_the_failed_sweep(capsys):

@@ -13,6 +13,7 @@ pytest.importorskip("numba")
 pandas = pytest.importorskip("pandas")
 pytest.importorskip("tqdm")
 from flapping.fast.kernel import solve_hover  # noqa: E402
+from flapping.results import STATUS_WORDS  # noqa: E402
 from flapping.studies.sweep import COLUMNS, SEGMENT, grid_points, sweep_hover  # noqa: E402
 
 GRID = {"frequency": np.linspace(22.0, 30.0, 5), "center_of_pressure": [0.1, 0.25, 0.4]}
@@ -83,9 +84,13 @@ def test_the_table_does_not_depend_on_how_the_grid_is_cut(chunk_size, workers):
     pandas.testing.assert_frame_equal(df, reference, check_exact=True)
 
 
-def test_a_failed_point_s_status_is_a_word_from_the_one_table():
+def test_a_point_s_status_is_one_word_and_converged_follows_from_it():
+    # Reproducer (issue 35): a row carried converged, an integer status (0, 1, -1) and a
+    # solve_status; now one status word, the failed solve's or the orbit's.
     df = sweep_hover(flapping.hawkmoth(), {"frequency": [8.0, 26.3]}, progress=False)
-    assert df.solve_status.tolist() == ["invalid_input", "success"]
+    assert df.status.tolist() == ["invalid_input", "hover"]
+    assert df.converged.tolist() == [False, True] and "solve_status" not in df
+    assert set(df.status) <= STATUS_WORDS
 
 
 def test_dask_cluster_gives_the_same_table(table):

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from flapping import _validation
-from flapping.backends import Adaptive, as_backend
+from flapping.backends import Adaptive
 from flapping.hover.orbit import find_hover_orbit
 from flapping.hover.problem import HoverProblem
 from flapping.model.dynamics import LongitudinalDynamics
@@ -177,9 +177,4 @@ def continue_hover(insect: Insect, parameter_name: str, end: float, *,
 
 def _continuation_path(backend: Any) -> Adaptive:
     """The continuation's Adaptive backend (:data:`CONTINUATION` for a name)."""
-    spec = as_backend(backend)
-    if isinstance(spec, str):
-        return CONTINUATION
-    if not isinstance(spec, Adaptive):
-        raise ValueError(f"continue_hover runs on the adaptive path only; got backend={backend!r}")
-    return spec
+    return Adaptive.required_by("continue_hover", backend, default=CONTINUATION)

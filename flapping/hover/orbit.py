@@ -29,16 +29,15 @@ Conventions: SI units inside (angles in rad); sampled trajectories have time alo
 
 from __future__ import annotations
 
-import enum
 import logging
 import math
 import time
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from dataclasses import fields as dataclass_fields
 from functools import cached_property
-from typing import Any, Literal, TypeVar, cast, overload
+from typing import TYPE_CHECKING, Any, ClassVar, Literal, TypeVar, cast, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -55,6 +54,7 @@ from flapping.backends import (
 )
 from flapping.errors import ConvergenceError, HoverDriftWarning, NonFiniteError, require_success
 from flapping.fast import kernel as _kernel
+from flapping.hover._schema import HOVER_SPEED_ATOL, HOVER_SPEED_RTOL, OrbitViews
 from flapping.hover.problem import (
     DEFAULT_BACKEND,
     TRIMS,
@@ -64,20 +64,31 @@ from flapping.hover.problem import (
     even_samples,
     state_guess,
 )
-from flapping.hover.sixdof import SixDofHoverOrbit, find_sixdof_hover_orbit
 from flapping.model.dynamics import STATE_NAMES, LongitudinalDynamics
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect, explain_blowup
 from flapping.periodic._readonly import freeze, readonly
 from flapping.periodic.fixedstep import (
     FixedStepOrbit,
-    find_periodic_orbit_fixed_step,
-    fixed_step_flow,
 )
 from flapping.periodic.integrate import flow, variational_flow
 from flapping.periodic.settings import SolverSettings
 from flapping.periodic.shooting import PeriodicOrbit, find_periodic_orbit
-from flapping.results import Floquet, Stats, Status
+from flapping.results import Floquet, HoverStatus, Stats, Status
+
+if TYPE_CHECKING:  # annotations only: the six-degree-of-freedom module lies above this one
+    from flapping.hover.sixdof import SixDofHoverOrbit
+
+#: The six-degree-of-freedom solve behind ``find_hover_orbit(..., dof=6)``: registered by
+#: :mod:`flapping.hover.sixdof` (which builds on this module) when the hover layer is imported.
+_SIXDOF_SOLVE: list[Callable[..., Any]] = []
+
+
+def register_sixdof(solve: Callable[..., Any]) -> None:
+    """Register the six-degree-of-freedom solve (:func:`~flapping.hover.sixdof.
+    find_sixdof_hover_orbit`): this module does not import the module above it."""
+    _SIXDOF_SOLVE[:] = [solve]
+
 
 __all__ = [
     "ANALYSIS_ATOL",
@@ -100,17 +111,6 @@ _LOG = logging.getLogger("flapping")
 #: x(t + T/2) = S x(t) for the symmetric stroke (x_h = 0): u, q, theta change sign, w does not.
 HALF_PERIOD_SYMMETRY = np.diag([-1.0, 1.0, -1.0, -1.0])
 
-#: Largest cycle-mean inertial speed (horizontal and vertical) of an orbit still called hover,
-#: relative to the mean wingtip speed 4 Phi f R (~5.8 m/s for the hawkmoth, so ~6 um/s). A hover
-#: orbit with the half-period symmetry (x_h = 0) drifts only at round-off (~1e-12 m/s); a hinge
-#: 1 mm off the centre of gravity makes it fly at ~0.4 m/s.
-HOVER_SPEED_RTOL = 1e-6
-
-#: Largest cycle-mean inertial speed of an orbit still called hover, in absolute terms [m/s]
-#: (10 um/s, under a body length an hour for any insect): the relative test alone would call an
-#: orbit hover whatever its speed for an absurd wingtip speed.
-HOVER_SPEED_ATOL = 1e-5
-
 #: Default tolerances (relative; absolute in the states' SI units) of the integrations that
 #: analyse a found orbit (its force budget here; its averaged Jacobian, Floquet modes and
 #: perturbations in :mod:`flapping.hover.stability`): :class:`~flapping.backends.Adaptive`'s
@@ -120,25 +120,7 @@ ANALYSIS_RTOL: float = Adaptive.analysis_rtol
 ANALYSIS_ATOL: float = Adaptive.analysis_atol
 
 
-
 # =========================================================================== results
-class HoverStatus(enum.IntEnum):
-    """What a solved orbit is (a failed solve raises :class:`~flapping.errors.ConvergenceError`).
-
-    ``HOVER`` (0): periodic and in place on average. ``DRIFTING`` (1): periodic, holds its
-    altitude, but flies horizontally (a hinge off the centre of gravity with the amplitude as the
-    only trim). ``CLIMBING`` (2): periodic but climbs or sinks (:func:`forced_orbit` away from the
-    hover amplitude).
-    """
-
-    HOVER = 0
-    DRIFTING = 1
-    CLIMBING = 2
-
-    def __str__(self) -> str:
-        return self.name.lower()
-
-
 @dataclass(frozen=True)
 class _Sampled:
     """Samples computed with the orbit (the adaptive path integrates them anyway)."""
@@ -183,7 +165,7 @@ class _AdaptiveSamples:
 
 
 @dataclass(frozen=True, eq=False)
-class HoverOrbit:
+class HoverOrbit(OrbitViews):
     """A periodic orbit of the insect (the hovering one, or one at a prescribed amplitude).
 
     Whatever backend produced it, the orbit has the same attributes; arrays are read-only.
@@ -268,6 +250,9 @@ class HoverOrbit:
     multiplier_error: float = field(default=math.nan, repr=False)
     solve_status: Status = field(default=Status.SUCCESS, repr=False)
 
+    state_names: ClassVar[tuple[str, ...]] = STATE_NAMES
+    half_period_symmetry: ClassVar[np.ndarray] = HALF_PERIOD_SYMMETRY
+
     def __post_init__(self) -> None:
         freeze(self)  # an analysis of the orbit must be an analysis of what was solved
 
@@ -332,22 +317,6 @@ class HoverOrbit:
                                      multiplier_error=self.multiplier_error)
         return None
 
-    @property
-    def amplitude_deg(self) -> float:
-        """Stroke amplitude in degrees."""
-        return math.degrees(self.amplitude)
-
-    @property
-    def mean_state(self) -> dict[str, float]:
-        """Cycle mean of each state."""
-        return {k: float(np.mean(self.x[i, :-1])) for i, k in enumerate(STATE_NAMES)}
-
-    @property
-    def state_range(self) -> dict[str, tuple[float, float]]:
-        """(min, max) of each state over the period."""
-        return {k: (float(self.x[i].min()), float(self.x[i].max()))
-                for i, k in enumerate(STATE_NAMES)}
-
     @cached_property
     def mean_inertial_velocity(self) -> dict[str, float]:
         """Cycle means of the inertial velocities [m/s]: ``forward`` and ``climb`` (up positive).
@@ -363,68 +332,25 @@ class HoverOrbit:
                 "climb": float(np.mean(u * np.sin(th) - w * np.cos(th)))}
 
     @property
-    def mean_horizontal_speed(self) -> float:
-        """Magnitude of the cycle-mean inertial horizontal velocity [m/s]: 0 on a hover orbit."""
-        return abs(self.mean_inertial_velocity["forward"])
+    def insect(self) -> Insect:
+        """The insect (its mean stroke angle the orbit's where that is a trim)."""
+        return self.model.insect
 
     @property
-    def wingtip_speed(self) -> float:
-        """Mean wingtip speed 4 Phi f R [m/s], the scale of :attr:`is_hover`'s tolerance."""
-        insect = self.model.insect if self.problem is None else self.problem.insect
-        return 4.0 * self.amplitude * insect.frequency * insect.semi_span
+    def aerodynamics(self) -> str:
+        """The loads model (:data:`~flapping.model.dynamics.AERODYNAMIC_MODELS`)."""
+        return self.model.aerodynamics
 
     @property
-    def status(self) -> HoverStatus:
-        """:class:`HoverStatus`: hover, drifting horizontally, or climbing/sinking.
-
-        A mean speed counts if it exceeds :data:`HOVER_SPEED_RTOL` times the
-        :attr:`wingtip_speed` or :data:`HOVER_SPEED_ATOL`.
-        """
-        v = self.mean_inertial_velocity
-        limit = self.hover_speed_tol
-        if abs(v["climb"]) > limit:
-            return HoverStatus.CLIMBING
-        return HoverStatus.DRIFTING if abs(v["forward"]) > limit else HoverStatus.HOVER
+    def dof(self) -> int:
+        """4: the planar (longitudinal) orbit (6 for a
+        :class:`~flapping.hover.sixdof.SixDofHoverOrbit`)."""
+        return 4
 
     @property
-    def hover_speed_tol(self) -> float:
-        """The largest cycle-mean speed of a hover orbit [m/s]: :data:`HOVER_SPEED_RTOL` times
-        the :attr:`wingtip_speed`, at most :data:`HOVER_SPEED_ATOL`."""
-        return min(HOVER_SPEED_RTOL * self.wingtip_speed, HOVER_SPEED_ATOL)
-
-    @property
-    def is_hover(self) -> bool:
-        """True if the orbit stays in place on average (:attr:`status` is ``HOVER``).
-
-        That is, if both cycle-mean inertial speeds (:attr:`mean_inertial_velocity`) are at most
-        :attr:`hover_speed_tol`. False for an orbit that drifts
-        horizontally (a hinge offset, see :class:`~flapping.errors.HoverDriftWarning`) or climbs
-        or sinks (an orbit of :func:`forced_orbit` away from the hover amplitude).
-        """
-        return self.status == HoverStatus.HOVER
-
-    @property
-    def message(self) -> str:
-        """What :attr:`status` means for this orbit, in words."""
-        v = self.mean_inertial_velocity
-        if self.status == HoverStatus.HOVER:
-            return "hover: periodic, in place on average"
-        if self.status == HoverStatus.CLIMBING:
-            return (f"not hover: {'climbs' if v['climb'] > 0 else 'sinks'} at a mean "
-                    f"{abs(v['climb']):.3g} m/s")
-        return (f"not hover: flies {'forwards' if v['forward'] > 0 else 'backwards'} at a "
-                f"mean {abs(v['forward']):.3g} m/s; trims=('amplitude', 'stroke_mean') finds a "
-                "true hover orbit")
-
-    @property
-    def half_period_symmetry_error(self) -> float:
-        """``max |x(t + T/2) - S x(t)| / max |x|`` over the period: 0 with the symmetry."""
-        n = self.x.shape[1] - 1
-        if n % 2:
-            raise ValueError("needs an even number of samples per period")
-        first, second = self.x[:, : n // 2], self.x[:, n // 2 : n]
-        scale = np.abs(self.x).max(axis=1, keepdims=True)
-        return float(np.max(np.abs(second - HALF_PERIOD_SYMMETRY @ first) / scale))
+    def success(self) -> bool:
+        """True: a returned orbit solved its equations (a failed solve raises)."""
+        return self.solve_status.success
 
 
 def _sample(model: LongitudinalDynamics, x0: np.ndarray, n_samples: int, method: str, **tol):
@@ -581,6 +507,46 @@ def find_hover_orbit(
     OptionWarning
         If an option was given for a path that does not run.
     """
+    _warn_deprecated_routes(method=method, jacobian=jacobian, rtol=rtol, atol=atol, tol=tol,
+                            kernel_options=kernel_options,
+                            fixed_step_options=fixed_step_options)
+    return _find_hover_orbit(
+        insect, aerodynamics=aerodynamics, alpha_m=alpha_m, amplitude_guess=amplitude_guess,
+        x0_guess=x0_guess, backend=backend, trims=trims, n_samples=n_samples, method=method,
+        jacobian=jacobian, rtol=rtol, atol=atol, tol=tol, kernel_options=kernel_options,
+        fixed_step_options=fixed_step_options, settings=settings, dof=dof)
+
+
+#: The keyword routes to the backends' options that forward to ``backend=`` and warn.
+_DEPRECATED_ROUTES = {"method": "Adaptive", "jacobian": "Adaptive", "rtol": "Adaptive",
+                      "atol": "Adaptive", "tol": "Adaptive or FixedStep",
+                      "kernel_options": "Compiled", "fixed_step_options": "FixedStep"}
+
+
+def _warn_deprecated_routes(**given: Any) -> None:
+    """A DeprecationWarning for the flat and mapping routes to the backends' options: one route
+    remains, ``backend=`` with an object (:mod:`flapping.backends`)."""
+    used = [name for name, value in given.items() if value is not None]
+    if used:
+        objects = sorted({_DEPRECATED_ROUTES[name] for name in used})
+        warnings.warn(
+            f"find_hover_orbit's {', '.join(used)} keyword(s) are deprecated and forward to the "
+            f"backend object: pass backend={' or '.join(objects)}(...) "
+            "(flapping.backends) instead", DeprecationWarning, stacklevel=3)
+
+
+def _find_hover_orbit(insect: Any, *, aerodynamics: str | None = None,
+                      alpha_m: float | None = None, amplitude_guess: float | None = None,
+                      x0_guess: ArrayLike | None = None,
+                      backend: Backend | str = DEFAULT_BACKEND,
+                      trims: Sequence[str] = ("amplitude",), n_samples: int = 512,
+                      method: str | None = None, jacobian: str | None = None,
+                      rtol: float | None = None, atol: float | None = None,
+                      tol: float | None = None, kernel_options: Mapping[str, Any] | None = None,
+                      fixed_step_options: Mapping[str, Any] | None = None,
+                      settings: SolverSettings | None = None, dof: int = 4) -> Any:
+    """:func:`find_hover_orbit` without the deprecation of its keyword routes (the package's
+    own callers that forward a caller's options)."""
     dof = _validation.choice("dof", dof, (4, 6))
     if dof == 6:
         if not isinstance(insect, Insect):
@@ -589,7 +555,7 @@ def find_hover_orbit(
                       n_samples=n_samples, trims=trims, method=method, jacobian=jacobian,
                       rtol=rtol, atol=atol, kernel_options=kernel_options,
                       fixed_step_options=fixed_step_options, settings=settings)
-        return find_sixdof_hover_orbit(
+        return _SIXDOF_SOLVE[0](
             insect, aerodynamics="small-angle" if aerodynamics is None else aerodynamics,
             backend=backend, tol=tol, **{k: v for k, v in planar.items() if v is not None})
     problem = _problem(insect, "linear" if aerodynamics is None else aerodynamics, alpha_m,
@@ -612,21 +578,18 @@ def find_hover_orbit(
 
 def _solve(problem: HoverProblem, path: Backend, options: Options, guess: np.ndarray,
            x0: np.ndarray, n_samples: int) -> HoverOrbit:
-    """The orbit on ``path``; under "auto" a compiled or fixed-step failure hands over to the
+    """The orbit on ``path`` (its strategy's :meth:`~flapping.backends.Compiled.solve`); under
+    "auto" a failure of a path that hands over (compiled, fixed-step) hands over to the
     adaptive path."""
-    started = time.perf_counter()
-    if not isinstance(path, Adaptive):
-        try:
-            if isinstance(path, Compiled):
-                return _kernel_orbit(problem, path, float(guess[0]), x0, n_samples, started)
-            return _fixed_step_orbit(problem, path, guess, x0, n_samples, started)
-        except ConvergenceError as exc:
-            if not options.auto:
-                raise
-            # "auto" promises an answer where either path has one: the adaptive path's
-            # step control survives insects the fixed-step paths do not.
-            _LOG.info("the %s path failed (%s); trying the adaptive path", path.name, exc)
-    return _adaptive_orbit(problem, options.adaptive, guess, x0, n_samples, started)
+    try:
+        return cast(HoverOrbit, path.solve(problem, guess, x0, n_samples))
+    except ConvergenceError as exc:
+        if not (options.auto and path.hands_over):
+            raise
+        # "auto" promises an answer where either path has one: the adaptive path's step
+        # control survives insects the fixed-step paths do not.
+        _LOG.info("the %s path failed (%s); trying the adaptive path", path.name, exc)
+    return cast(HoverOrbit, options.adaptive.solve(problem, guess, x0, n_samples))
 
 
 def _attribute(error: BaseException, insect: Insect) -> None:
@@ -654,6 +617,12 @@ class Options:
     given: Mapping[str, Mapping[str, Any]]
 
     @property
+    def candidates(self) -> dict[str, Backend]:
+        """The candidate object of every path, by name."""
+        return {Adaptive.name: self.adaptive, Compiled.name: self.compiled,
+                FixedStep.name: self.fixed_step}
+
+    @property
     def auto(self) -> bool:
         """True if the caller let :func:`~flapping.hover.problem.choose_backend` decide."""
         return self.requested == AUTO
@@ -674,7 +643,9 @@ class Options:
             fixed = {**fixed, "tol": tol}
         given = {Adaptive.name: adaptive, Compiled.name: compiled, FixedStep.name: fixed}
         def built(kind: type[_B]) -> _B:
-            base = requested if isinstance(requested, kind) else _default(kind)
+            base = _default(kind)
+            if not isinstance(requested, str) and requested.name == kind.name:
+                base = cast(_B, requested)  # the caller's object of this path
             return base.with_options(**given[kind.name]) if given[kind.name] else base
 
         return cls(requested, built(Adaptive), built(Compiled), built(FixedStep), given)
@@ -687,8 +658,7 @@ class Options:
         if self.auto and self.adaptive.chosen_by_options:
             requested = self.adaptive
         path = choose_backend(problem, requested, solved=solved)
-        chosen: Backend = (self.adaptive if isinstance(path, Adaptive) else
-                           self.compiled if isinstance(path, Compiled) else self.fixed_step)
+        chosen: Backend = self.candidates[path.name]
         if path is not solved:
             path = chosen
         elif self.given[path.name]:
@@ -775,69 +745,6 @@ def explicit_method(path: Adaptive) -> Adaptive:
     return path
 
 
-def _adaptive_orbit(problem: HoverProblem, path: Adaptive, guess: np.ndarray, x0: np.ndarray,
-                    n_samples: int, started: float) -> HoverOrbit:
-    """find_hover_orbit on the scipy path: LM shooting with the trims free."""
-    explicit_method(path)
-    rhs, jac, pjac = problem.fields()
-    extra = problem.n_conditions
-    jacobian = path.jacobian or ("variational" if problem.aerodynamics == "linear"
-                                 else "finite-difference")
-    result = find_periodic_orbit(
-        rhs, np.concatenate([x0, np.zeros(extra)]), problem.period, autonomous=False, jac=jac,
-        param_jac=pjac, free_params=list(guess), fixed=tuple(range(4, 4 + extra)),
-        breakpoints=problem.model.breakpoints, method=path.method, jacobian=jacobian,
-        rtol=path.rtol, atol=path.atol, tol=path.tol, rk4_steps=path.rk4_steps,
-        max_steps=path.max_steps, max_nfev=path.max_nfev)
-    trims = _checked_trims(problem, result)
-    model = _model_at(problem, trims)
-    return _orbit_of(problem, result, trims, model, path, started, shooting=result,
-                     samples=_AdaptiveSamples(model, np.array(result.x0[:4], dtype=float),
-                                              n_samples, path.method, path.rtol, path.atol),
-                     njev=int(result.njev))
-
-
-def _fixed_step_orbit(problem: HoverProblem, path: FixedStep, guess: np.ndarray,
-                      x0: np.ndarray, n_samples: int, started: float) -> HoverOrbit:
-    """find_hover_orbit on the fixed-step path: Newton on the graded fixed-step period map."""
-    funs, switches = problem.graded_fields()
-    extra = problem.n_conditions
-    result = find_periodic_orbit_fixed_step(
-        funs, np.concatenate([x0, np.zeros(extra)]), 2.0, free_params=list(guess),
-        fixed=tuple(range(4, 4 + extra)), breakpoints=(0.5,), switches=switches,
-        **path.fixed_step_options())
-    trims = _checked_trims(problem, result)
-    model = _model_at(problem, trims)
-    x_start = np.array(result.x0[:4], dtype=float)
-    # The samples are a by-product, integrated on first use at the adaptive path's tolerances.
-    samples = _AdaptiveSamples(model, x_start, n_samples, "DOP853", Adaptive.rtol, Adaptive.atol)
-    error = np.asarray(result.unknowns_error)
-    return _orbit_of(problem, result, trims, model, path, started, fixed_step=result,
-                     samples=samples,
-                     mean_velocity=readonly(_fixed_step_mean_velocity(problem, model, result,
-                                                                      trims)),
-                     njev=int(result.njev), amplitude_error=float(error[4]),
-                     x0_error=float(np.max(error[:4])),
-                     multiplier_error=float(result.multiplier_error))
-
-
-def _fixed_step_mean_velocity(problem: HoverProblem, model: LongitudinalDynamics,
-                              solved: FixedStepOrbit, trims: list[float]) -> np.ndarray:
-    """(forward, climb) cycle means of a fixed-step orbit: x_e(T) / T and -z(T) / T on the solve's
-    mesh (the two-trim field carries x_e), instead of sampling the orbit adaptively."""
-    full = problem
-    if problem.n_conditions == 1:  # the two-trim field carries x_e; on the problem's own model
-        full = HoverProblem(problem.insect, problem.aerodynamics, problem.alpha_m, TRIMS[1],
-                            trim_check=False)
-        full.__dict__["model"] = problem.model  # the cached_property's slot (of_model's models)
-    funs, switches = full.graded_fields()
-    phi_bar = trims[1] if len(trims) == 2 else problem.insect.stroke_mean
-    end = fixed_step_flow(funs, np.concatenate([solved.x0[:4], [0.0, 0.0]]), 2.0,
-                          n_steps=solved.n_steps, free_params=[trims[0], phi_bar],
-                          breakpoints=(0.5,), switches=switches)
-    return np.array([end[5], -end[4]]) / problem.period
-
-
 def _model_at(problem: HoverProblem, trims: list[float]) -> LongitudinalDynamics:
     """The dynamics at the solved trims."""
     model = problem.model
@@ -915,26 +822,6 @@ def use_kernel(backend: Backend | str, model: LongitudinalDynamics,
     return problem.backend(backend, adaptive_options=not default_settings) == "compiled"
 
 
-def _kernel_orbit(problem: HoverProblem, path: Compiled, amplitude: float, x0: np.ndarray,
-                  n_samples: int, started: float) -> HoverOrbit:
-    """find_hover_orbit on the compiled kernel: the orbit, its monodromy, its mean velocities."""
-    kp = problem.kernel_problem
-    # x0 (state_guess) and the amplitude (problem.guess) are checked already
-    options = _kernel.checked_options(n_steps=path.n_steps,
-                                      amplitude_tol_deg=path.amplitude_tol_deg,
-                                      multiplier_tol=path.multiplier_tol)
-    sol = _kernel.solve_checked(kp, np.append(x0, amplitude), *options)
-    x_start = sol.x0  # read-only already
-    return HoverOrbit(problem, x_start, sol.amplitude, problem.insect.stroke_mean, sol.z_drift,
-                      "compiled", sol.nit, sol.nfev, sol.residual_norm, kernel=sol,
-                      mean_velocity=sol.mean_velocity,
-                      samples=_KernelSamples(kp, x_start, sol.amplitude, n_samples),
-                      solver=path, stats=Stats(sol.nit, sol.nfev, 0,
-                                               time.perf_counter() - started),
-                      amplitude_error=sol.amplitude_error, x0_error=sol.x0_error,
-                      multiplier_error=sol.multiplier_error)
-
-
 def forced_orbit(
     insect: Insect,
     amplitude: float | None = None,
@@ -1003,12 +890,7 @@ def forced_orbit(
 def adaptive_only(function: str, backend: Any, **keywords: Any) -> Adaptive:
     """The Adaptive backend of a function that runs on the adaptive path only, with its keyword
     shorthands laid over it (a ValueError for another path)."""
-    spec = as_backend(backend)
-    if spec == AUTO:
-        spec = Adaptive()
-    if not isinstance(spec, Adaptive):
-        raise ValueError(f"{function} runs on the adaptive path only; got backend="
-                         f"{_validation._show(backend)}")
+    spec = Adaptive.required_by(function, backend)
     return spec.with_options(**{k: v for k, v in keywords.items() if v is not None})
 
 

@@ -301,18 +301,12 @@ def choose_backend(problem: HoverProblem, backend: Backend | str = DEFAULT_BACKE
         ``"auto"`` where the kernel applies but numba is missing: the adaptive path runs.
     """
     spec = as_backend(backend)
-    if isinstance(spec, (FixedStep, Adaptive)):
-        return spec
-    why_not = problem._kernel_refusal()
-    if isinstance(spec, Compiled):
-        if why_not:
-            raise ValueError(f"backend='compiled' does not apply: {why_not}; use "
-                             "backend='adaptive' (or 'auto', which falls back)")
-        if not _kernel.numba_available():
-            raise ImportError("backend='compiled' needs numba: pip install flapping[fast]")
+    if not isinstance(spec, str):  # an object, not "auto"
+        spec.check(problem)  # the path's own test of where it applies
         return spec
     if solved is not None:
         return solved
+    why_not = problem._kernel_refusal()
     if problem.aerodynamics != "linear":
         return FixedStep()
     if why_not:

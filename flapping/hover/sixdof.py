@@ -23,14 +23,17 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from typing import Any
+from functools import cached_property
+from typing import Any, ClassVar
 
 import numpy as np
 
 from flapping import _validation
-from flapping.backends import AUTO, Adaptive, Backend, Compiled
+from flapping.backends import AUTO, Adaptive, Backend, Compiled, as_backend
 from flapping.errors import ConvergenceError
 from flapping.fast.kernel import numba_available
+from flapping.hover._schema import OrbitViews, StabilityViews
+from flapping.hover.orbit import _find_hover_orbit, register_sixdof
 from flapping.model import _sixdof_generated
 from flapping.model.kinematics import segment_stroke_sign
 from flapping.model.morphology import Insect
@@ -38,6 +41,7 @@ from flapping.model.sixdof import (
     LATERAL,
     LONGITUDINAL,
     SIXDOF_AERODYNAMIC_MODELS,
+    SIXDOF_STATE_NAMES,
     SixDofDynamics,
     body_inertia,
 )
@@ -91,8 +95,14 @@ def embed(x4: Any) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class SixDofHoverOrbit:
+class SixDofHoverOrbit(OrbitViews):
     """The hover orbit of the insect in six degrees of freedom.
+
+    It has every attribute of the planar :class:`~flapping.hover.orbit.HoverOrbit`, with the
+    same meaning (:mod:`flapping.hover._schema`: :attr:`status`, :attr:`is_hover`,
+    :attr:`solver`, :attr:`floquet`, the error estimates, ...; its states are the eight), and
+    adds its own views (:attr:`planar`, :attr:`amplitude_change`, :attr:`n_steps`,
+    :attr:`newton_monodromy`).
 
     Attributes
     ----------
@@ -150,6 +160,11 @@ class SixDofHoverOrbit:
     n_steps: int | None = None
     newton_monodromy: np.ndarray | None = field(default=None, repr=False)
 
+    state_names: ClassVar[tuple[str, ...]] = SIXDOF_STATE_NAMES
+    #: x(t + T/2) = S x(t): the fore-aft reflection flips u, q, theta and the yaw rate r.
+    half_period_symmetry: ClassVar[np.ndarray] = np.diag([-1.0, 1.0, 1.0, 1.0, -1.0, -1.0, 1.0,
+                                                          -1.0])
+
     def __post_init__(self) -> None:
         freeze(self)
 
@@ -166,7 +181,99 @@ class SixDofHoverOrbit:
     @property
     def success(self) -> bool:
         """True: a returned orbit solved its equations (a failed solve raises)."""
-        return self.solve_status == Status.SUCCESS
+        return self.solve_status.success
+
+    # ------------------------------------------------------------------ the planar schema
+    @property
+    def problem(self) -> Any:
+        """The planar :class:`~flapping.hover.problem.HoverProblem` its start was solved as."""
+        return self.planar.problem
+
+    @property
+    def stroke_mean(self) -> float:
+        """Mean stroke angle phi_bar [rad] (the planar solve's trim where it is one)."""
+        return self.insect.stroke_mean
+
+    @property
+    def trims(self) -> tuple[str, ...]:
+        """The planar solve's trim unknowns (the eight-state solve frees only Phi)."""
+        return tuple(self.planar.trims)
+
+    @property
+    def nit(self) -> int:
+        """Newton (or Levenberg-Marquardt) iterations of the eight-state solve."""
+        return self.stats.nit
+
+    @property
+    def nfev(self) -> int:
+        """Right-hand-side evaluations of the eight-state solve."""
+        return self.stats.nfev
+
+    @property
+    def solver(self) -> Backend:
+        """The backend object of the path that solved the eight-state equations, with its
+        options (:mod:`flapping.backends`)."""
+        if self.backend == "compiled":
+            return Compiled(n_steps=self.n_steps or COMPILED_STEPS)
+        return Adaptive()
+
+    @cached_property
+    def _sampled(self) -> tuple[np.ndarray, np.ndarray, float]:
+        n = self.planar.x.shape[1] - 1  # the planar orbit's samples per period
+        model = self.model
+        t = np.linspace(0.0, self.period, n + 1)
+        y = flow(_fields(model), (0.0, self.period), np.append(self.x0, 0.0),
+                 breakpoints=model.breakpoints, period=self.period, rtol=Adaptive.rtol,
+                 atol=Adaptive.atol, t_eval=t, args=(self.amplitude,)).x
+        return readonly(t), readonly(np.array(y[:8], dtype=float)), float(y[8, -1])
+
+    @property
+    def samples(self) -> Any:
+        """A callable giving one period's (t, x), as :attr:`HoverOrbit.samples`."""
+        return lambda: self._sampled[:2]
+
+    @property
+    def t(self) -> np.ndarray:
+        """One period's sample times [s] (uniform, as many as the planar orbit's; integrated
+        on first use)."""
+        return self._sampled[0]
+
+    @property
+    def x(self) -> np.ndarray:
+        """The eight states at :attr:`t`, shape (8, len(t))."""
+        return self._sampled[1]
+
+    @property
+    def z_drift(self) -> float:
+        """Net descent z(T) - z(0) over one period [m] (0 to the solver's tolerance)."""
+        return self._sampled[2]
+
+    @cached_property
+    def mean_inertial_velocity(self) -> dict[str, float]:
+        """Cycle means of the inertial velocities [m/s] from the samples: ``forward``, ``climb``
+        (up positive) and ``side`` (starboard positive)."""
+        velocity = np.array([_sixdof_generated.earth_velocity(*x) for x in self.x[:, :-1].T])
+        forward, side, down = velocity.mean(axis=0)
+        return {"forward": float(forward), "climb": float(-down), "side": float(side)}
+
+    @property
+    def floquet(self) -> Floquet | None:
+        """The monodromy of the eight states from the solve's last Newton integration (the
+        compiled path); None on the adaptive path (:func:`sixdof_stability` computes them)."""
+        if self.newton_monodromy is None:
+            return None
+        return Floquet.of_matrix(self.newton_monodromy, self.period)
+
+    #: The planar paths' own results: none on the six-degree-of-freedom paths.
+    kernel: ClassVar[None] = None
+    fixed_step: ClassVar[None] = None
+    model_given: ClassVar[None] = None
+    mean_velocity: ClassVar[None] = None
+    #: The solve's error estimates: none on either six-degree-of-freedom path (NaN, as the
+    #: planar adaptive path's).
+    amplitude_error: ClassVar[float] = math.nan
+    x0_error: ClassVar[float] = math.nan
+    multiplier_error: ClassVar[float] = math.nan
 
 
 def _fields(model: SixDofDynamics) -> list[Any]:
@@ -224,21 +331,22 @@ def find_sixdof_hover_orbit(insect: Insect, *, aerodynamics: str = "small-angle"
     ConvergenceError
         If either solve fails.
     """
-    from flapping.hover.orbit import find_hover_orbit  # the planar entry (same layer)
-
     started = time.perf_counter()
     body_inertia(insect)  # refuse an insect without its lateral inertia before any work
     if aerodynamics not in SIXDOF_AERODYNAMIC_MODELS:
         raise ValueError(
             f"`aerodynamics` must be one of {SIXDOF_AERODYNAMIC_MODELS} with dof=6; got "
             f"{aerodynamics!r}")
-    compiled = isinstance(backend, Compiled) or backend in (AUTO, "compiled")
+    spec = as_backend(backend)
+    compiled = isinstance(spec, str) or spec.sixdof_compiled  # "auto", or the object's path
     if compiled and aerodynamics != "linear" and not numba_available():
         compiled = False  # the blade-element loads' compiled path needs numba
     if tol is not None:
         planar["tol"] = tol
     if planar_orbit is None:
-        flat = find_hover_orbit(insect, aerodynamics=aerodynamics, backend=backend, **planar)
+        # the planar entry (below this module), without the deprecation of the options it
+        # forwards
+        flat = _find_hover_orbit(insect, aerodynamics=aerodynamics, backend=backend, **planar)
     else:
         flat = planar_orbit
         # The planar orbit does not depend on the lateral inertia: compare the rest.
@@ -380,6 +488,8 @@ def _compiled_blade_orbit(model: SixDofDynamics, flat: Any, tol: float,
                             newton_monodromy=readonly(end[9:81].reshape(9, 8)[:8].copy()))
 
 
+register_sixdof(find_sixdof_hover_orbit)  # find_hover_orbit(..., dof=6)
+
 @dataclass(frozen=True)
 class ModeSet:
     """The multipliers of one decoupled subsystem (longitudinal or lateral).
@@ -392,19 +502,34 @@ class ModeSet:
         The diagonal block of the full monodromy.
     multipliers : ndarray, complex, shape (4,)
         The block's eigenvalues, by descending modulus.
+    period : float
+        T [s] (NaN where it was not given).
     """
 
     names: tuple[str, ...]
     monodromy: np.ndarray
     multipliers: np.ndarray
+    period: float = math.nan
 
     def __post_init__(self) -> None:
         freeze(self)
 
+    @property
+    def floquet(self) -> Floquet:
+        """The block and its multipliers as the package's one type
+        (:class:`flapping.results.Floquet`)."""
+        return Floquet.of_matrix(self.monodromy, self.period, multipliers=self.multipliers)
+
 
 @dataclass(frozen=True)
-class SixDofStability:
+class SixDofStability(StabilityViews):
     """Floquet stability of the six-degree-of-freedom hover orbit.
+
+    It has every attribute of the planar :class:`~flapping.hover.stability.HoverStability`,
+    with the same meaning over the eight states (:attr:`exponents`, :attr:`eigenvectors`,
+    :attr:`det`, :attr:`liouville_det`, :attr:`trace_integral`, :attr:`averaged_jacobian`,
+    :attr:`is_stable`, :attr:`unstable_mode`, ...), and adds its views (:attr:`longitudinal`,
+    :attr:`lateral`, :attr:`coupling`, :attr:`details`).
 
     Attributes
     ----------
@@ -447,15 +572,54 @@ class SixDofStability:
     def __post_init__(self) -> None:
         freeze(self)
 
+    # ------------------------------------------------------------------ the planar schema
     @property
-    def stable(self) -> bool:
-        """Every multiplier inside the unit circle."""
-        return bool(np.all(np.abs(self.multipliers) < 1.0))
+    def exponents(self) -> np.ndarray:
+        """Floquet exponents log(mu)/T [1/s] (principal branch; -inf for a multiplier 0)."""
+        return self.floquet.exponents
+
+    @cached_property
+    def eigenvectors(self) -> np.ndarray:
+        """Column k is the eigenvector of the monodromy for ``multipliers[k]`` (from eig(M),
+        matched by nearest eigenvalue, as the planar analysis's)."""
+        values, vectors = np.linalg.eig(self.monodromy)
+        match = [int(np.argmin(np.abs(values - mu))) for mu in self.multipliers]
+        return readonly(vectors[:, match].astype(complex))
+
+    @property
+    def det(self) -> float:
+        """det M (from the integration's factors where it has them)."""
+        return float(self.details.det)
+
+    @property
+    def liouville_det(self) -> float:
+        """exp(int_0^T trace J dt): equal to :attr:`det` by Liouville's formula."""
+        return float(self.details.liouville_det)
+
+    @property
+    def trace_integral(self) -> float:
+        """int_0^T trace J dt along the orbit."""
+        return float(self.details.trace_integral)
+
+    @cached_property
+    def averaged_jacobian(self) -> np.ndarray:
+        """(1/T) int_0^T J(t, x(t)) dt along the orbit, shape (8, 8): the first-order averaged
+        system (central-difference Jacobians at 32 Gauss-Legendre nodes per half-stroke,
+        computed on first use)."""
+        return readonly(_averaged(self.orbit, _AVERAGE_NODES)[1])
+
+    @property
+    def averaged_eigenvalues(self) -> np.ndarray:
+        """Eigenvalues of :attr:`averaged_jacobian` [1/s], by real part (descending)."""
+        eig = np.linalg.eigvals(self.averaged_jacobian).astype(complex)
+        return readonly(eig[np.argsort(-eig.real, kind="stable")])
 
 
-def _block(matrix: np.ndarray, index: tuple[int, ...], names: tuple[str, ...]) -> ModeSet:
+def _block(matrix: np.ndarray, index: tuple[int, ...], names: tuple[str, ...],
+           period: float) -> ModeSet:
     block = readonly(np.array(matrix[np.ix_(index, index)]))
-    return ModeSet(names=names, monodromy=block, multipliers=readonly(floquet_multipliers(block)))
+    return ModeSet(names=names, monodromy=block, multipliers=readonly(floquet_multipliers(block)),
+                   period=period)
 
 
 def _compiled_monodromy(orbit: SixDofHoverOrbit, n_steps: int) -> Monodromy:
@@ -609,8 +773,8 @@ def _stability_of(orbit: SixDofHoverOrbit, result: Monodromy, error: float) -> S
         multipliers=readonly(np.asarray(result.multipliers)),
         floquet=Floquet.of_matrix(matrix, orbit.period, multipliers=result.multipliers,
                                   trace_integral=float(result.trace_integral)),
-        longitudinal=_block(matrix, LONGITUDINAL, ("u", "w", "q", "theta")),
-        lateral=_block(matrix, LATERAL, ("v", "p", "r", "roll")),
+        longitudinal=_block(matrix, LONGITUDINAL, ("u", "w", "q", "theta"), orbit.period),
+        lateral=_block(matrix, LATERAL, ("v", "p", "r", "roll"), orbit.period),
         coupling=float(off / np.max(np.abs(matrix))), multiplier_error=error,
         liouville_error=float(result.liouville_error), details=result)
 
@@ -673,6 +837,36 @@ def require_six_dof(orbit: Any, name: str = "orbit") -> SixDofHoverOrbit:
     return orbit
 
 
+#: Gauss-Legendre nodes per half-stroke of :attr:`SixDofStability.averaged_jacobian`.
+_AVERAGE_NODES = 32
+
+
+def _averaged(orbit: SixDofHoverOrbit, n_average: int) -> tuple[np.ndarray, np.ndarray]:
+    """The cycle means of the lateral load derivatives (3 x 3: Y, L, N in v, p, r) and of the
+    right-hand side's Jacobian (8 x 8), central differences at ``n_average`` Gauss-Legendre
+    nodes per half-stroke."""
+    model = orbit.model
+    T = model.period
+    nodes, weights = np.polynomial.legendre.leggauss(n_average)
+    loads_sum, jac_sum = np.zeros((3, 3)), np.zeros((8, 8))
+    funs = model.segment_functions()
+    halves = ((0.0, 0.5 * T), (0.5 * T, T))
+    times = np.concatenate([0.5 * (b - a) * nodes + 0.5 * (a + b) for a, b in halves])
+    states = flow(funs, (0.0, T), orbit.x0, breakpoints=model.breakpoints, period=T,
+                  rtol=Adaptive.rtol, atol=Adaptive.atol, t_eval=times,
+                  args=(orbit.amplitude,)).x
+    for i, (t, x) in enumerate(zip(times, states.T, strict=True)):
+        k = i // n_average  # the half-stroke: its stroke sign and its field
+        sign = segment_stroke_sign(k)
+        w = 0.5 * weights[i % n_average] / 2.0  # (T/2)/2 per node over T
+        loads = _central_jacobian(
+            lambda y, t=t, sign=sign: model._loads(t, list(y), sign, orbit.amplitude), x, 6)
+        loads_sum += w * loads[np.ix_([1, 3, 5], [1, 3, 5])]
+        jac_sum += w * _central_jacobian(
+            lambda y, t=t, f=funs[k]: f(t, y, orbit.amplitude), x, 8)
+    return loads_sum, jac_sum
+
+
 def averaged_lateral(orbit: SixDofHoverOrbit, n_average: int = 32) -> LateralDerivatives:
     """The cycle-averaged lateral derivatives and the averaged lateral system of an orbit.
 
@@ -698,26 +892,8 @@ def averaged_lateral(orbit: SixDofHoverOrbit, n_average: int = 32) -> LateralDer
     """
     require_six_dof(orbit)
     n_average = _validation.integer("n_average", n_average, low=1, high=4096)
-    model = orbit.model
-    T = model.period
-    nodes, weights = np.polynomial.legendre.leggauss(n_average)
     lat = list(LATERAL)
-    loads_sum, jac_sum = np.zeros((3, 3)), np.zeros((8, 8))
-    funs = model.segment_functions()
-    halves = ((0.0, 0.5 * T), (0.5 * T, T))
-    times = np.concatenate([0.5 * (b - a) * nodes + 0.5 * (a + b) for a, b in halves])
-    states = flow(funs, (0.0, T), orbit.x0, breakpoints=model.breakpoints, period=T,
-                  rtol=Adaptive.rtol, atol=Adaptive.atol, t_eval=times,
-                  args=(orbit.amplitude,)).x
-    for i, (t, x) in enumerate(zip(times, states.T, strict=True)):
-        k = i // n_average  # the half-stroke: its stroke sign and its field
-        sign = segment_stroke_sign(k)
-        w = 0.5 * weights[i % n_average] / 2.0  # (T/2)/2 per node over T
-        loads = _central_jacobian(
-            lambda y, t=t, sign=sign: model._loads(t, list(y), sign, orbit.amplitude), x, 6)
-        loads_sum += w * loads[np.ix_([1, 3, 5], [1, 3, 5])]
-        jac_sum += w * _central_jacobian(
-            lambda y, t=t, f=funs[k]: f(t, y, orbit.amplitude), x, 8)
+    loads_sum, jac_sum = _averaged(orbit, n_average)
     dimensional = dict(zip(LATERAL_DERIVATIVE_NAMES, loads_sum.ravel().tolist(), strict=True))
     jacobian = readonly(jac_sum[np.ix_(lat, lat)].copy())
     eig = np.linalg.eigvals(jacobian).astype(complex)

@@ -22,23 +22,21 @@ from typing import Any, overload
 import numpy as np
 
 from flapping import _validation
-from flapping.backends import Backend, Compiled, FixedStep
+from flapping.backends import Adaptive, Backend, Compiled, FixedStep, warn_unused
 from flapping.errors import HoverDriftWarning, require_success
 from flapping.fast import kernel as _kernel
+from flapping.hover._schema import StabilityViews
 from flapping.hover.orbit import (
     ANALYSIS_ATOL,
     ANALYSIS_RTOL,
     HoverOrbit,
     Options,
-    explicit_method,
     find_hover_orbit,
 )
 from flapping.hover.problem import DEFAULT_BACKEND, HoverProblem
 from flapping.hover.sixdof import SixDofHoverOrbit, SixDofStability, sixdof_stability
 from flapping.model.morphology import Insect
 from flapping.periodic._readonly import freeze
-from flapping.periodic.fixedstep import fixed_step_monodromy
-from flapping.periodic.floquet import monodromy
 from flapping.periodic.integrate import flow, variational_flow
 from flapping.periodic.settings import SolverSettings
 from flapping.results import Floquet
@@ -75,7 +73,7 @@ MAX_PERIODS, MAX_SAMPLES_PER_PERIOD = 10_000, 1 << 14
 
 
 @dataclass(frozen=True)
-class HoverStability:
+class HoverStability(StabilityViews):
     """Floquet stability of a periodic orbit (eqs. 42-49, 66-67) and the averaged approximation.
 
     Attributes
@@ -150,27 +148,12 @@ class HoverStability:
         return math.inf if log_ratio > 700.0 else abs(math.expm1(log_ratio))
 
     @property
-    def is_stable(self) -> bool:
-        """True if every multiplier lies inside the unit circle."""
-        return bool(np.all(np.abs(self.multipliers) < 1.0))
-
-    @property
     def floquet(self) -> Floquet:
         """The monodromy and its multipliers as the package's one type
         (:class:`~flapping.results.Floquet`), with :attr:`multiplier_error`."""
         return Floquet.of_matrix(self.monodromy, self.orbit.period, multipliers=self.multipliers,
                                  multiplier_error=self.multiplier_error,
                                  trace_integral=self.trace_integral)
-
-    @property
-    def unstable_mode(self) -> np.ndarray:
-        """Eigenvector of the largest multiplier scaled so its largest component is 1.
-
-        Real (float) when that multiplier is real; complex when it belongs to a complex pair.
-        """
-        v = self.eigenvectors[:, 0]
-        v = v / v[np.argmax(np.abs(v))]
-        return np.real(v) if abs(self.multipliers[0].imag) == 0.0 else v
 
 
 @dataclass(frozen=True)
@@ -293,18 +276,13 @@ def hover_stability(
     OptionWarning
         If an option was given for a path that does not run.
     """
-    if isinstance(orbit, SixDofHoverOrbit):
-        allowed = (DEFAULT_BACKEND, "adaptive", "compiled")
-        if backend not in allowed or method not in (None, "DOP853"):
-            raise ValueError("a six-degree-of-freedom orbit is analysed on the compiled path "
-                             "or the adaptive one (DOP853): `backend` 'auto', 'compiled' or "
-                             "'adaptive', `method` left at its default")
-        return sixdof_stability(orbit, rtol=rtol, atol=atol,
-                                backend="auto" if backend == DEFAULT_BACKEND else str(backend))
-    orbit = _validation.instance("orbit", orbit, HoverOrbit)
+    # One validator for every path: the options become backend objects, checked when built.
     n_average = _validation.integer("n_average", n_average, low=1, high=1 << 16)
     options = Options.of(backend, method=method, rtol=rtol, atol=atol, rk4_steps=rk4_steps,
                          settings=settings, analysis=True)
+    if isinstance(orbit, SixDofHoverOrbit):
+        return _sixdof_stability(orbit, options)
+    orbit = _validation.instance("orbit", orbit, HoverOrbit)
     problem = orbit.problem if orbit.problem is not None else HoverProblem.of_model(orbit.model)
     # The averaged Jacobian off the compiled path integrates the orbit at the analysis
     # tolerances: they apply to the fixed-step path too.
@@ -312,24 +290,37 @@ def hover_stability(
                           shared={FixedStep.name: ("analysis_rtol", "analysis_atol")})
     adaptive = options.adaptive
     rtol, atol = adaptive.analysis_rtol, adaptive.analysis_atol
-    if isinstance(path, FixedStep):
-        return _fixed_step_stability(orbit, problem, path, n_average, rtol, atol)
-    if isinstance(path, Compiled):
-        matrix, values, det, liouville, trace, error = _kernel_monodromy(orbit)
-        averaged = _averaged_jacobian(orbit, n_average, rtol, atol, compiled=True)
-        return _stability(orbit, matrix, values, det, liouville, averaged, trace, error)
-    explicit_method(path)
-    model = orbit.model
-    rhs, jac = model.segment_functions()
-    rtol, atol = path.analysis_rtol, path.analysis_atol
-    mon = monodromy(rhs, orbit.x0, orbit.period, jac=jac, breakpoints=model.breakpoints,
-                    method=path.method, rtol=rtol, atol=atol, rk4_steps=path.rk4_steps,
-                    max_steps=path.max_steps)
-    # Multipliers from the monodromy's product-QR iteration (accurate even when small).
-    values = np.asarray(mon.multipliers, dtype=complex)
-    averaged = _averaged_jacobian(orbit, n_average, rtol, atol)
-    return _stability(orbit, mon.matrix, values, mon.det, mon.liouville_det, averaged,
-                      mon.trace_integral, math.nan)
+    return path.analyse(orbit, problem, n_average, rtol, atol)
+
+
+#: The adaptive options the six-degree-of-freedom analysis uses (its integrations' tolerances).
+_SIXDOF_OPTIONS = ("analysis_rtol", "analysis_atol")
+
+
+def _sixdof_stability(orbit: SixDofHoverOrbit, options: Options) -> SixDofStability:
+    """hover_stability of a six-degree-of-freedom orbit: on the compiled path (the linear
+    loads) or the adaptive one (DOP853, ``rtol`` and ``atol``); every other option given is
+    warned about (:class:`~flapping.backends.OptionWarning`)."""
+    spec = options.requested
+    if not isinstance(spec, str) and not spec.sixdof_analyses:
+        raise ValueError(f"a six-degree-of-freedom orbit is analysed on the adaptive path, or on "
+                         f"the compiled one for the linear loads; got backend={spec.name!r}")
+    if options.adaptive.method != "DOP853":
+        raise ValueError("a six-degree-of-freedom orbit is analysed with DOP853: leave `method` "
+                         f"at its default; got {options.adaptive.method!r}")
+    if isinstance(spec, str):
+        name = "auto"
+        compiled = orbit.backend == Compiled.name
+    else:
+        compiled = spec.sixdof_compiled
+        name = Compiled.name if compiled else "adaptive"
+    given = options.given[Adaptive.name]
+    used = () if compiled else _SIXDOF_OPTIONS
+    warn_unused({k: v for k, v in given.items() if k not in used and k != "method"},
+                f"six-degree-of-freedom {'compiled' if compiled else 'adaptive'}",
+                stacklevel=3)
+    return sixdof_stability(orbit, rtol=given.get("analysis_rtol"),
+                            atol=given.get("analysis_atol"), backend=name)
 
 
 def _stability(orbit: HoverOrbit, matrix: np.ndarray, values: np.ndarray, det: float,
@@ -348,91 +339,11 @@ def _stability(orbit: HoverOrbit, matrix: np.ndarray, values: np.ndarray, det: f
                           float(trace), float(error))
 
 
-def _fixed_step_stability(orbit: HoverOrbit, problem: HoverProblem, path: FixedStep,
-                          n_average: int, rtol: float, atol: float) -> HoverStability:
-    """The analysis on the fixed-step path: the monodromy at n and 2n steps per half-stroke."""
-    params = np.array([orbit.amplitude, orbit.stroke_mean][: problem.n_conditions])
-    y0 = np.concatenate([orbit.x0, np.zeros(problem.n_conditions)])
-    funs, switches = problem.graded_fields()
-    solved = orbit.fixed_step
-    n = path.n_steps if solved is None else solved.n_steps
-
-    def physical(n_steps: int, difference_scale: float = 1.0) -> np.ndarray:
-        # The augmented state's monodromy is block-triangular (z and x_e do not feed back):
-        # the (u, w, q, theta) block holds the multipliers.
-        if (solved is not None and n_steps == solved.n_steps and difference_scale == 1.0
-                and solved.params is not None and np.array_equal(solved.x0, y0)
-                and np.array_equal(solved.params, params)):
-            full = solved.monodromy  # the solve's last pass, at these unknowns
-        else:
-            full = fixed_step_monodromy(funs, y0, 2.0, n_steps=n_steps, free_params=params,
-                                        breakpoints=(0.5,), switches=switches,
-                                        difference_scale=difference_scale)
-        return np.array(full[:4, :4])
-
-    coarse, matrix = physical(n), physical(2 * n)
-    values = _sorted_eigenvalues(matrix)
-
-    def change(other: np.ndarray) -> float:
-        # each multiplier's nearest one of the other matrix
-        gaps = np.abs(_sorted_eigenvalues(other)[:, None] - values[None, :])
-        return float(np.max(np.min(gaps, axis=0)))
-
-    # The mesh's error (n against 2n steps) and, where the monodromy is a central difference of
-    # the map (the switches make it one), the quotient's own: the same mesh at twice the step.
-    # The compiled loads showed why both count: their rounding moved the multipliers by 6e-10
-    # while n -> 2n changed them by 1.4e-10.
-    error = change(coarse)
-    if any(switches):
-        error += change(physical(2 * n, difference_scale=2.0))
-    error *= _FIXED_STEP_SAFETY
-    averaged = _averaged_jacobian(orbit, n_average, rtol, atol)
-    # int_0^T trace J dt by the averaged Jacobian's Gauss rule (the loads' kinks limit it:
-    # Liouville's check measured 4e-7 on the small-angle hawkmoth, 5e-10 on the linear loads)
-    trace = float(np.trace(averaged)) * orbit.period
-    det = float(np.linalg.det(matrix))
-    liouville = math.exp(trace) if trace < 700 else math.inf
-    return _stability(orbit, matrix, values, det, liouville, averaged, trace, error)
-
-
-#: Safety factor of the fixed-step analysis's multiplier error estimate (as the fixed-step
-#: solve's Richardson estimates, :mod:`flapping.periodic.fixedstep`): the change from n to 2n
-#: steps is one sample of the monodromy's rounding noise, which may happen to be small.
-_FIXED_STEP_SAFETY = 2.0
-
-
-def _sorted_eigenvalues(matrix: np.ndarray) -> np.ndarray:
-    """Eigenvalues as complex, by descending modulus."""
-    values = np.linalg.eigvals(matrix).astype(complex)
-    return values[np.argsort(-np.abs(values), kind="stable")]
-
-
 def _kernel_problem(orbit: HoverOrbit) -> _kernel.KernelProblem:
     """The orbit's insect packed for the kernel (the problem's own packing when it has one)."""
     if orbit.problem is not None:
         return orbit.problem.kernel_problem
     return _kernel.KernelProblem.of(orbit.model.insect, orbit.model.alpha_m)
-
-
-def _kernel_monodromy(orbit: HoverOrbit
-                      ) -> tuple[np.ndarray, np.ndarray, float, float, float, float]:
-    """(M, multipliers, det M, exp(int trace J), int trace J, multiplier error) from the
-    compiled kernel."""
-    sol = orbit.kernel
-    if (isinstance(sol, _kernel.HoverSolution) and np.array_equal(sol.x0, orbit.x0)
-            and sol.amplitude == orbit.amplitude):
-        # the last Newton integration's
-        matrix, trace, error = sol.monodromy, sol.trace_integral, sol.multiplier_error
-    else:
-        matrix, trace, error, _ = _kernel.monodromy_at(_kernel_problem(orbit), orbit.x0,
-                                                       orbit.amplitude)
-    values = np.linalg.eigvals(matrix).astype(complex)
-    values = values[np.argsort(-np.abs(values), kind="stable")]
-    log_det = float(np.sum(np.log(np.abs(values))))
-    det = float(np.linalg.det(matrix)) if abs(log_det) < 700 else math.copysign(
-        math.inf if log_det > 0 else 0.0, float(np.prod(np.sign(values.real))))
-    liouville = math.exp(trace) if trace < 700 else math.inf
-    return matrix, values, det, liouville, trace, float(error)
 
 
 def _exponents(multipliers: np.ndarray, period: float) -> np.ndarray:

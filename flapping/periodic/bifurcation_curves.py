@@ -116,10 +116,10 @@ class CurveOptions:
     ds_min: float = 1e-6
     ds_max: float = 0.2
     max_points: int = 500
-    tol: float = 1e-10
+    tol: float = opt.CURVE_TOL
     max_newton: int = 12
-    rtol: float = 1e-11
-    atol: float = 1e-11
+    rtol: float = opt.CURVE_RTOL
+    atol: float = opt.CURVE_ATOL
     method: str = "DOP853"
     max_steps: int | None = None
     fixed_orbit: bool | None = None

@@ -38,14 +38,13 @@ from typing import Any
 import numpy as np
 
 import flapping._validation as check
-from flapping.backends import FixedStep
 from flapping.errors import ConvergenceError, DomainError
 from flapping.periodic import _segments as seg
 from flapping.periodic import settings as opt
 from flapping.periodic._checks import probe_fields
 from flapping.periodic._fixedmap import NonFinite, OutOfWork, PeriodMap
 from flapping.periodic._readonly import freeze
-from flapping.results import MESSAGES, Status
+from flapping.results import MESSAGES, Floquet, Status
 
 __all__ = [
     "DEFAULT_STEPS",
@@ -166,6 +165,14 @@ class FixedStepOrbit:
 
     def __post_init__(self) -> None:
         freeze(self)
+
+    @property
+    def floquet(self) -> Floquet:
+        """The monodromy (of the state and the parameters' sensitivity rows as solved) and its
+        multipliers as the package's one type (:class:`flapping.results.Floquet`), with
+        :attr:`multiplier_error`."""
+        return Floquet.of_matrix(self.monodromy, self.period, multipliers=self.multipliers,
+                                 multiplier_error=self.multiplier_error)
 
     @property
     def x0_error(self) -> np.ndarray:
@@ -350,14 +357,14 @@ class _Solve:
         """One step count: Newton, the last pass, the estimate; True if more steps are needed."""
         newton = _newton(self.problem, self.z, self.n, self.J)
         self.z, self.nit, self.step = newton.z, self.nit + newton.nit, newton.step
-        if newton.status:
+        if not newton.status.success:
             self.status = newton.status
             return False
         self.estimate = est = _estimate(self.problem, self.z, self.n)
         ratio = self.ratio(est)
         if ratio <= 1.0 or self.n >= MAX_STEPS:
             self.status = Status.SUCCESS if ratio <= 1.0 else Status.TOLERANCE_NOT_MET
-            if not self.status and float(np.linalg.norm(est.residual)) > self.tols.residual:
+            if self.status.success and float(np.linalg.norm(est.residual)) > self.tols.residual:
                 self.status = Status.RESIDUAL_ABOVE_TOL
             return False
         self.n, self.J = _next_steps(self.n, ratio), est.J
@@ -381,7 +388,7 @@ class _Solve:
         residual = np.full(d, math.nan) if est is None else est.residual
         message = STATUS[self.status] + f" ({self.n} steps per segment)"
         return FixedStepOrbit(
-            x0=x, period=period, params=params, success=self.status == 0, status=self.status,
+            x0=x, period=period, params=params, success=self.status.success, status=self.status,
             message=message, residual=residual, residual_norm=float(np.linalg.norm(residual)),
             nit=self.nit, nfev=problem.map.nfev, njev=problem.map.njev, n_steps=self.n,
             jacobian="variational" if problem.map.variational else "finite-difference",
@@ -410,9 +417,9 @@ def find_periodic_orbit_fixed_step(
     switches: Sequence[Any] = (),
     args: tuple[Any, ...] = (),
     n_steps: int | None = None,
-    error_tol: float = FixedStep.error_tol,
+    error_tol: float = opt.FIXED_STEP_ERROR_TOL,
     multiplier_tol: float | None = None,
-    tol: float = FixedStep.tol,
+    tol: float = opt.ORBIT_TOL,
     max_nfev: int | None = None,
 ) -> FixedStepOrbit:
     """Periodic orbit of a forced system by Newton's method on a fixed-step DOP853 period map.

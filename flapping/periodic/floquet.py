@@ -50,6 +50,7 @@ from flapping.periodic import _segments as seg
 from flapping.periodic import settings as opt
 from flapping.periodic._checks import first_call
 from flapping.periodic._readonly import freeze
+from flapping.results import Floquet, exponents_of
 
 __all__ = [
     "DEFAULTS",
@@ -138,6 +139,13 @@ class Monodromy:
     def __post_init__(self) -> None:
         freeze(self)
 
+    @property
+    def floquet(self) -> Floquet:
+        """The monodromy and its multipliers as the package's one type
+        (:class:`flapping.results.Floquet`), with the trace integral."""
+        return Floquet.of_matrix(self.matrix, self.period, multipliers=self.multipliers,
+                                 trace_integral=self.trace_integral)
+
 
 def _sort_by_modulus(mu: np.ndarray) -> np.ndarray:
     # Ties in modulus (complex pairs) are ordered by argument so that the order is reproducible.
@@ -211,13 +219,7 @@ def floquet_exponents(multipliers: Any, period: float) -> np.ndarray:
         For a non-positive period, or multipliers that are not numbers or are NaN.
     """
     T = check.positive("period", period)
-    mu = _multipliers_array(multipliers)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        exponents = np.asarray(np.log(mu) / T)
-        bad = ~np.isfinite(exponents)
-        if np.any(bad):  # log(0) = -inf and log(inf) = inf: real and imaginary parts apart
-            exponents[bad] = np.log(np.abs(mu[bad])) / T + 1j * (np.angle(mu[bad]) / T)
-    return exponents
+    return exponents_of(_multipliers_array(multipliers), T)
 
 
 def _multipliers_array(value: Any) -> np.ndarray:
@@ -594,7 +596,8 @@ def monodromy(
 
 #: What a call uses for each :class:`~flapping.periodic.settings.SolverSettings` field it
 #: reads when neither the keyword nor ``settings`` gives it (the signature shows None).
-DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-12, "rk4_steps": 1024,
+DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": opt.MONODROMY_RTOL,
+                             "atol": opt.MONODROMY_ATOL, "rk4_steps": 1024,
                              "max_steps": None}
 
 

@@ -42,11 +42,10 @@ goals at most 1 % (:data:`TOL_CEILING`); where a tolerance is absolute, its ceil
 ``max(1, |x0|)`` (:func:`check_scaled`). The work an argument can ask for is capped
 (:data:`CAPS`): a ``max_steps`` of 10**12 is a typo that would run for days, not a budget.
 
-Functions whose signature shows their defaults as numbers (the hover layer's, which the book and
-the CLI read) mark them with :func:`default`: a marked value is the number itself (it compares,
-formats and computes as one) but :func:`given` tells it apart from the same number passed
-explicitly, so that an explicit keyword still wins over ``settings`` and the signature's default
-loses to it.
+The defaults of the table are defined once each, here (:data:`ORBIT_RTOL`, :data:`ORBIT_ATOL`,
+:data:`ORBIT_TOL`, :data:`MONODROMY_RTOL`, :data:`MONODROMY_ATOL`), with their reasons; every
+function of the layer and the package's backend objects (:mod:`flapping.backends`) take them
+from here, and a test finds any other literal of them.
 """
 
 from __future__ import annotations
@@ -64,7 +63,9 @@ from flapping.periodic.rk4 import RK4
 
 __all__ = ["SolverSettings", "METHODS", "MAX_STEPS", "RTOL_FLOOR", "RTOL_CEILING",
            "RESIDUAL_CEILING", "TOL_CEILING", "CAPS", "check_field", "check_rtol", "check_atol",
-           "check_method", "check_scaled", "check_times", "capped", "resolve", "default", "given"]
+           "check_method", "check_scaled", "check_times", "capped", "resolve", "ORBIT_RTOL",
+           "ORBIT_ATOL", "ORBIT_TOL", "MONODROMY_RTOL", "MONODROMY_ATOL", "CONTINUATION_RTOL",
+           "CONTINUATION_ATOL", "FIXED_STEP_ERROR_TOL", "CURVE_TOL", "CURVE_RTOL", "CURVE_ATOL"]
 
 #: Integration methods by name: scipy's and the fixed-step ``"RK4"``.
 METHODS: dict[str, type[OdeSolver]] = {
@@ -74,6 +75,38 @@ METHODS: dict[str, type[OdeSolver]] = {
 
 #: Default step budget of one integration call (all its pieces together).
 MAX_STEPS = 100_000
+
+#: Default relative tolerance of the integrations that find a periodic orbit (DOP853): near the
+#: float64 floor of an 8th-order method over ~10^3 steps, so that the shooting residual can
+#: reach :data:`ORBIT_TOL` (the paper's RK4 at 2**-10 gets ~1e-8).
+ORBIT_RTOL = 1e-11
+#: Default absolute tolerance of those integrations (SI units of the states): a decade under
+#: :data:`ORBIT_RTOL`, for states that pass through zero.
+ORBIT_ATOL = 1e-12
+#: Default largest norm of the shooting residual (absolute, units of the state): ten times the
+#: integration's error over a period at :data:`ORBIT_RTOL`, so that a converged solve is not
+#: chasing integration noise.
+ORBIT_TOL = 1e-10
+#: Default tolerances of the integration of a monodromy (the variational equations along a found
+#: orbit): a decade tighter than the orbit's, so that the analysis adds no error of its own.
+MONODROMY_RTOL = 1e-12
+MONODROMY_ATOL = 1e-12
+#: Default target of a fixed-step solve's Richardson error estimate of every unknown (relative to
+#: max(1, |value|)): :data:`ORBIT_TOL`'s number, so that the fixed-step and the adaptive paths'
+#: orbits are equally accurate by default.
+FIXED_STEP_ERROR_TOL = ORBIT_TOL
+#: Defaults of a bifurcation curve's continuation (:func:`~flapping.periodic.bifurcation_curves.
+#: continue_bifurcation`): the defining system's residual relative to 1 + |x| at the orbit's
+#: number (its corrector converges to ~1e-10, which places the special points to ~1e-5), and the
+#: integrations at the orbit's relative tolerance with an absolute one of the same size.
+CURVE_TOL = ORBIT_TOL
+CURVE_RTOL = ORBIT_RTOL
+CURVE_ATOL = ORBIT_RTOL
+#: Default tolerances of a continuation's integrations: a decade looser than the orbit's, as
+#: each point is a predictor-corrector step whose residual is relative (1e-8) and the branch's
+#: bifurcations are located again at :data:`MONODROMY_RTOL`.
+CONTINUATION_RTOL = 1e-10
+CONTINUATION_ATOL = 1e-10
 
 #: The smallest relative tolerance float64 can deliver: scipy's ``100 * eps``.
 RTOL_FLOOR = 100 * float(np.finfo(float).eps)
@@ -333,54 +366,3 @@ def resolve(settings: Any, defaults: dict[str, Any], **explicit: Any) -> dict[st
 
 _EMPTY = SolverSettings()
 _FIELD_NAMES = tuple(f.name for f in fields(SolverSettings))
-
-
-
-# =========================================================================== marked defaults
-class _DefaultFloat(float):
-    """A float default of a signature (:func:`default`)."""
-
-    __slots__ = ()
-
-
-class _DefaultInt(int):
-    """An int default of a signature (:func:`default`)."""
-
-    __slots__ = ()
-
-
-class _DefaultStr(str):
-    """A str default of a signature (:func:`default`)."""
-
-    __slots__ = ()
-
-
-_MARKED = (_DefaultFloat, _DefaultInt, _DefaultStr)
-
-
-def default(value: Any) -> Any:
-    """``value`` marked as a signature's default: equal to it, told apart by :func:`given`.
-
-    Parameters
-    ----------
-    value : float, int or str
-
-    Returns
-    -------
-    float, int or str
-        An instance of a private subclass with the same value (repr, format, arithmetic and
-        comparison are the value's own; arithmetic returns plain numbers).
-    """
-    for base, marked in ((bool, None), (float, _DefaultFloat), (int, _DefaultInt),
-                         (str, _DefaultStr)):
-        if isinstance(value, base):
-            if marked is None:
-                break
-            return marked(value)
-    raise TypeError(f"default() marks a float, int or str; got {value!r}")
-
-
-def given(value: Any) -> Any:
-    """None if ``value`` is a marked default (:func:`default`), else ``value``: what
-    :func:`resolve` takes as an explicit keyword."""
-    return None if type(value) in _MARKED else value

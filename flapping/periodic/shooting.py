@@ -646,8 +646,9 @@ def find_periodic_orbit(
 
 #: What a call uses for each :class:`~flapping.periodic.settings.SolverSettings` field it
 #: reads when neither the keyword nor ``settings`` gives it (the signature shows None).
-DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": 1e-11, "atol": 1e-12, "rk4_steps": 1024,
-                             "max_steps": None, "tol": 1e-10, "max_nfev": None}
+DEFAULTS: dict[str, Any] = {"method": "DOP853", "rtol": opt.ORBIT_RTOL, "atol": opt.ORBIT_ATOL,
+                             "rk4_steps": 1024, "max_steps": None, "tol": opt.ORBIT_TOL,
+                             "max_nfev": None}
 
 
 def _warn_if_multiple(problem: ShootingProblem, orbit: PeriodicOrbit) -> None:

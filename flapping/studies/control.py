@@ -39,9 +39,16 @@ from scipy import optimize
 from scipy.integrate import solve_ivp
 
 from flapping import _validation
-from flapping.backends import AUTO, Backend, Compiled, FixedStep, as_backend
+from flapping.backends import AUTO, Backend, as_backend
 from flapping.errors import ConvergenceError, HoverDriftWarning
-from flapping.hover import DEFAULT_BACKEND, HoverOrbit, HoverProblem, find_hover_orbit
+from flapping.hover import (
+    ANALYSIS_ATOL,
+    ANALYSIS_RTOL,
+    DEFAULT_BACKEND,
+    HoverOrbit,
+    HoverProblem,
+    find_hover_orbit,
+)
 from flapping.hover.problem import choose_backend
 from flapping.hover.stability import hover_stability
 from flapping.model.dynamics import LongitudinalDynamics
@@ -180,10 +187,12 @@ def hover_multipliers(insect: Insect, *, guess: HoverOrbit | None = None,
         _validation.instance("guess", guess, HoverOrbit)
         kwargs = {"amplitude_guess": guess.amplitude, "x0_guess": guess.x0}
     spec = as_backend(backend)
-    if not isinstance(spec, FixedStep) and insect.hinge_offset == 0.0:
+    # A path that solves one trim only (the kernel) solves the centred insect's one-trim
+    # problem, whose orbit is the two-trim one (phi_bar = 0 by symmetry).
+    if insect.hinge_offset == 0.0:
         one_trim = HoverProblem(insect.with_(stroke_mean=0.0))
-        path = choose_backend(one_trim, AUTO if spec == AUTO else spec)
-        if isinstance(path, Compiled):
+        path = choose_backend(one_trim, spec)
+        if path.one_trim_only:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", HoverDriftWarning)
                 try:
@@ -196,8 +205,8 @@ def hover_multipliers(insect: Insect, *, guess: HoverOrbit | None = None,
     if guess is not None:
         insect = insect.with_(stroke_mean=guess.stroke_mean)
     two_trims = HoverProblem(insect, trims=("amplitude", "stroke_mean"))
-    orbit = find_hover_orbit(two_trims, backend=AUTO if isinstance(spec, Compiled) else spec,
-                             **kwargs)
+    one_trim_only = not isinstance(spec, str) and spec.one_trim_only
+    orbit = find_hover_orbit(two_trims, backend=AUTO if one_trim_only else spec, **kwargs)
     if not orbit.is_hover:
         raise ConvergenceError(
             f"the orbit found for {insect.name} at h_w = {insect.hinge_height:g} m flies at "
@@ -593,8 +602,8 @@ class WingbeatMap:
         object.__setattr__(self, "B", B)
 
 
-def linear_wingbeat_map(orbit: HoverOrbit, *, rtol: float = 1e-12,
-                        atol: float = 1e-12) -> WingbeatMap:
+def linear_wingbeat_map(orbit: HoverOrbit, *, rtol: float = ANALYSIS_RTOL,
+                        atol: float = ANALYSIS_ATOL) -> WingbeatMap:
     """M and B = dx(T)/dphi_bar of a hover orbit, from the variational equations.
 
     Parameters

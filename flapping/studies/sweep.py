@@ -41,8 +41,11 @@ import numpy as np
 import flapping._validation as _validation
 from flapping.backends import Backend, OptionWarning, backend_name
 from flapping.errors import ConvergenceError, HoverDriftWarning, caused_by_interrupt
-from flapping.hover import DEFAULT_BACKEND, HoverOrbit, HoverProblem, HoverStatus, find_hover_orbit
+from flapping.hover import DEFAULT_BACKEND, HoverOrbit, HoverProblem, HoverStatus
 from flapping.hover.orbit import Options
+
+# the hover entry without the deprecation of the option routes the sweep forwards
+from flapping.hover.orbit import _find_hover_orbit as find_hover_orbit
 from flapping.hover.sixdof import find_sixdof_hover_orbit
 from flapping.hover.stability import hover_stability
 from flapping.model.dynamics import AERODYNAMIC_MODELS
@@ -69,7 +72,6 @@ COLUMNS: tuple[str, ...] = (
     "mu1_real", "mu1_imag", "mu2_real", "mu2_imag", "mu3_real", "mu3_imag", "mu4_real",
     "mu4_imag", "max_abs_mu", "stable", "converged", "status", "forward_speed", "climb_speed",
     "amplitude_error_deg", "multiplier_error", "nit", "n_steps", "backend", "message",
-    "solve_status",
 )
 
 #: The columns ``dof=6`` adds after :data:`COLUMNS`: the lateral multipliers of (v, p, r, roll)
@@ -163,19 +165,25 @@ def _segments(shape: tuple[int, ...]) -> list[list[int]]:
 
 
 # =========================================================================== one point
+def _status_columns(status: HoverStatus | Status) -> dict[str, Any]:
+    """``status`` as its word and ``converged``, derived from it (a hover orbit was found)."""
+    return {"status": str(status), "converged": status == HoverStatus.HOVER}
+
+
 def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
          backend: str, mu_error: float = math.nan,
          failure: Status = Status.SUCCESS) -> dict[str, Any]:
     """The result columns of one point (NaN where there is no answer).
 
-    ``converged`` is true only for a hover orbit: a periodic orbit that drifts (a hinge off the
-    centre of gravity with the amplitude as the only trim) is a row with its drift speeds,
-    ``status`` and a message, never a converged hover. ``solve_status`` is the solve's
-    :class:`~flapping.results.Status` as a word (``failure`` for a point without an orbit).
+    ``status`` is one word: the orbit's :class:`~flapping.results.HoverStatus` where the point
+    solved, the solve's :class:`~flapping.results.Status` (``failure``) where it did not.
+    ``converged`` is derived from it, true only for a hover orbit: a periodic orbit that drifts
+    (a hinge off the centre of gravity with the amplitude as the only trim) is a row with its
+    drift speeds, ``status`` ``"drifting"`` and a message, never a converged hover.
     """
     row: dict[str, Any] = dict.fromkeys(COLUMNS, math.nan)
-    row.update(converged=False, stable=False, status=-1, nit=0, n_steps=0, backend=backend,
-               message=message, solve_status=str(failure))
+    row.update(stable=False, nit=0, n_steps=0, backend=backend, message=message,
+               **_status_columns(failure))
     if orbit is None or mu is None:
         return row
     v = orbit.mean_inertial_velocity
@@ -187,11 +195,10 @@ def _row(orbit: HoverOrbit | None, mu: np.ndarray | None, message: str,
     modulus = [abs(m) for m in mus]
     row.update(amplitude_deg=orbit.amplitude_deg, alpha_m_deg=math.degrees(orbit.alpha_m),
                max_abs_mu=max(modulus), stable=all(m < 1.0 for m in modulus),
-               converged=hover, status=int(status), forward_speed=v["forward"],
+               **_status_columns(status), forward_speed=v["forward"],
                climb_speed=v["climb"], nit=orbit.nit, backend=orbit.backend,
                message="" if hover else orbit.message,
-               amplitude_error_deg=math.degrees(orbit.amplitude_error), multiplier_error=mu_error,
-               solve_status=str(orbit.solve_status))
+               amplitude_error_deg=math.degrees(orbit.amplitude_error), multiplier_error=mu_error)
     if orbit.kernel is not None:
         row.update(n_steps=orbit.kernel.n_steps)
     elif orbit.fixed_step is not None:
@@ -517,9 +524,11 @@ def sweep_hover(
         One row per point in grid order: the swept fields (or ``insect`` and ``name`` for a list),
         then :data:`COLUMNS`: ``amplitude_deg``; ``u0, w0, q0, theta0`` (SI); the multipliers
         ``mu1..mu4`` (real and imaginary parts, by descending modulus); ``max_abs_mu``;
-        ``stable``; ``converged`` (a hover orbit was found: false for one that drifts);
-        ``status`` (:class:`~flapping.hover.HoverStatus`, -1 for a failed point);
-        ``solve_status`` (the solve's :class:`~flapping.results.Status`, as a word);
+        ``stable``; ``converged`` (a hover orbit was found: ``status == "hover"``, false for
+        one that drifts); ``status``, one word (:data:`~flapping.results.STATUS_WORDS`): the
+        orbit's :class:`~flapping.results.HoverStatus` (``"hover"``, ``"drifting"``,
+        ``"climbing"``) for a solved point, the solve's :class:`~flapping.results.Status`
+        (``"invalid_input"``, ``"max_iterations"``, ...) for a failed one;
         ``forward_speed`` and ``climb_speed`` (cycle means of the inertial velocities [m/s]);
         the error estimates ``amplitude_error_deg`` and ``multiplier_error`` (largest absolute
         error of a multiplier: the kernel's estimate, or on the fixed-step path
