@@ -72,3 +72,18 @@ def test_a_reused_attitude_free_model_equals_a_fresh_one(body_rate_term: str) ->
         np.testing.assert_array_equal(
             reused.local_jacobian(t, state),
             FwuavAttitudeFree("hawkmoth", body_rate_term=body_rate_term).local_jacobian(t, state))
+
+
+def test_both_wings_strip_jacobians_at_once_equal_each_wings() -> None:
+    from flapping.peers.fwuav import species
+    from flapping.peers.fwuav.model import _strip_jacobian, _strip_jacobians
+
+    sp = species("bumblebee")
+    rng = np.random.default_rng(5)
+    U = rng.standard_normal((3, 2, 50))
+    U[1] = 0.0  # no spanwise component
+    U[:, 1, 7] = 0.0  # a strip at rest on the second wing only
+    weights = rng.uniform(1e-6, 1e-5, 50)
+    both = _strip_jacobians(sp, U, weights)
+    for w in range(2):
+        np.testing.assert_array_equal(both[w], _strip_jacobian(sp, U[:, w], weights))
