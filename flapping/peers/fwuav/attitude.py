@@ -149,6 +149,7 @@ class FwuavPitchFree:
         # side 8 times at one instant, 4 of them at one attitude. The same values, computed once.
         self._at: tuple[float, Motion, _Rates, tuple[_Geometry, np.ndarray]] | None = None
         self._posed: tuple[tuple[float, float, float], Motion] | None = None
+        self._spun: tuple[Motion, Any] | None = None
 
     def _prescribed_pitch(self, t: float) -> tuple[float, float, float]:
         k = self.species.kinematics
@@ -186,18 +187,35 @@ class FwuavPitchFree:
         """Inertial force ``sum m_i R s_i`` (inertial frame, without ``a``), the inertial moment
         (thorax frame, without the ``a`` terms) and ``sum m_i p_i`` (thorax frame), at pitch
         acceleration ``theta_ddot`` (``geometry``: :meth:`_geometry` of ``rates``, if known)."""
-        W = motion.W
         dW = theta_ddot * _E2
-        force, moment = np.zeros(3), self._J_B @ dW + _cross(W, self._J_B @ W)
         positions, first = self._geometry(rates) if geometry is None else geometry
-        for (mi, _, _, J), (Q, Om, dOm), (p, dp, ddp) in zip(self._bodies, rates, positions,
-                                                             strict=True):
-            s = _cross(W, _cross(W, p)) + _cross(dW, p) + 2.0 * _cross(W, dp) + ddp
+        gyro, spins = self._spins(motion, rates, positions)
+        force, moment = np.zeros(3), self._J_B @ dW + gyro
+        for (mi, _, _, J), (Q, _, dOm), (p, _, ddp), (centripetal, coriolis, QtW_x, spin) in zip(
+                self._bodies, rates, positions, spins, strict=True):
+            s = centripetal + _cross(dW, p) + coriolis + ddp
             force += mi * s
-            wi = Q.T @ W + Om
-            dwi = Q.T @ dW - _cross(Om, Q.T @ W) + dOm
-            moment += mi * _cross(p, s) + Q @ (J @ dwi + _cross(wi, J @ wi))
+            dwi = Q.T @ dW - QtW_x + dOm
+            moment += mi * _cross(p, s) + Q @ (J @ dwi + spin)
         return motion.R @ force, moment, first
+
+    def _spins(self, motion: Motion, rates: _Rates, positions: _Geometry
+               ) -> tuple[np.ndarray, tuple[tuple[np.ndarray, ...], ...]]:
+        """The terms of :meth:`_parts` that the pitch acceleration leaves alone: ``W x J_B W``
+        and per body ``W x (W x p_i)``, ``2 W x p_i'``, ``Om_i x Q_i^T W``, ``w_i x J_i w_i``;
+        remembered for the last motion (the four residuals of one right-hand side share it)."""
+        if self._spun is not None and self._spun[0] is motion:
+            return self._spun[1]
+        W = motion.W
+        out = []
+        for (_, _, _, J), (Q, Om, _), (p, dp, _) in zip(self._bodies, rates, positions,
+                                                        strict=True):
+            wi = Q.T @ W + Om
+            out.append((_cross(W, _cross(W, p)), 2.0 * _cross(W, dp), _cross(Om, Q.T @ W),
+                        _cross(wi, J @ wi)))
+        terms = (_cross(W, self._J_B @ W), tuple(out))
+        self._spun = (motion, terms)
+        return terms
 
     def _rates(self, t: float, motion: Motion) -> _Rates:
         """Per body: attitude, angular velocity and acceleration relative to the thorax."""
