@@ -4,7 +4,9 @@ the swap."""
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -230,3 +232,41 @@ def test_swap_reproduces_both_averaged_systems_and_averaging_converges():
     # entry by 2e-6 of itself (32 -> 64: 6e-5), so 1e-5 bounds the default's error
     fine, _ = F.fwuav_averaged_jacobian(FwuavPitchFree("hawkmoth"), comp.floquet.y0, 128)
     np.testing.assert_allclose(comp.fwuav_jacobian, fine, atol=1e-5 * np.max(np.abs(fine)))
+
+
+# ------------------------------------------ the chapter's pitch-free study, stored (versioned)
+STUDY = Path(__file__).resolve().parents[1] / "book" / "data" / "fwuav_pitch_free.json"
+
+
+def test_the_stored_study_holds_the_listed_cases_and_reads_back_exactly():
+    results = F.load_pitch_free_study(STUDY)
+    assert list(results) == list(F.PITCH_FREE_CASES)
+    raw = json.loads(STUDY.read_text())["cases"]
+    for key, result in results.items():
+        assert F.pitch_free_to_json(result) == raw[key]["result"]  # every float exact
+        trimmed = F.PITCH_FREE_CASES[key]["trim"]
+        assert result.trim_parameters == (("phi_m", "phi_0") if trimmed else ())
+        # what the chapter says of each: a complex leading pair outside the unit circle
+        assert abs(result.multipliers[0]) > 1 and abs(result.multipliers[0].imag) > 0.05
+
+
+def test_a_stored_study_with_other_cases_is_refused(tmp_path):
+    data = json.loads(STUDY.read_text())
+    data["cases"]["free fwuav"]["arguments"]["rtol"] = 1e-7
+    stale = tmp_path / "stale.json"
+    stale.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match="PITCH_FREE_CASES"):
+        F.load_pitch_free_study(stale)
+
+
+@pytest.mark.slow  # recomputes two pitch-free hovers: about a minute on two shared cores
+@pytest.mark.parametrize("key", ["free fwuav", "trimmed fwuav"])
+def test_recomputed_entries_of_the_stored_study_agree_with_it(key):
+    saved = F.load_pitch_free_study(STUDY)[key]
+    fresh = F.pitch_free_case(key)
+    # the shooting closes to min(1000 rtol, 1e-6) = 1e-6 at rtol 1e-8: the orbit's start, the
+    # trim and the multipliers agree to that order (1e-6 relative); on one machine, exactly
+    np.testing.assert_allclose(fresh.y0, saved.y0, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(fresh.trim_values, saved.trim_values, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(fresh.multipliers, saved.multipliers, rtol=1e-6)
+    np.testing.assert_allclose(fresh.mean_velocity, saved.mean_velocity, rtol=0, atol=1e-6)

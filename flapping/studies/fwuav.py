@@ -42,9 +42,12 @@ translated insect's m and I_y. Swapping a derivative is then swapping an entry o
 
 from __future__ import annotations
 
+import json
 import math
+import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
@@ -73,6 +76,12 @@ if TYPE_CHECKING:  # pandas is the optional ``sweep`` extra, imported when a tab
     import pandas
 
 __all__ = [
+    "PITCH_FREE_CASES",
+    "pitch_free_case",
+    "pitch_free_to_json",
+    "pitch_free_from_json",
+    "write_pitch_free_study",
+    "load_pitch_free_study",
     "DERIVATIVES",
     "SWAP_GROUPS",
     "mode_summary",
@@ -771,3 +780,132 @@ def _physics_base(tr: FwuavTranslation) -> Insect:
     """FWUAV's body with the hinge at the centre of mass and massless wings."""
     return tr.insect.with_(hinge_offset=0.0, hinge_height=0.0, wing_mass=0.0,
                            wing_mass_r1=None, wing_mass_r2=None)
+
+
+# ==================================================== the chapter's pitch-free study, stored
+# The hawkmoth's pitch-free results of the chapter "A second model" (pitch_free_floquet on
+# FWUAV's kinematics and re-trimmed, both body-rate terms, and the re-trimmed hover at a tenfold
+# tighter tolerance) are about 90 % of the chapter's execution: a minute and a half of CPU on
+# the central-difference Jacobians of the pitch-free model. They are computed once by
+#
+#     python -m flapping.studies.fwuav book/data/fwuav_pitch_free.json
+#
+# and the chapter loads the file. JSON keeps every float exactly (Python writes the shortest
+# repr that reads back to the same double), so what the chapter computes from a loaded result
+# is bit for bit what it computes from a fresh one. tests/test_fwuav_ours.py checks the
+# versioned file: its cases are these, and recomputed entries agree with it to the study's
+# tolerance.
+
+#: The chapter's cases: key -> keyword arguments of ``pitch_free_floquet("hawkmoth", ...)``.
+PITCH_FREE_CASES: dict[str, dict[str, Any]] = {
+    "free fwuav": {"body_rate_term": "fwuav", "rtol": 1e-8, "trim": False},
+    "free rotated": {"body_rate_term": "rotated", "rtol": 1e-8, "trim": False},
+    "trimmed fwuav": {"body_rate_term": "fwuav", "rtol": 1e-8, "trim": True},
+    "trimmed rotated": {"body_rate_term": "rotated", "rtol": 1e-8, "trim": True},
+    "trimmed fwuav rtol 1e-9": {"body_rate_term": "fwuav", "rtol": 1e-9, "trim": True},
+}
+_PF_ARRAYS = ("y0", "multipliers", "exponents", "mean_velocity", "monodromy")
+_PF_FLOATS = ("period", "mean_pitch", "pitch_amplitude", "residual_norm", "liouville_error")
+
+
+def pitch_free_case(key: str) -> PitchFreeFloquet:
+    """Case ``key`` of :data:`PITCH_FREE_CASES`, computed now (the hawkmoth)."""
+    return pitch_free_floquet("hawkmoth", **PITCH_FREE_CASES[key])
+
+
+def _pf_array(a: np.ndarray) -> dict[str, Any]:
+    a = np.asarray(a)
+    if np.iscomplexobj(a):
+        return {"real": a.real.tolist(), "imag": a.imag.tolist()}
+    return {"real": a.tolist()}
+
+
+def _pf_unarray(d: dict[str, Any]) -> np.ndarray:
+    real = np.array(d["real"], dtype=float)
+    return real + 1j * np.array(d["imag"], dtype=float) if "imag" in d else real
+
+
+def pitch_free_to_json(result: PitchFreeFloquet) -> dict[str, Any]:
+    """Every field of ``result`` as JSON types (complex arrays as real and imaginary parts).
+
+    Parameters
+    ----------
+    result : PitchFreeFloquet
+
+    Returns
+    -------
+    dict
+        Read back, exactly, by :func:`pitch_free_from_json`.
+    """
+    out: dict[str, Any] = {"name": result.name, "body_rate_term": result.body_rate_term}
+    out.update({k: _pf_array(getattr(result, k)) for k in _PF_ARRAYS})
+    out.update({k: float(getattr(result, k)) for k in _PF_FLOATS})
+    out.update(trim_parameters=list(result.trim_parameters),
+               trim_values=[float(v) for v in result.trim_values],
+               trim_nfev=int(result.trim_nfev))
+    return out
+
+
+def pitch_free_from_json(d: dict[str, Any]) -> PitchFreeFloquet:
+    """The :class:`~flapping.peers.fwuav.PitchFreeFloquet` that :func:`pitch_free_to_json`
+    wrote.
+
+    Parameters
+    ----------
+    d : dict
+
+    Returns
+    -------
+    PitchFreeFloquet
+    """
+    fields: dict[str, Any] = {k: _pf_unarray(d[k]) for k in _PF_ARRAYS}
+    fields.update({k: float(d[k]) for k in _PF_FLOATS})
+    return PitchFreeFloquet(
+        name=d["name"], body_rate_term=d["body_rate_term"], **fields,
+        trim_parameters=tuple(d["trim_parameters"]),
+        trim_values=tuple(float(v) for v in d["trim_values"]), trim_nfev=int(d["trim_nfev"]))
+
+
+def write_pitch_free_study(path: str | Path) -> None:
+    """Compute every case of :data:`PITCH_FREE_CASES` and write them to ``path`` (JSON).
+
+    Parameters
+    ----------
+    path : str or Path
+    """
+    data = {"what": "pitch_free_floquet('hawkmoth', **arguments): "
+                    "flapping.studies.fwuav.PITCH_FREE_CASES",
+            "cases": {key: {"arguments": PITCH_FREE_CASES[key],
+                            "result": pitch_free_to_json(pitch_free_case(key))}
+                      for key in PITCH_FREE_CASES}}
+    Path(path).write_text(json.dumps(data, indent=1) + "\n")
+
+
+def load_pitch_free_study(path: str | Path) -> dict[str, PitchFreeFloquet]:
+    """The stored results of :func:`write_pitch_free_study`, by case key.
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    dict of str to PitchFreeFloquet
+
+    Raises
+    ------
+    ValueError
+        If the file's cases or their arguments are not :data:`PITCH_FREE_CASES` (a stale file).
+    """
+    data = json.loads(Path(path).read_text())
+    cases = data["cases"]
+    if {key: case["arguments"] for key, case in cases.items()} != PITCH_FREE_CASES:
+        raise ValueError(f"`path` {path} holds other cases than PITCH_FREE_CASES: rewrite it "
+                         "with `python -m flapping.studies.fwuav PATH`")
+    return {key: pitch_free_from_json(case["result"]) for key, case in cases.items()}
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit("usage: python -m flapping.studies.fwuav PATH.json")
+    write_pitch_free_study(sys.argv[1])

@@ -87,6 +87,8 @@ _TRIM_BOUNDS = {"beta": (-math.pi / 2, math.pi / 2), "phi_m": (0.0, math.pi / 2)
 _E2, _E3 = np.eye(3)[1], np.eye(3)[2]
 #: Per body (right wing, left wing, abdomen): attitude, angular velocity, its derivative.
 _Rates = tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]
+#: Per body: ``p_i``, ``p_i'``, ``p_i''`` (thorax frame).
+_Geometry = tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]
 
 
 def _shift_to_centre(J: np.ndarray, m: float, nu: np.ndarray) -> np.ndarray:
@@ -142,6 +144,12 @@ class FwuavPitchFree:
              _shift_to_centre(np.array(m.J_A).reshape(3, 3), m.m_A, nu_A)),
         )
         self._J_B = np.array(m.J_B).reshape(3, 3)
+        # The prescribed motion and rates at the last instant, and the motion at the last
+        # (instant, pitch, pitch rate): a central-difference Jacobian evaluates the right-hand
+        # side 8 times at one instant, 4 of them at one attitude. The same values, computed once.
+        self._at: tuple[float, Motion, _Rates, tuple[_Geometry, np.ndarray]] | None = None
+        self._posed: tuple[tuple[float, float, float], Motion] | None = None
+        self._spun: tuple[Motion, Any] | None = None
 
     def _prescribed_pitch(self, t: float) -> tuple[float, float, float]:
         k = self.species.kinematics
@@ -161,26 +169,53 @@ class FwuavPitchFree:
             moment += _cross(joint, Q @ F) + Q @ (sign * _cross(_E2, rF))
         return force, moment
 
-    def _parts(self, motion: Motion, rates: _Rates, theta_ddot: float
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Inertial force ``sum m_i R s_i`` (inertial frame, without ``a``), the inertial moment
-        (thorax frame, without the ``a`` terms) and ``sum m_i p_i`` (thorax frame), at pitch
-        acceleration ``theta_ddot``."""
-        W = motion.W
-        dW = theta_ddot * _E2
-        force, moment = np.zeros(3), self._J_B @ dW + _cross(W, self._J_B @ W)
-        first = np.zeros(3)
-        for (mi, mu, nu, J), (Q, Om, dOm) in zip(self._bodies, rates, strict=True):
+    def _geometry(self, rates: _Rates) -> tuple[_Geometry, np.ndarray]:
+        """Per body ``p_i``, ``p_i'``, ``p_i''`` (thorax frame), and ``sum m_i p_i``: they depend
+        on the prescribed relative motion alone, hence on the time alone."""
+        out, first = [], np.zeros(3)
+        for (mi, mu, nu, _), (Q, Om, dOm) in zip(self._bodies, rates, strict=True):
             p = mu + Q @ nu
             dp = Q @ _cross(Om, nu)
             ddp = Q @ (_cross(Om, _cross(Om, nu)) + _cross(dOm, nu))
-            s = _cross(W, _cross(W, p)) + _cross(dW, p) + 2.0 * _cross(W, dp) + ddp
-            force += mi * s
+            out.append((p, dp, ddp))
             first += mi * p
-            wi = Q.T @ W + Om
-            dwi = Q.T @ dW - _cross(Om, Q.T @ W) + dOm
-            moment += mi * _cross(p, s) + Q @ (J @ dwi + _cross(wi, J @ wi))
+        return tuple(out), first
+
+    def _parts(self, motion: Motion, rates: _Rates, theta_ddot: float,
+               geometry: tuple[_Geometry, np.ndarray] | None = None
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Inertial force ``sum m_i R s_i`` (inertial frame, without ``a``), the inertial moment
+        (thorax frame, without the ``a`` terms) and ``sum m_i p_i`` (thorax frame), at pitch
+        acceleration ``theta_ddot`` (``geometry``: :meth:`_geometry` of ``rates``, if known)."""
+        dW = theta_ddot * _E2
+        positions, first = self._geometry(rates) if geometry is None else geometry
+        gyro, spins = self._spins(motion, rates, positions)
+        force, moment = np.zeros(3), self._J_B @ dW + gyro
+        for (mi, _, _, J), (Q, _, dOm), (p, _, ddp), (centripetal, coriolis, QtW_x, spin) in zip(
+                self._bodies, rates, positions, spins, strict=True):
+            s = centripetal + _cross(dW, p) + coriolis + ddp
+            force += mi * s
+            dwi = Q.T @ dW - QtW_x + dOm
+            moment += mi * _cross(p, s) + Q @ (J @ dwi + spin)
         return motion.R @ force, moment, first
+
+    def _spins(self, motion: Motion, rates: _Rates, positions: _Geometry
+               ) -> tuple[np.ndarray, tuple[tuple[np.ndarray, ...], ...]]:
+        """The terms of :meth:`_parts` that the pitch acceleration leaves alone: ``W x J_B W``
+        and per body ``W x (W x p_i)``, ``2 W x p_i'``, ``Om_i x Q_i^T W``, ``w_i x J_i w_i``;
+        remembered for the last motion (the four residuals of one right-hand side share it)."""
+        if self._spun is not None and self._spun[0] is motion:
+            return self._spun[1]
+        W = motion.W
+        out = []
+        for (_, _, _, J), (Q, Om, _), (p, dp, _) in zip(self._bodies, rates, positions,
+                                                        strict=True):
+            wi = Q.T @ W + Om
+            out.append((_cross(W, _cross(W, p)), 2.0 * _cross(W, dp), _cross(Om, Q.T @ W),
+                        _cross(wi, J @ wi)))
+        terms = (_cross(W, self._J_B @ W), tuple(out))
+        self._spun = (motion, terms)
+        return terms
 
     def _rates(self, t: float, motion: Motion) -> _Rates:
         """Per body: attitude, angular velocity and acceleration relative to the thorax."""
@@ -192,9 +227,28 @@ class FwuavPitchFree:
                 (motion.Q_L, motion.Om_L, _wing(k.beta, angles, -1.0)[2]),
                 (motion.Q_A, dth_A * _E2, ddth_A * _E2))
 
+    def _prescribed(self, t: float) -> tuple[Motion, _Rates]:
+        """The prescribed motion and the bodies' rates at ``t``, remembered for the last ``t``
+        (they depend on the time alone)."""
+        if self._at is None or self._at[0] != t:
+            base = prescribed_motion(self.species, t)
+            rates = self._rates(t, base)
+            self._at = (t, base, rates, self._geometry(rates))
+        return self._at[1], self._at[2]
+
+    def _geometry_at(self, t: float) -> tuple[_Geometry, np.ndarray]:
+        """:meth:`_geometry` at ``t`` (remembered with the prescribed motion)."""
+        self._prescribed(t)
+        assert self._at is not None
+        return self._at[3]
+
     def _motion(self, t: float, theta: float, q: float) -> Motion:
-        base = prescribed_motion(self.species, t)
-        return dataclasses.replace(base, R=_rot(1, theta), W=q * _E2)
+        key = (t, theta, q)
+        if self._posed is None or self._posed[0] != key:
+            base, _ = self._prescribed(t)
+            # one object per attitude: the wings' frames are remembered per motion object
+            self._posed = (key, dataclasses.replace(base, R=_rot(1, theta), W=q * _E2))
+        return self._posed[1]
 
     def accelerations(self, t: float, state: np.ndarray) -> tuple[np.ndarray, float]:
         """Thorax acceleration (inertial, m/s^2) and pitch acceleration (rad/s^2).
@@ -220,14 +274,19 @@ class FwuavPitchFree:
         else:
             theta, q = float(state[2]), float(state[5])
         motion = self._motion(t, theta, q)
-        rates = self._rates(t, motion)
+        _, rates = self._prescribed(t)
         v = np.array([state[3], 0.0, state[4]])
         F, M = self._aerodynamics(motion, v) if self.aerodynamics else (np.zeros(3), np.zeros(3))
         m, g = self.mass, self.species.morphology.g * self.gravity
         R = motion.R
 
+        # three of the four residuals of the free pitch share the inertial terms at dd = 0
+        geometry = self._geometry_at(t)
+        at_rest = self._parts(motion, rates, 0.0, geometry) if self.pitch == "free" else None
+
         def residual(a: np.ndarray, dd: float) -> np.ndarray:
-            f_in, m_in, first = self._parts(motion, rates, dd)
+            f_in, m_in, first = (at_rest if dd == 0.0 and at_rest is not None
+                                 else self._parts(motion, rates, dd, geometry))
             force = m * a + f_in - F - m * g * _E3
             # moment about the thorax centre of mass, thorax frame
             moment = _cross(first, R.T @ a - g * (R.T @ _E3)) + m_in - M
@@ -431,8 +490,13 @@ class _Retrimmed:
         return self.model(values).rhs(t, x)
 
     def jac(self, t: float, x: np.ndarray, values: np.ndarray) -> np.ndarray:
+        """Central differences in ``(theta, v_1, v_3, q)``; the position's two columns are
+        zero (it enters nothing), so they are not differenced."""
         model = self.model(values)
-        return central_jacobian(lambda z: model.rhs(t, z), np.asarray(x, dtype=float))
+        x = np.asarray(x, dtype=float)
+        J = np.zeros((6, 6))
+        J[:, 2:] = central_jacobian(lambda z: model.rhs(t, np.concatenate([x[:2], z])), x[2:])
+        return J
 
 
 def _check_trim(trim: object) -> tuple[str, ...]:

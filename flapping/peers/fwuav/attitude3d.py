@@ -129,15 +129,34 @@ class FwuavAttitudeFree:
         self.mass = self.planar.mass
         self.period = self.planar.period
         self.body_rate_term = self.planar.hover.body_rate_term
-        self._kinematics: tuple[float, Motion, Any] | None = None
+        self._kinematics: tuple[float, Motion, Any, Any] | None = None
 
     def _prescribed(self, t: float) -> tuple[Motion, Any]:
         """The prescribed relative motion at ``t`` (remembered: the Jacobian's evaluations share
         it)."""
         if self._kinematics is None or self._kinematics[0] != t:
             motion = prescribed_motion(self.species, t)
-            self._kinematics = (t, motion, self.planar._rates(t, motion))
+            rates = self.planar._rates(t, motion)
+            self._kinematics = (t, motion, rates, self._locked(rates))
         return self._kinematics[1], self._kinematics[2]
+
+    def _locked(self, rates: Any) -> tuple[tuple[tuple[np.ndarray, ...], ...], np.ndarray,
+                                           np.ndarray]:
+        """Per body ``p_i``, ``p_i'``, ``p_i''``; ``S`` and ``J_loc``: the parts of the
+        accelerations that depend on the time alone (a central-difference Jacobian evaluates
+        them 18 times at one instant)."""
+        planar = self.planar
+        S = np.zeros(3)
+        J_loc = planar._J_B.copy()
+        positions = []
+        for (mi, mu, nu, J), (Q, Om, dOm) in zip(planar._bodies, rates, strict=True):
+            p = mu + Q @ nu
+            dp = Q @ _cross(Om, nu)
+            ddp = Q @ (_cross(Om, _cross(Om, nu)) + _cross(dOm, nu))
+            positions.append((p, dp, ddp))
+            S += mi * p
+            J_loc += Q @ J @ Q.T + mi * (float(p @ p) * np.eye(3) - np.outer(p, p))
+        return tuple(positions), S, J_loc
 
     def _aerodynamics(self, motion: Motion, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Force (inertial) and moment about the thorax's centre of mass (thorax frame): the
@@ -174,20 +193,16 @@ class FwuavAttitudeFree:
             F, M = np.zeros(3), np.zeros(3)
         m, g = self.mass, self.species.morphology.g * planar.gravity
         J_B = planar._J_B
-        S = np.zeros(3)
-        J_loc = J_B.copy()
+        assert self._kinematics is not None
+        positions, S, J_loc = self._kinematics[3]
         force = np.zeros(3)
         moment = M - _cross(W, J_B @ W)
-        for (mi, mu, nu, J), (Q, Om, dOm) in zip(planar._bodies, rates, strict=True):
-            p = mu + Q @ nu
-            dp = Q @ _cross(Om, nu)
-            ddp = Q @ (_cross(Om, _cross(Om, nu)) + _cross(dOm, nu))
+        for (mi, _, _, J), (Q, Om, dOm), (p, dp, ddp) in zip(planar._bodies, rates, positions,
+                                                             strict=True):
             c = _cross(W, _cross(W, p)) + 2.0 * _cross(W, dp) + ddp
             QtW = Q.T @ W
             wi = QtW + Om
             e = -_cross(Om, QtW) + dOm
-            S += mi * p
-            J_loc += Q @ J @ Q.T + mi * (float(p @ p) * np.eye(3) - np.outer(p, p))
             force -= mi * c
             moment -= mi * _cross(p, c) + Q @ (J @ e + _cross(wi, J @ wi))
         gb = g * R[2]  # g R^T e3

@@ -278,6 +278,33 @@ def _strip_jacobian(sp: Species, U: np.ndarray, weights: np.ndarray) -> np.ndarr
     return G
 
 
+def _strip_jacobians(sp: Species, U: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """:func:`_strip_jacobian` of several wings at once: ``U`` (3, n, N), ``weights`` (N,);
+    returns (n, 3, 3). The same operations, element by element, and each wing's sums over its
+    own row, so each matrix equals :func:`_strip_jacobian`'s bit for bit; one pass over both
+    wings halves the NumPy calls, which dominate at FWUAV's 50 strips."""
+    m = sp.morphology
+    assert m.C_T is not None and m.C_D_0 is not None and m.C_D_pi2 is not None
+    a, b = U[0], U[2]
+    s = np.sqrt(a * a + b * b)
+    kl = np.broadcast_to(m.rho * weights * m.C_T, s.shape)
+    kd = np.broadcast_to(0.5 * m.rho * weights, s.shape)
+    if not s.all():  # a strip at rest adds nothing
+        live = s > 0.0
+        s = np.where(live, s, 1.0)
+        kl, kd = np.where(live, kl, 0.0), np.where(live, kd, 0.0)
+    h, h_a, h_b = a * b / s, (b / s) ** 3, (a / s) ** 3
+    q = (m.C_D_0 * a * a + m.C_D_pi2 * b * b) / s
+    q_a = 2.0 * m.C_D_0 * a / s - q * a / s**2
+    q_b = 2.0 * m.C_D_pi2 * b / s - q * b / s**2
+    G = np.zeros((a.shape[0], 3, 3))
+    G[:, 0, 0] = (kl * h_a * b - kd * (q_a * a + q)).sum(axis=-1)
+    G[:, 0, 2] = (kl * (h_b * b + h) - kd * q_b * a).sum(axis=-1)
+    G[:, 2, 0] = (-kl * (h_a * a + h) - kd * q_a * b).sum(axis=-1)
+    G[:, 2, 2] = (-kl * h_b * a - kd * (q_b * b + q)).sum(axis=-1)
+    return G
+
+
 #: Per wing, from the motion alone: R Q, dU/dv, P Q^T (W x mu), the spin term (3, N).
 _Frames = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 
@@ -377,8 +404,11 @@ class FwuavHover:
         differences (the monarch's fitted curves)."""
         if self.species.morphology.coefficients != "sane-dickinson":
             return central_jacobian(lambda u: self.aerodynamic_force(motion, u), v)
-        return sum((RQ @ _strip_jacobian(self.species, U, self.weights) @ dU_dv
-                    for RQ, dU_dv, U in self._strip_velocities(motion, v)), np.zeros((3, 3)))
+        wings = self._strip_velocities(motion, v)
+        G = _strip_jacobians(self.species, np.stack([U for _, _, U in wings], axis=1),
+                             self.weights)
+        return sum((RQ @ G_w @ dU_dv for (RQ, dU_dv, _), G_w in zip(wings, G, strict=True)),
+                   np.zeros((3, 3)))
 
     def _motion(self, t: float) -> Motion:
         """The prescribed motion at ``t``, remembered for the next call at the same ``t`` (the
