@@ -1,6 +1,6 @@
 """Compute the book's stored studies once and write them to book/_data/ (versioned).
 
-Two studies take minutes and change only when the model does, so the book reads them from files
+These studies take minutes and change only when the model does, so the book reads them from files
 (:mod:`flapping_book.stored`) instead of solving them at every build:
 
 - ``explorer``: the explorer chapter's grid, ``explore_hover(DEFAULT_GRID)`` on two worker
@@ -12,13 +12,16 @@ Two studies take minutes and change only when the model does, so the book reads 
   ``book/_data/reduction_check.npz``;
 - ``windows``: the control chapter's stable windows, ``stable_window(passive_sweep(preset(name),
   linspace(0, body length, 25)), check=True)`` for its five species ->
-  ``book/_data/passive_windows.npz``.
+  ``book/_data/passive_windows.npz``;
+- ``fwuav``: the second model's pitch-free cases, ``pitch_free_floquet("hawkmoth", ...)`` for
+  ``flapping.studies.fwuav.PITCH_FREE_CASES`` -> ``book/_data/fwuav_pitch_free.json`` (checked
+  by ``tests/test_fwuav_ours.py``).
 
 Each file is read back and compared with what was just computed before the script ends.
 ``tests/book/test_stored.py`` solves sampled points again and compares them with the files:
 after a change that moves them, run this script again and commit the files.
 
-    python scripts/book_data.py [explorer] [sensitivity] [reduction] [windows]   # all if none named
+    python scripts/book_data.py [explorer] [sensitivity] [reduction] [windows] [fwuav]  # all if none
 """
 
 from __future__ import annotations
@@ -47,6 +50,7 @@ EXPLORER = DATA / "explorer.npz"
 SENSITIVITY = DATA / "global_sensitivity.npz"
 REDUCTION = DATA / "reduction_check.npz"
 WINDOWS = DATA / "passive_windows.npz"
+FWUAV_PITCH_FREE = DATA / "fwuav_pitch_free.json"
 #: The control chapter's species (the monarch left out: its hover leaves the linear loads' range).
 CONTROL_SPECIES = ("hawkmoth", "bumblebee", "fruit_fly", "honeybee", "hoverfly")
 #: The book's sample of the global study: 9 x 256 orbits a species (the full study,
@@ -137,10 +141,20 @@ def windows(path: Path = WINDOWS) -> None:
           f"({path.stat().st_size / 1e3:.0f} kB)", flush=True)
 
 
+def fwuav(path: Path = FWUAV_PITCH_FREE) -> None:
+    """The hawkmoth's pitch-free FWUAV cases of the chapter "A second model"."""
+    from flapping.studies.fwuav import write_pitch_free_study
+
+    started = time.perf_counter()
+    write_pitch_free_study(path)
+    print(f"fwuav: pitch-free cases in {time.perf_counter() - started:.0f} s -> {path} "
+          f"({path.stat().st_size / 1e3:.0f} kB)", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     studies = {"explorer": explorer, "sensitivity": sensitivity, "reduction": reduction,
-               "windows": windows}
+               "windows": windows, "fwuav": fwuav}
     parser.add_argument("study", nargs="*", help=f"of {sorted(studies)} (default: all)")
     names = parser.parse_args().study or list(studies)
     for name in names:

@@ -235,7 +235,7 @@ def test_swap_reproduces_both_averaged_systems_and_averaging_converges():
 
 
 # ------------------------------------------ the chapter's pitch-free study, stored (versioned)
-STUDY = Path(__file__).resolve().parents[1] / "book" / "data" / "fwuav_pitch_free.json"
+STUDY = Path(__file__).resolve().parents[1] / "book" / "_data" / "fwuav_pitch_free.json"
 
 
 def test_the_stored_study_holds_the_listed_cases_and_reads_back_exactly():

@@ -788,7 +788,7 @@ def _physics_base(tr: FwuavTranslation) -> Insect:
 # tighter tolerance) are about 90 % of the chapter's execution: a minute and a half of CPU on
 # the central-difference Jacobians of the pitch-free model. They are computed once by
 #
-#     python -m flapping.studies.fwuav book/data/fwuav_pitch_free.json
+#     python -m flapping.studies.fwuav book/_data/fwuav_pitch_free.json
 #
 # and the chapter loads the file. JSON keeps every float exactly (Python writes the shortest
 # repr that reads back to the same double), so what the chapter computes from a loaded result
