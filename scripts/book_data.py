@@ -21,7 +21,7 @@ Each file is read back and compared with what was just computed before the scrip
 ``tests/book/test_stored.py`` solves sampled points again and compares them with the files:
 after a change that moves them, run this script again and commit the files.
 
-    python scripts/book_data.py [explorer] [sensitivity] [reduction] [windows] [fwuav]  # all if none
+    python scripts/book_data.py [explorer] [sensitivity] [reduction] [windows] [fwuav]   # all
 """
 
 from __future__ import annotations
