@@ -7,8 +7,8 @@ or autonomous periodic orbit of ``x' = fun(t, x, p, q)`` in the plane of the two
 continues the curve in q towards ``q_end`` by pseudo-arclength, and returns a
 :class:`BifurcationCurve`.
 
-The method
-----------
+How a curve is computed
+-----------------------
 The orbit is a fixed point of the stroboscopic map ``P(x; p, q)`` (the flow over one period
 ``T``, or ``T(p, q)``: time is then rescaled to ``tau = t / T(p, q)`` so that the period is 1
 and its dependence on the parameters enters the right-hand side smoothly). The defining system

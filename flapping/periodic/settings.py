@@ -92,11 +92,11 @@ ORBIT_TOL = 1e-10
 MONODROMY_RTOL = 1e-12
 MONODROMY_ATOL = 1e-12
 #: Default target of a fixed-step solve's Richardson error estimate of every unknown (relative to
-#: max(1, |value|)): :data:`ORBIT_TOL`'s number, so that the fixed-step and the adaptive paths'
+#: ``max(1, |value|)``): :data:`ORBIT_TOL`'s number, so that the fixed-step and the adaptive paths'
 #: orbits are equally accurate by default.
 FIXED_STEP_ERROR_TOL = ORBIT_TOL
 #: Defaults of a bifurcation curve's continuation (:func:`~flapping.periodic.bifurcation_curves.
-#: continue_bifurcation`): the defining system's residual relative to 1 + |x| at the orbit's
+#: continue_bifurcation`): the defining system's residual relative to ``1 + |x|`` at the orbit's
 #: number (its corrector converges to ~1e-10, which places the special points to ~1e-5), and the
 #: integrations at the orbit's relative tolerance with an absolute one of the same size.
 CURVE_TOL = ORBIT_TOL

@@ -801,7 +801,7 @@ def physics_table(study: str | CFDComparison = "sun2005", **hover_options: Any
     return pandas.DataFrame(rows)
 
 
-#: The M_u+ values the functions of this section accept. The studies print |M_u+| up to ~2.4
+#: The M_u+ values the functions of this section accept. The studies print ``|M_u+|`` up to ~2.4
 #: (Sun & Xiong's 2.389); by the linear law of :func:`hinge_height_for` (h moves M_u+ by
 #: -h X_u+ / c) M_u+ = +-10 puts the bumblebee's hinge ~5 cm (three body lengths) from its
 #: centre of gravity, beyond which no insect lies, and the law, linear in small heights,
