@@ -90,3 +90,61 @@ def test_auto_analyses_a_fixed_step_orbit_on_its_path_unless_adaptive_options_ar
     assert 0.0 < default.multiplier_error < math.inf  # the fixed-step estimate
     rk4 = hover_stability(small_angle, method="RK4", rk4_steps=2048)
     assert math.isnan(rk4.multiplier_error)  # an adaptive-path option: the adaptive path
+
+
+def _eager(stability, *, gauss_trace: bool):
+    """The analysis with its averaged quantities computed up front, as before they were lazy."""
+    from flapping.hover import ANALYSIS_ATOL, ANALYSIS_RTOL
+    from flapping.hover.stability import _averaged_jacobian, _stability
+
+    orbit = stability.orbit
+    averaged = _averaged_jacobian(orbit, 64, ANALYSIS_RTOL, ANALYSIS_ATOL)
+    if gauss_trace:  # the fixed-step path's int trace J dt: the averaged Jacobian's Gauss rule
+        trace = float(np.trace(averaged)) * orbit.period
+        liouville = math.exp(trace) if trace < 700 else math.inf
+    else:
+        trace, liouville = stability.trace_integral, stability.liouville_det
+    return _stability(orbit, stability.monodromy, stability.multipliers, stability.det,
+                      liouville, averaged, trace, stability.multiplier_error)
+
+
+_AVERAGED = ("averaged_jacobian", "averaged_eigenvalues", "trace_integral", "liouville_det")
+
+
+@pytest.mark.parametrize(("backend", "lazy"), [
+    ("fixed-step", _AVERAGED), ("adaptive", _AVERAGED[:2])])
+def test_the_averaged_quantities_are_computed_on_first_use_and_equal_the_eager_ones(
+        linear, backend, lazy):
+    import copy
+    import dataclasses
+    import pickle
+
+    stability = hover_stability(linear, backend=backend)
+    assert all(name not in vars(stability) for name in lazy)  # not computed by the analysis
+    # first use through each way a result is read: a copy, a pickle, a replace, the object
+    copies = [copy.deepcopy(hover_stability(linear, backend=backend)),
+              pickle.loads(pickle.dumps(hover_stability(linear, backend=backend))),
+              dataclasses.replace(hover_stability(linear, backend=backend),
+                                  multiplier_error=stability.multiplier_error)]
+    trace_first = stability.trace_integral  # the class default must not shadow the lazy value
+    eager = _eager(stability, gauss_trace=backend == "fixed-step")
+    assert trace_first == eager.trace_integral
+    for result in [stability, *copies]:
+        for name in _AVERAGED:
+            np.testing.assert_array_equal(getattr(result, name), getattr(eager, name))
+        assert result.liouville_error == eager.liouville_error
+    assert not stability.averaged_jacobian.flags.writeable
+    assert not stability.averaged_eigenvalues.flags.writeable
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        stability.averaged_jacobian = eager.averaged_jacobian  # type: ignore[misc]
+    assert stability.averaged_jacobian is stability.averaged_jacobian  # computed once
+
+
+def test_a_lazy_field_needs_a_way_to_compute_it(linear):
+    import dataclasses
+
+    from flapping.hover.stability import _LAZY
+
+    stability = hover_stability(linear, backend="adaptive")
+    with pytest.raises(ValueError, match="averaged_jacobian"):
+        dataclasses.replace(stability, averaged_jacobian=_LAZY, _averaged=None)

@@ -7,6 +7,7 @@ monodromy's variational integration at the analysis tolerances).
 
 from __future__ import annotations
 
+import functools
 import math
 import sys
 import time
@@ -52,7 +53,8 @@ def analyse(path: Adaptive, orbit: HoverOrbit, problem: HoverProblem, n_average:
                     max_steps=path.max_steps)
     # Multipliers from the monodromy's product-QR iteration (accurate even when small).
     values = np.asarray(mon.multipliers, dtype=complex)
-    averaged = _averaged_jacobian(orbit, n_average, rtol, atol)
+    # the averaged Jacobian on first use (the multipliers do not need it)
+    averaged = functools.partial(_averaged_jacobian, orbit, n_average, rtol, atol)
     return _stability(orbit, mon.matrix, values, mon.det, mon.liouville_det, averaged,
                       mon.trace_integral, math.nan)
 

@@ -8,7 +8,7 @@ Its strategy: :func:`check` (it applies to every hover problem), :func:`solve` a
 
 from __future__ import annotations
 
-import math
+import functools
 import sys
 import time
 
@@ -23,7 +23,7 @@ from flapping.hover.orbit import (
     _orbit_of,
 )
 from flapping.hover.problem import TRIMS, HoverProblem
-from flapping.hover.stability import HoverStability, _averaged_jacobian, _stability
+from flapping.hover.stability import _LAZY, HoverStability, _averaged_jacobian, _stability
 from flapping.model.dynamics import LongitudinalDynamics
 from flapping.periodic._readonly import readonly
 from flapping.periodic.fixedstep import (
@@ -131,13 +131,13 @@ def _fixed_step_stability(orbit: HoverOrbit, problem: HoverProblem, path: FixedS
     if any(switches):
         error += change(physical(2 * n, difference_scale=2.0))
     error *= _FIXED_STEP_SAFETY
-    averaged = _averaged_jacobian(orbit, n_average, rtol, atol)
-    # int_0^T trace J dt by the averaged Jacobian's Gauss rule (the loads' kinks limit it:
-    # Liouville's check measured 4e-7 on the small-angle hawkmoth, 5e-10 on the linear loads)
-    trace = float(np.trace(averaged)) * orbit.period
     det = float(np.linalg.det(matrix))
-    liouville = math.exp(trace) if trace < 700 else math.inf
-    return _stability(orbit, matrix, values, det, liouville, averaged, trace, error)
+    # The averaged Jacobian on first use (most of this analysis's time, which the multipliers do
+    # not need), and with it int_0^T trace J dt by its Gauss rule and exp of that (the loads'
+    # kinks limit it: Liouville's check measured 4e-7 on the small-angle hawkmoth, 5e-10 on the
+    # linear loads).
+    averaged = functools.partial(_averaged_jacobian, orbit, n_average, rtol, atol)
+    return _stability(orbit, matrix, values, det, _LAZY, averaged, _LAZY, error)
 
 
 #: Safety factor of the fixed-step analysis's multiplier error estimate (as the fixed-step

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field, fields
 from typing import Any, overload
 
@@ -36,7 +37,7 @@ from flapping.hover.orbit import (
 from flapping.hover.problem import DEFAULT_BACKEND, HoverProblem
 from flapping.hover.sixdof import SixDofHoverOrbit, SixDofStability, sixdof_stability
 from flapping.model.morphology import Insect
-from flapping.periodic._readonly import freeze
+from flapping.periodic._readonly import freeze, readonly
 from flapping.periodic.integrate import flow, variational_flow
 from flapping.periodic.settings import SolverSettings
 from flapping.results import Floquet
@@ -123,9 +124,34 @@ class HoverStability(StabilityViews):
     averaged_eigenvalues: np.ndarray
     trace_integral: float = math.nan
     multiplier_error: float = math.nan
+    # Computes the averaged Jacobian on first use of a field given as _LAZY (the multipliers do
+    # not need it, and on the Python paths it is most of the analysis's time).
+    _averaged: Callable[[], np.ndarray] | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         freeze(self)  # an analysis of a result must be an analysis of what was solved
+        lazy = [name for name in _LAZY_FIELDS if self.__dict__.get(name) is _LAZY]
+        if lazy and self._averaged is None:
+            raise ValueError(f"{', '.join(lazy)} given as lazy without a way to compute them")
+        for name in lazy:  # absent from __dict__: __getattr__ computes them on first use
+            del self.__dict__[name]
+
+    def __getattr__(self, name: str) -> Any:
+        # called only for attributes not in __dict__: the lazy fields not computed yet
+        compute = self.__dict__.get("_averaged")
+        if name not in _LAZY_FIELDS or compute is None:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        averaged = np.array(compute(), dtype=float)
+        eig = np.linalg.eigvals(averaged).astype(complex)  # always complex: one dtype for all
+        trace = float(np.trace(averaged)) * self.orbit.period
+        values = {"averaged_jacobian": readonly(averaged),
+                  "averaged_eigenvalues": readonly(eig[np.argsort(-eig.real, kind="stable")]),
+                  "trace_integral": trace,
+                  "liouville_det": math.exp(trace) if trace < 700 else math.inf}
+        for key in _LAZY_FIELDS:
+            if key not in self.__dict__:
+                object.__setattr__(self, key, values[key])
+        return self.__dict__[name]
 
     @property
     def liouville_error(self) -> float:
@@ -154,6 +180,11 @@ class HoverStability(StabilityViews):
         return Floquet.of_matrix(self.monodromy, self.orbit.period, multipliers=self.multipliers,
                                  multiplier_error=self.multiplier_error,
                                  trace_integral=self.trace_integral)
+
+
+# The dataclass leaves a field's default as a class attribute, which would shadow a lazy
+# trace_integral (__getattr__ runs only when lookup fails); __init__ keeps its own copy.
+del HoverStability.trace_integral
 
 
 @dataclass(frozen=True)
@@ -323,19 +354,41 @@ def _sixdof_stability(orbit: SixDofHoverOrbit, options: Options) -> SixDofStabil
                             atol=given.get("analysis_atol"), backend=name)
 
 
+class _Lazy:
+    """The marker of a HoverStability field computed on first use."""
+
+    def __repr__(self) -> str:
+        return "<lazy>"
+
+
+_LAZY: Any = _Lazy()
+
+#: The HoverStability fields that may be given as _LAZY: the averaged Jacobian's, and (on the
+#: fixed-step path, where they are its Gauss rule's) int trace J dt and its exponential.
+_LAZY_FIELDS = ("averaged_jacobian", "averaged_eigenvalues", "trace_integral", "liouville_det")
+
+
 def _stability(orbit: HoverOrbit, matrix: np.ndarray, values: np.ndarray, det: float,
-               liouville: float, averaged: np.ndarray, trace: float,
-               error: float) -> HoverStability:
-    """The HoverStability of a monodromy, its multipliers and the averaged Jacobian."""
+               liouville: float, averaged: np.ndarray | Callable[[], np.ndarray],
+               trace: float, error: float) -> HoverStability:
+    """The HoverStability of a monodromy, its multipliers and the averaged Jacobian.
+
+    ``averaged`` may be a function computing it on first use; ``liouville`` and ``trace`` may
+    then be ``_LAZY`` (the Gauss rule's, from it).
+    """
     # The eigenvectors from eig(M), matched to the multipliers by nearest eigenvalue.
     eig_values, eig_vectors = np.linalg.eig(matrix)
     match = [int(np.argmin(np.abs(eig_values - mu))) for mu in values]
     vectors = eig_vectors[:, match].astype(complex)
+    common = (orbit, np.array(matrix, dtype=float), values, _exponents(values, orbit.period),
+              vectors, float(det))
+    if callable(averaged):
+        return HoverStability(*common, _LAZY if liouville is _LAZY else float(liouville), _LAZY,
+                              _LAZY, _LAZY if trace is _LAZY else float(trace), float(error),
+                              averaged)
     avg_eig = np.linalg.eigvals(averaged).astype(complex)  # always complex: one dtype for all
     avg_eig = avg_eig[np.argsort(-avg_eig.real, kind="stable")]
-    return HoverStability(orbit, np.array(matrix, dtype=float), values,
-                          _exponents(values, orbit.period), vectors, float(det),
-                          float(liouville), np.array(averaged, dtype=float), avg_eig,
+    return HoverStability(*common, float(liouville), np.array(averaged, dtype=float), avg_eig,
                           float(trace), float(error))
 
 
