@@ -90,6 +90,7 @@ ORBIT_TOL = 1e-10
 #: Default tolerances of the integration of a monodromy (the variational equations along a found
 #: orbit): a decade tighter than the orbit's, so that the analysis adds no error of its own.
 MONODROMY_RTOL = 1e-12
+#: Default absolute tolerance of a monodromy's integration: as :data:`MONODROMY_RTOL`.
 MONODROMY_ATOL = 1e-12
 #: Default target of a fixed-step solve's Richardson error estimate of every unknown (relative to
 #: ``max(1, |value|)``): :data:`ORBIT_TOL`'s number, so that the fixed-step and the adaptive paths'
@@ -100,12 +101,15 @@ FIXED_STEP_ERROR_TOL = ORBIT_TOL
 #: number (its corrector converges to ~1e-10, which places the special points to ~1e-5), and the
 #: integrations at the orbit's relative tolerance with an absolute one of the same size.
 CURVE_TOL = ORBIT_TOL
+#: Default relative tolerance of a bifurcation curve's integrations: :data:`ORBIT_RTOL`.
 CURVE_RTOL = ORBIT_RTOL
+#: Default absolute tolerance of a bifurcation curve's integrations: :data:`CURVE_RTOL`'s number.
 CURVE_ATOL = ORBIT_RTOL
 #: Default tolerances of a continuation's integrations: a decade looser than the orbit's, as
 #: each point is a predictor-corrector step whose residual is relative (1e-8) and the branch's
 #: bifurcations are located again at :data:`MONODROMY_RTOL`.
 CONTINUATION_RTOL = 1e-10
+#: Default absolute tolerance of a continuation's integrations: as :data:`CONTINUATION_RTOL`.
 CONTINUATION_ATOL = 1e-10
 
 #: The smallest relative tolerance float64 can deliver: scipy's ``100 * eps``.
